@@ -5,3 +5,7 @@
 
 pub mod candump;
 pub mod protocol;
+pub mod cli;
+pub mod commands;
+pub mod exit;
+pub mod output;

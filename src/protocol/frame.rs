@@ -245,10 +245,7 @@ mod tests {
             (CanFrame::new_remote(0x123, false, 0).unwrap(), "123#R"),
             (CanFrame::new_error(0x4, &[0, 8, 0, 0, 0, 0, 0x78, 0]).unwrap(), "20000004#0008000000007800"),
             (CanFrame::new_fd(0x151, false, 5, &[1, 2]).unwrap(), "151##50102"),
-            (
-                CanFrame::new(0x123, &[0x11; 8]).unwrap().with_raw_dlc(0xE).unwrap(),
-                "123#1111111111111111_E",
-            ),
+            (CanFrame::new(0x123, &[0x11; 8]).unwrap().with_raw_dlc(0xE).unwrap(), "123#1111111111111111_E"),
         ];
         for (frame, text) in cases {
             assert_eq!(frame.to_string(), text);

@@ -1,0 +1,343 @@
+//! `tracerctl decode`: candump logs, single frames and RS232 captures to text, JSON, CSV or a summary.
+//!
+//! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
+
+mod serial_input;
+pub mod summary;
+
+use std::fs::File;
+use std::io::{self, IsTerminal, Read, Write};
+use std::path::Path;
+
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use crate::candump::{self, Line, LineParser, LineReader, RawLine, Reason};
+use crate::cli::{ColorChoice, DecodeArgs};
+use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::output::{Event, EventWriter, FrameRef};
+use crate::protocol::detect::ProtocolDetector;
+use crate::protocol::{self, CanFrame, FrameKind, ProtocolHint};
+use summary::Summary;
+
+/// Output is written in blocks of about this size.
+const FLUSH_AT: usize = 64 * 1024;
+/// Files at least this large get a progress bar (on a terminal).
+const PROGRESS_MIN_BYTES: u64 = 8 * 1024 * 1024;
+/// How many rejected lines are printed individually before only being counted.
+const MAX_SHOWN_REJECTS: usize = 10;
+
+pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Result<u8> {
+    let stdout = io::stdout();
+    let color = color.enabled(stdout.is_terminal());
+    let sink = if args.summary {
+        Sink::Summary(Box::default())
+    } else {
+        let writer = EventWriter::new(args.format, color);
+        let mut buffer = Vec::with_capacity(FLUSH_AT * 2);
+        writer.header(&mut buffer);
+        Sink::Lines { writer, buffer, out: Box::new(stdout.lock()) }
+    };
+    let mut decoder = Decoder {
+        protocol,
+        detector: ProtocolDetector::default(),
+        filter: Filter { ids: args.ids.clone(), messages: args.messages.clone() },
+        sink,
+        stats: InputStats::default(),
+        strict: args.strict,
+        progress: !args.no_progress && io::stderr().is_terminal(),
+    };
+
+    let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
+    if inputs.is_empty() && args.serial.is_empty() {
+        if io::stdin().is_terminal() {
+            eprintln!(
+                "tracerctl: no input: give a candump log, '-' for standard input, \
+                 or a frame such as 211#00000103000000B1 (see tracerctl decode --help)"
+            );
+            return Ok(USAGE);
+        }
+        inputs.push("-");
+    }
+    for input in inputs {
+        decoder.input(input)?;
+    }
+    for path in &args.serial {
+        let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+        let name = path.display().to_string();
+        serial_input::decode(&mut decoder, &name, file)?;
+    }
+    decoder.finish(args)
+}
+
+/// Frames pass when they match every filter given.
+struct Filter {
+    ids: Vec<u32>,
+    messages: Vec<&'static str>,
+}
+
+impl Filter {
+    fn passes(&self, event: &Event) -> bool {
+        let id = match event.frame {
+            FrameRef::Can(frame) => frame.id(),
+            FrameRef::Serial(frame) => u32::from(frame.id()),
+        };
+        (self.ids.is_empty() || self.ids.contains(&id))
+            && (self.messages.is_empty() || self.messages.contains(&event.msg_name()))
+    }
+}
+
+enum Sink {
+    Lines { writer: EventWriter, buffer: Vec<u8>, out: Box<dyn Write> },
+    Summary(Box<Summary>),
+}
+
+/// What happened to the input besides frames: everything that was not decoded is counted here.
+#[derive(Debug, Default)]
+pub struct InputStats {
+    pub lines: u64,
+    pub frames: u64,
+    pub blank_or_comment: u64,
+    pub error_text_lines: u64,
+    pub can_xl_lines: u64,
+    /// Frames candump itself reported dropped (DROPCOUNT lines).
+    pub candump_dropped: u64,
+    /// Rejected lines per reason, with the first place each reason occurred.
+    pub rejected: Vec<Rejection>,
+    /// Frames with a TRACER ID but invalid content (V1 checksum, too short).
+    pub invalid_frames: u64,
+    pub serial: Vec<(String, protocol::serial::StreamStats)>,
+    pub shown_rejects: usize,
+}
+
+#[derive(Debug)]
+pub struct Rejection {
+    pub reason: String,
+    pub count: u64,
+    pub first_at: String,
+}
+
+impl InputStats {
+    pub fn rejected_total(&self) -> u64 {
+        self.rejected.iter().map(|r| r.count).sum()
+    }
+
+    fn reject(&mut self, reason: &str, at: impl FnOnce() -> String) {
+        match self.rejected.iter_mut().find(|r| r.reason == reason) {
+            Some(rejection) => rejection.count += 1,
+            None => self.rejected.push(Rejection { reason: reason.to_string(), count: 1, first_at: at() }),
+        }
+    }
+}
+
+/// The decoding pipeline shared by every input kind.
+pub struct Decoder {
+    protocol: ProtocolHint,
+    detector: ProtocolDetector,
+    filter: Filter,
+    sink: Sink,
+    pub stats: InputStats,
+    strict: bool,
+    progress: bool,
+}
+
+impl Decoder {
+    fn input(&mut self, input: &str) -> Result<()> {
+        if input == "-" {
+            return self.candump("<stdin>", io::stdin().lock(), None);
+        }
+        let path = Path::new(input);
+        if path.exists() {
+            let file = File::open(path).with_context(|| format!("cannot open {input}"))?;
+            let size = file.metadata().map(|m| m.len()).ok();
+            return self.candump(input, file, size);
+        }
+        if input.contains('#') {
+            let frame = candump::parse_cansend(input.as_bytes()).map_err(|error| Failure {
+                code: USAGE,
+                message: format!("'{input}' is neither a file nor a valid frame: {error}"),
+            })?;
+            self.frame(None, "-", None, &frame)?;
+            return Ok(());
+        }
+        bail!("{input}: no such file (frames are written like 211#00000103000000B1)")
+    }
+
+    fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>) -> Result<()> {
+        let mut reader = LineReader::new(input);
+        let mut parser = LineParser::new();
+        let bar = self.progress_bar(size);
+        let mut consumed = 0u64;
+        while let Some(raw) = reader.next_line().with_context(|| format!("cannot read {name}"))? {
+            self.stats.lines += 1;
+            let (number, text) = match raw {
+                RawLine::Line { number, text } => (number, text),
+                RawLine::TooLong { number, len } => {
+                    consumed += len as u64 + 1;
+                    self.rejected(name, number, &format!("line of {len} bytes is too long for a candump line"))?;
+                    continue;
+                }
+            };
+            consumed += text.len() as u64 + 1;
+            if let Some(bar) = &bar {
+                if number % 65_536 == 0 {
+                    bar.set_position(consumed);
+                }
+            }
+            match parser.parse(text) {
+                Ok(Line::Frame(record)) => {
+                    let frame = record.frame;
+                    self.frame(record.ts, record.iface, record.dir, &frame).map_err(|error| {
+                        anyhow::Error::from(Failure::data(format!("{name}:{number}: {error:#}")))
+                    })?;
+                }
+                Ok(Line::Blank | Line::Comment) => self.stats.blank_or_comment += 1,
+                Ok(Line::DropCount { dropped }) => self.stats.candump_dropped += dropped,
+                Ok(Line::ErrorText) => self.stats.error_text_lines += 1,
+                Ok(Line::CanXl) => self.stats.can_xl_lines += 1,
+                Err(error) => {
+                    let reason = error.reason;
+                    self.rejected_with(name, number, &error.to_string(), reason)?;
+                }
+            }
+        }
+        if let Some(bar) = bar {
+            bar.finish_and_clear();
+        }
+        Ok(())
+    }
+
+    fn progress_bar(&self, size: Option<u64>) -> Option<ProgressBar> {
+        let size = size.filter(|size| self.progress && *size >= PROGRESS_MIN_BYTES)?;
+        let bar = ProgressBar::new(size);
+        let style = ProgressStyle::with_template("{bar:40} {bytes}/{total_bytes} {bytes_per_sec} eta {eta}")
+            .unwrap_or_else(|_| ProgressStyle::default_bar());
+        bar.set_style(style);
+        Some(bar)
+    }
+
+    /// One CAN frame from any source.
+    fn frame(
+        &mut self,
+        ts: Option<candump::Timestamp>,
+        iface: &str,
+        dir: Option<candump::Direction>,
+        frame: &CanFrame,
+    ) -> Result<()> {
+        self.stats.frames += 1;
+        self.detector.observe(frame);
+        let hint = match self.protocol {
+            ProtocolHint::Auto => self.detector.hint(),
+            forced => forced,
+        };
+        let decoded = protocol::decode(frame, hint);
+        let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
+        self.event(&event)
+    }
+
+    /// Any event: counted, filtered, then written or summarised.
+    pub fn event(&mut self, event: &Event) -> Result<()> {
+        if let Err(error) = event.decoded {
+            self.stats.invalid_frames += 1;
+            if self.strict {
+                bail!("invalid frame: {error}");
+            }
+        }
+        if !self.filter.passes(event) {
+            return Ok(());
+        }
+        match &mut self.sink {
+            Sink::Lines { writer, buffer, out } => {
+                writer.write(buffer, event);
+                if buffer.len() >= FLUSH_AT {
+                    out.write_all(buffer)?;
+                    buffer.clear();
+                }
+            }
+            Sink::Summary(summary) => summary.event(event),
+        }
+        Ok(())
+    }
+
+    fn rejected(&mut self, name: &str, number: u64, reason: &str) -> Result<()> {
+        self.reject_common(name, &format!("line {number}"), reason, reason)
+    }
+
+    fn rejected_with(&mut self, name: &str, number: u64, message: &str, reason: Reason) -> Result<()> {
+        self.reject_common(name, &format!("line {number}"), message, reason.as_str())
+    }
+
+    /// Reports a rejected piece of input: printed for the first few, always counted; fatal with --strict.
+    pub fn reject_common(&mut self, name: &str, place: &str, message: &str, reason: &str) -> Result<()> {
+        let location = match place.strip_prefix("line ") {
+            Some(number) => format!("{name}:{number}"),
+            None => format!("{name}: {place}"),
+        };
+        if self.strict {
+            return Err(Failure::data(format!("{location}: {message}")).into());
+        }
+        if self.stats.shown_rejects < MAX_SHOWN_REJECTS {
+            eprintln!("tracerctl: {location}: {message}");
+        } else if self.stats.shown_rejects == MAX_SHOWN_REJECTS {
+            eprintln!("tracerctl: further rejected input is only counted (see the totals at the end)");
+        }
+        self.stats.shown_rejects += 1;
+        self.stats.reject(reason, || location);
+        Ok(())
+    }
+
+    fn finish(mut self, args: &DecodeArgs) -> Result<u8> {
+        match &mut self.sink {
+            Sink::Lines { buffer, out, .. } => {
+                out.write_all(buffer)?;
+                out.flush()?;
+                let rejected = self.stats.rejected_total();
+                if rejected > 0 || self.stats.invalid_frames > 0 || self.stats.candump_dropped > 0 {
+                    eprintln!("tracerctl: {}", totals_line(&self.stats));
+                }
+            }
+            Sink::Summary(summary) => {
+                let report = if args.format == crate::output::Format::Json {
+                    let mut text = serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.detector))?;
+                    text.push('\n');
+                    text
+                } else {
+                    summary.report(&self.stats, &self.detector)
+                };
+                let mut out = io::stdout().lock();
+                out.write_all(report.as_bytes())?;
+                out.flush()?;
+            }
+        }
+        Ok(SUCCESS)
+    }
+}
+
+/// `decoded N frames from M lines; rejected K lines (...); ...`
+pub fn totals_line(stats: &InputStats) -> String {
+    let mut line = format!("decoded {} frames", stats.frames);
+    if stats.lines > 0 {
+        line.push_str(&format!(" from {} lines", stats.lines));
+    }
+    let rejected = stats.rejected_total();
+    if rejected > 0 {
+        let reasons: Vec<String> = stats
+            .rejected
+            .iter()
+            .map(|r| format!("{} x {} (first at {})", r.count, r.reason, r.first_at))
+            .collect();
+        line.push_str(&format!("; rejected {rejected}: {}", reasons.join("; ")));
+    }
+    if stats.invalid_frames > 0 {
+        line.push_str(&format!("; {} invalid frames", stats.invalid_frames));
+    }
+    if stats.candump_dropped > 0 {
+        line.push_str(&format!("; candump reported {} dropped frames", stats.candump_dropped));
+    }
+    line
+}
+
+/// True when the frame could be a TRACER message (used by the summary for the raw count).
+pub fn is_tracer_candidate(frame: &CanFrame) -> bool {
+    frame.kind() == FrameKind::Data && !frame.is_extended()
+}

@@ -1,0 +1,132 @@
+//! One JSON object per line; the schema is documented in docs/json.md and must stay stable.
+
+use super::number::*;
+use super::text::{push_name, push_version};
+use super::{direction_name, Event, Shape};
+use crate::protocol::{for_each_field, Value};
+
+pub fn write(out: &mut Vec<u8>, event: &Event) {
+    out.extend_from_slice(b"{\"ts\":");
+    match &event.ts {
+        Some(ts) => push_timestamp(out, ts),
+        None => out.extend_from_slice(b"null"),
+    }
+    out.extend_from_slice(b",\"iface\":");
+    push_string(out, event.iface);
+    out.extend_from_slice(b",\"id\":\"");
+    event.push_id(out);
+    out.extend_from_slice(b"\",\"data\":\"");
+    event.push_data(out);
+    out.extend_from_slice(b"\",\"msg\":\"");
+    out.extend_from_slice(event.msg_name().as_bytes());
+    out.extend_from_slice(b"\",\"wire\":");
+    match event.wire_name() {
+        Some(wire) => {
+            out.push(b'"');
+            out.extend_from_slice(wire.as_bytes());
+            out.push(b'"');
+        }
+        None => out.extend_from_slice(b"null"),
+    }
+    out.extend_from_slice(b",\"dir\":");
+    match event.dir {
+        Some(dir) => {
+            out.push(b'"');
+            out.extend_from_slice(direction_name(dir).as_bytes());
+            out.push(b'"');
+        }
+        None => out.extend_from_slice(b"null"),
+    }
+    out.extend_from_slice(b",\"fields\":{");
+    match event.shape() {
+        Shape::Message(decoded) => {
+            let mut first = true;
+            for_each_field(&decoded, |field| {
+                if !first {
+                    out.push(b',');
+                }
+                first = false;
+                out.push(b'"');
+                out.extend_from_slice(field.name.as_bytes());
+                out.extend_from_slice(b"\":");
+                push_value(out, &field.value);
+            });
+            out.push(b'}');
+        }
+        Shape::Invalid(error) => {
+            out.extend_from_slice(b"},\"error\":");
+            push_string(out, &error.to_string());
+        }
+        Shape::ErrorFrame(error) => {
+            out.extend_from_slice(b"\"classes\":");
+            push_string_array(out, error.class_names());
+            out.extend_from_slice(b",\"controller\":");
+            push_string_array(out, error.controller_names());
+            if let Some((tx, rx)) = error.counters {
+                out.extend_from_slice(b",\"tx_errors\":");
+                push_int(out, tx);
+                out.extend_from_slice(b",\"rx_errors\":");
+                push_int(out, rx);
+            }
+            out.push(b'}');
+        }
+        Shape::Remote => {
+            if let super::FrameRef::Can(frame) = event.frame {
+                out.extend_from_slice(b"\"len\":");
+                push_int(out, frame.len());
+            }
+            out.push(b'}');
+        }
+        Shape::Raw => out.push(b'}'),
+    }
+    out.extend_from_slice(b"}\n");
+}
+
+/// A field value as JSON: numbers for quantities and codes, strings for names, arrays for flags.
+pub fn push_value(out: &mut Vec<u8>, value: &Value) {
+    match *value {
+        Value::Int(value) => push_int(out, value),
+        Value::Decimal { raw, scale } => push_decimal(out, raw, scale),
+        Value::Code { value, .. } => push_int(out, value),
+        Value::Bool(value) => out.extend_from_slice(if value { b"true" } else { b"false" }),
+        Value::Name { raw, name } => {
+            out.push(b'"');
+            push_name(out, raw, name);
+            out.push(b'"');
+        }
+        Value::Flags(flags) => push_string_array(out, flags.iter().map(|info| info.name)),
+        Value::Version(version) => {
+            out.push(b'"');
+            push_version(out, version);
+            out.push(b'"');
+        }
+    }
+}
+
+fn push_string_array<'a>(out: &mut Vec<u8>, names: impl Iterator<Item = &'a str>) {
+    out.push(b'[');
+    for (index, name) in names.enumerate() {
+        if index > 0 {
+            out.push(b',');
+        }
+        push_string(out, name);
+    }
+    out.push(b']');
+}
+
+/// A JSON string with the required escapes.
+pub fn push_string(out: &mut Vec<u8>, text: &str) {
+    out.push(b'"');
+    for byte in text.bytes() {
+        match byte {
+            b'"' => out.extend_from_slice(b"\\\""),
+            b'\\' => out.extend_from_slice(b"\\\\"),
+            0..=0x1F => {
+                out.extend_from_slice(b"\\u00");
+                push_hex(out, &[byte]);
+            }
+            _ => out.push(byte),
+        }
+    }
+    out.push(b'"');
+}

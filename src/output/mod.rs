@@ -1,0 +1,145 @@
+//! Text, JSON and CSV renderings of decoded frames, shared by `decode` and `monitor`.
+//!
+//! Every writer appends to a caller-owned `Vec<u8>` (flushed in large blocks by the caller), so a line costs
+//! no allocation.
+
+pub mod csv;
+pub mod json;
+pub mod number;
+pub mod text;
+
+use crate::candump::{Direction, Timestamp};
+use crate::protocol::error_frame::ErrorFrame;
+use crate::protocol::serial::SerialFrame;
+use crate::protocol::{CanFrame, DecodeError, Decoded, FrameKind};
+
+/// Where a frame came from on the wire.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FrameRef<'a> {
+    Can(&'a CanFrame),
+    Serial(&'a SerialFrame),
+}
+
+/// One frame with its context and what it decoded to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Event<'a> {
+    pub ts: Option<Timestamp>,
+    pub iface: &'a str,
+    pub dir: Option<Direction>,
+    pub frame: FrameRef<'a>,
+    /// `Ok(None)`: not a TRACER message (shown raw); `Err`: a TRACER ID whose content is invalid.
+    pub decoded: Result<Option<Decoded>, DecodeError>,
+}
+
+/// What kind of line an event becomes, before any field is printed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    Message(Decoded),
+    Invalid(DecodeError),
+    ErrorFrame(ErrorFrame),
+    Remote,
+    Raw,
+}
+
+impl Event<'_> {
+    pub fn shape(&self) -> Shape {
+        match self.decoded {
+            Ok(Some(decoded)) => Shape::Message(decoded),
+            Err(error) => Shape::Invalid(error),
+            Ok(None) => match self.frame {
+                FrameRef::Can(frame) => match frame.kind() {
+                    FrameKind::Error => Shape::ErrorFrame(ErrorFrame::from_frame(frame).expect("error kind")),
+                    FrameKind::Remote => Shape::Remote,
+                    _ => Shape::Raw,
+                },
+                FrameRef::Serial(_) => Shape::Raw,
+            },
+        }
+    }
+
+    /// The `msg` name of the line.
+    pub fn msg_name(&self) -> &'static str {
+        match self.shape() {
+            Shape::Message(decoded) => decoded.message.name(),
+            Shape::Invalid(_) => "invalid",
+            Shape::ErrorFrame(_) => "error_frame",
+            Shape::Remote => "remote_request",
+            Shape::Raw => "raw",
+        }
+    }
+
+    /// `can-v2`, `can-v1`, `serial`, or `None` for frames that are not TRACER messages.
+    pub fn wire_name(&self) -> Option<&'static str> {
+        match (self.decoded, self.frame) {
+            (Ok(Some(decoded)), _) => Some(decoded.wire.as_str()),
+            (_, FrameRef::Serial(_)) => Some("serial"),
+            _ => None,
+        }
+    }
+
+    /// The identifier as printed: `0x211`, `0x00000123` (extended), `0x20000004` (error), `0xAA01` (serial).
+    pub fn push_id(&self, out: &mut Vec<u8>) {
+        match self.frame {
+            FrameRef::Can(frame) if frame.kind() == FrameKind::Error => {
+                number::push_can_id(out, frame.id() | crate::protocol::frame::ERR_FLAG, true)
+            }
+            FrameRef::Can(frame) => number::push_can_id(out, frame.id(), frame.is_extended()),
+            FrameRef::Serial(frame) => number::push_hex_value(out, u32::from(frame.id()), 4),
+        }
+    }
+
+    /// The raw bytes as hex: the CAN payload, or the whole 13-byte serial frame.
+    pub fn push_data(&self, out: &mut Vec<u8>) {
+        match self.frame {
+            FrameRef::Can(frame) => number::push_hex(out, frame.data()),
+            FrameRef::Serial(frame) => number::push_hex(out, &frame.to_bytes()),
+        }
+    }
+}
+
+/// Output format of `decode` and `monitor`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Format {
+    /// One readable line per frame.
+    Text,
+    /// One JSON object per line (schema in docs/json.md).
+    Json,
+    /// Comma-separated values with a fixed header (for spreadsheets).
+    Csv,
+}
+
+/// Renders events in one format.
+#[derive(Clone, Copy, Debug)]
+pub struct EventWriter {
+    pub format: Format,
+    /// ANSI colour in text output (only on a terminal, never with NO_COLOR).
+    pub color: bool,
+}
+
+impl EventWriter {
+    pub fn new(format: Format, color: bool) -> Self {
+        Self { format, color }
+    }
+
+    /// Written once before the first event (the CSV header).
+    pub fn header(&self, out: &mut Vec<u8>) {
+        if self.format == Format::Csv {
+            csv::header(out);
+        }
+    }
+
+    pub fn write(&self, out: &mut Vec<u8>, event: &Event) {
+        match self.format {
+            Format::Text => text::write(out, event, self.color),
+            Format::Json => json::write(out, event),
+            Format::Csv => csv::write(out, event),
+        }
+    }
+}
+
+fn direction_name(dir: Direction) -> &'static str {
+    match dir {
+        Direction::Rx => "rx",
+        Direction::Tx => "tx",
+    }
+}

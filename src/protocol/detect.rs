@@ -1,0 +1,82 @@
+//! Telling protocol V1 from V2 by the identifiers on the bus.
+//!
+//! Unlike AgileX's detector, seeing both is not an error: the verdict says what was seen and decoding goes on.
+
+use super::can::{self, ProtocolHint};
+use super::frame::CanFrame;
+
+/// What the traffic so far says about the protocol version.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    /// No TRACER-specific identifier seen yet.
+    Unknown,
+    V1,
+    V2,
+    /// Both V1-only and V2-only identifiers seen (two robots, or a replay of mixed logs).
+    Mixed,
+}
+
+/// Counts V1-only and V2-only frames.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ProtocolDetector {
+    pub v1_frames: u64,
+    pub v2_frames: u64,
+}
+
+/// Identifiers only V2 firmware sends (feedback), or a V2 host sends.
+pub fn is_v2_only_id(id: u32) -> bool {
+    matches!(id, 0x111 | 0x121 | 0x211 | 0x221 | 0x231 | 0x241 | 0x251 | 0x252 | 0x261 | 0x262 | 0x311 | 0x421 | 0x441)
+}
+
+impl ProtocolDetector {
+    pub fn observe(&mut self, frame: &CanFrame) {
+        if !frame.is_standard_data() {
+            return;
+        }
+        if can::is_v1_only_id(frame.id()) {
+            self.v1_frames += 1;
+        } else if is_v2_only_id(frame.id()) {
+            self.v2_frames += 1;
+        }
+    }
+
+    pub fn verdict(&self) -> Verdict {
+        match (self.v1_frames > 0, self.v2_frames > 0) {
+            (false, false) => Verdict::Unknown,
+            (true, false) => Verdict::V1,
+            (false, true) => Verdict::V2,
+            (true, true) => Verdict::Mixed,
+        }
+    }
+
+    /// The hint to decode ambiguous frames with (0x151): the bus's version once it is clear.
+    pub fn hint(&self) -> ProtocolHint {
+        match self.verdict() {
+            Verdict::V1 => ProtocolHint::V1,
+            Verdict::V2 => ProtocolHint::V2,
+            Verdict::Unknown | Verdict::Mixed => ProtocolHint::Auto,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn frame(id: u32) -> CanFrame {
+        CanFrame::new(id, &[0; 8]).unwrap()
+    }
+
+    #[test]
+    fn verdict_follows_the_traffic_and_never_fails() {
+        let mut detector = ProtocolDetector::default();
+        assert_eq!(detector.verdict(), Verdict::Unknown);
+        detector.observe(&frame(0x151)); // shared ID: no evidence either way
+        assert_eq!(detector.verdict(), Verdict::Unknown);
+        detector.observe(&frame(0x221));
+        assert_eq!((detector.verdict(), detector.hint()), (Verdict::V2, ProtocolHint::V2));
+        detector.observe(&frame(0x131));
+        assert_eq!((detector.verdict(), detector.hint()), (Verdict::Mixed, ProtocolHint::Auto));
+        assert_eq!((detector.v1_frames, detector.v2_frames), (1, 1));
+    }
+}

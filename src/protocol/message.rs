@@ -1,0 +1,467 @@
+//! The typed vocabulary both codecs (CAN and RS232) map to.
+//!
+//! Values are kept as the integers on the wire (mm/s, 0.1 V, ...) so that decoding and re-encoding is exact;
+//! accessors give SI units. Constructors from SI values round to nearest (AgileX's code truncates) and reject
+//! values outside the documented ranges.
+
+use super::faults::{FlagTable, Flags};
+
+/// Which encoding a message came from or is meant for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Wire {
+    /// CAN protocol V2 (current TRACER firmware).
+    CanV2,
+    /// CAN protocol V1 (older firmware): checksum in the last byte.
+    CanV1,
+    /// RS232 `5A A5` frames.
+    Serial,
+}
+
+impl Wire {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Wire::CanV2 => "can-v2",
+            Wire::CanV1 => "can-v1",
+            Wire::Serial => "serial",
+        }
+    }
+}
+
+/// Linear speed limit for commands built from SI values, m/s: AgileX's own clamp (SDK 2020) and the
+/// RS232 full scale (100 % = 1.5 m/s). The spec's 2.3 m/s no-load top speed is not a safe command limit.
+pub const LINEAR_LIMIT: f64 = 1.5;
+/// Angular speed limit for commands built from SI values, rad/s: the manual's RS232 full scale.
+pub const ANGULAR_LIMIT: f64 = 0.7853;
+/// Highest brightness of the custom light mode, percent.
+pub const BRIGHTNESS_MAX: u8 = 100;
+
+/// A value outside what the protocol documents.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum RangeError {
+    #[error("{what} {value} is not a finite number")]
+    NotFinite { what: &'static str, value: f64 },
+    #[error("{what} {value} {unit} is outside the allowed range -{limit}..={limit} {unit}")]
+    OutOfRange { what: &'static str, value: f64, limit: f64, unit: &'static str },
+    #[error("brightness {0} % is above 100 %")]
+    Brightness(u8),
+}
+
+fn check(what: &'static str, value: f64, limit: f64, unit: &'static str) -> Result<f64, RangeError> {
+    if !value.is_finite() {
+        return Err(RangeError::NotFinite { what, value });
+    }
+    if value.abs() > limit + 1e-9 {
+        return Err(RangeError::OutOfRange { what, value, limit, unit });
+    }
+    Ok(value)
+}
+
+fn clamp_finite(value: f64, limit: f64) -> (f64, bool) {
+    if value.is_nan() {
+        return (0.0, true);
+    }
+    let clamped = value.clamp(-limit, limit);
+    (clamped, clamped != value)
+}
+
+/// V2 motion command (0x111): mm/s and 0.001 rad/s, +x forward, +angular counter-clockwise.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotionCommand {
+    pub linear_mm_s: i16,
+    pub angular_mrad_s: i16,
+}
+
+impl MotionCommand {
+    pub const STOP: Self = Self { linear_mm_s: 0, angular_mrad_s: 0 };
+
+    /// From m/s and rad/s, rounded to nearest; values beyond `LINEAR_LIMIT`/`ANGULAR_LIMIT` are rejected.
+    pub fn from_si(linear: f64, angular: f64) -> Result<Self, RangeError> {
+        let linear = check("linear speed", linear, LINEAR_LIMIT, "m/s")?;
+        let angular = check("angular speed", angular, ANGULAR_LIMIT, "rad/s")?;
+        Ok(Self::from_si_unchecked(linear, angular))
+    }
+
+    /// From m/s and rad/s, clamped to the limits (NaN becomes 0); also says whether anything was clamped.
+    pub fn clamped_from_si(linear: f64, angular: f64) -> (Self, bool) {
+        let (linear, a) = clamp_finite(linear, LINEAR_LIMIT);
+        let (angular, b) = clamp_finite(angular, ANGULAR_LIMIT);
+        (Self::from_si_unchecked(linear, angular), a || b)
+    }
+
+    fn from_si_unchecked(linear: f64, angular: f64) -> Self {
+        Self {
+            linear_mm_s: (linear * 1000.0).round() as i16,
+            angular_mrad_s: (angular * 1000.0).round() as i16,
+        }
+    }
+
+    pub fn linear(&self) -> f64 {
+        f64::from(self.linear_mm_s) / 1000.0
+    }
+    pub fn angular(&self) -> f64 {
+        f64::from(self.angular_mrad_s) / 1000.0
+    }
+}
+
+/// Full scale of percentage speeds (CAN V1 0x130 and RS232 motion control): 100 % = 1.5 m/s.
+pub const PERCENT_LINEAR_FULL_SCALE_MM_S: i64 = 1500;
+/// 100 % = 0.7853 rad/s (manual); in units of 1e-5 rad/s so 1 % = 785.3e-5 is exact: 7853 per 10 %.
+pub const PERCENT_ANGULAR_FULL_SCALE_1E5: i64 = 78530;
+
+/// Motion command in percent of full scale: CAN V1 0x130 and RS232 0x55/0x01.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PercentMotionCommand {
+    /// 0x01 CAN command mode (V1), 0x02 serial mode (RS232).
+    pub control_mode: u8,
+    /// Fault-clear code carried in the command (0 = none); see `FAULT_CLEAR_V1_NAMES`.
+    pub fault_clear: u8,
+    pub linear_percent: i8,
+    pub angular_percent: i8,
+    /// Scout Mini omni only; 0 on TRACER.
+    pub lateral_percent: i8,
+    /// V1 count byte or RS232 frame id.
+    pub count: u8,
+}
+
+impl PercentMotionCommand {
+    /// From m/s and rad/s, rounded to the nearest percent; outside the full scale is rejected.
+    pub fn from_si(control_mode: u8, linear: f64, angular: f64) -> Result<Self, RangeError> {
+        let linear = check("linear speed", linear, LINEAR_LIMIT, "m/s")?;
+        let angular = check("angular speed", angular, ANGULAR_LIMIT, "rad/s")?;
+        Ok(Self {
+            control_mode,
+            linear_percent: (linear / LINEAR_LIMIT * 100.0).round() as i8,
+            angular_percent: (angular / ANGULAR_LIMIT * 100.0).round() as i8,
+            ..Self::default()
+        })
+    }
+
+    /// Linear speed in mm/s (exact: 1 % = 15 mm/s).
+    pub fn linear_mm_s(&self) -> i64 {
+        i64::from(self.linear_percent) * PERCENT_LINEAR_FULL_SCALE_MM_S / 100
+    }
+    /// Angular speed in units of 1e-5 rad/s (exact).
+    pub fn angular_1e5(&self) -> i64 {
+        i64::from(self.angular_percent) * PERCENT_ANGULAR_FULL_SCALE_1E5 / 100
+    }
+    pub fn linear(&self) -> f64 {
+        self.linear_mm_s() as f64 / 1000.0
+    }
+    pub fn angular(&self) -> f64 {
+        self.angular_1e5() as f64 / 100_000.0
+    }
+}
+
+/// Light command (0x121, V1 0x140, RS232 0x55/0x02) and light state (0x231, V1 0x141, RS232 0xAA/0x07).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Lights {
+    /// 0 = firmware controls the lights, 1 = the host does.
+    pub enable: u8,
+    /// 0 off, 1 on, 2 breathing, 3 custom brightness.
+    pub front_mode: u8,
+    /// 0-100 %, used in mode 3.
+    pub front_brightness: u8,
+    /// Reserved on TRACER (SDK: rear mode); sent as 0.
+    pub rear_mode: u8,
+    /// Reserved on TRACER (SDK: rear brightness); sent as 0.
+    pub rear_brightness: u8,
+    /// Count byte (V2 byte 7, V1 byte 6) or RS232 frame id.
+    pub count: u8,
+}
+
+/// Light modes of byte 1.
+pub const LIGHT_OFF: u8 = 0;
+pub const LIGHT_ON: u8 = 1;
+pub const LIGHT_BREATH: u8 = 2;
+pub const LIGHT_CUSTOM: u8 = 3;
+
+impl Lights {
+    /// Host-controlled front lights; `brightness` only matters for `LIGHT_CUSTOM`.
+    pub fn front(mode: u8, brightness: u8) -> Result<Self, RangeError> {
+        if brightness > BRIGHTNESS_MAX {
+            return Err(RangeError::Brightness(brightness));
+        }
+        Ok(Self { enable: 1, front_mode: mode, front_brightness: brightness, ..Self::default() })
+    }
+    /// Hand the lights back to the firmware.
+    pub fn release() -> Self {
+        Self::default()
+    }
+}
+
+/// System state: 0x211 (V2), 0x151 (V1, or V2 as the manual names it), RS232 0xAA/0x01.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct SystemState {
+    /// 0 normal, 1 E-stop, 2 system exception.
+    pub vehicle_state: u8,
+    /// See `control_mode_name`.
+    pub control_mode: u8,
+    /// Battery voltage in 0.1 V.
+    pub battery_decivolts: u16,
+    /// byte4 << 8 | byte5.
+    pub fault_code: u16,
+    pub count: u8,
+}
+
+impl SystemState {
+    pub fn battery_voltage(&self) -> f64 {
+        f64::from(self.battery_decivolts) / 10.0
+    }
+    /// The fault bits, named by the table of the wire they came from.
+    pub fn faults(&self, wire: Wire) -> Flags {
+        let table = match wire {
+            Wire::CanV2 => FlagTable::SystemV2,
+            Wire::CanV1 | Wire::Serial => FlagTable::SystemV1Serial,
+        };
+        Flags::new(table, self.fault_code)
+    }
+    pub fn is_estop(&self) -> bool {
+        self.vehicle_state == VEHICLE_ESTOP
+    }
+}
+
+pub const VEHICLE_NORMAL: u8 = 0;
+pub const VEHICLE_ESTOP: u8 = 1;
+pub const VEHICLE_EXCEPTION: u8 = 2;
+
+/// Control modes of 0x421 and 0x211 byte 1 (V2).
+pub const MODE_STANDBY: u8 = 0;
+pub const MODE_CAN: u8 = 1;
+pub const MODE_SERIAL: u8 = 2;
+pub const MODE_RC: u8 = 3;
+
+pub fn vehicle_state_name(value: u8) -> Option<&'static str> {
+    match value {
+        VEHICLE_NORMAL => Some("normal"),
+        VEHICLE_ESTOP => Some("estop"),
+        VEHICLE_EXCEPTION => Some("exception"),
+        _ => None,
+    }
+}
+
+/// Control mode names. V2 firmware reports 0 at power-on before any 0x421 (standby; the TRACER manual
+/// calls it remote-control mode, copied from V1) and 3 under RC override. V1 and RS232 use 0 for RC.
+pub fn control_mode_name(wire: Wire, value: u8) -> Option<&'static str> {
+    match (wire, value) {
+        (Wire::CanV2, 0) => Some("standby"),
+        (_, 0) => Some("rc"),
+        (_, 1) => Some("can"),
+        (_, 2) => Some("serial"),
+        (Wire::CanV2, 3) => Some("rc"),
+        _ => None,
+    }
+}
+
+pub fn light_mode_name(value: u8) -> Option<&'static str> {
+    match value {
+        LIGHT_OFF => Some("off"),
+        LIGHT_ON => Some("on"),
+        LIGHT_BREATH => Some("breath"),
+        LIGHT_CUSTOM => Some("custom"),
+        _ => None,
+    }
+}
+
+/// 0x441 codes (V2).
+pub const CLEAR_ALL: u8 = 0;
+pub const CLEAR_MOTOR1: u8 = 1;
+pub const CLEAR_MOTOR2: u8 = 2;
+
+pub fn fault_clear_name(value: u8) -> Option<&'static str> {
+    match value {
+        CLEAR_ALL => Some("all"),
+        CLEAR_MOTOR1 => Some("motor1"),
+        CLEAR_MOTOR2 => Some("motor2"),
+        _ => None,
+    }
+}
+
+/// Fault-clear codes carried in V1 0x130 byte 1 and RS232 motion control d1.
+pub fn fault_clear_v1_name(value: u8) -> Option<&'static str> {
+    Some(match value {
+        0 => "none",
+        1 => "battery_undervoltage",
+        2 => "battery_overvoltage",
+        3 => "motor1_comm",
+        4 => "motor2_comm",
+        5 => "motor3_comm",
+        6 => "motor4_comm",
+        7 => "driver_overheat",
+        8 => "motor_overcurrent",
+        _ => return None,
+    })
+}
+
+/// Motion state: 0x221 (V2), 0x131 (V1), RS232 0xAA/0x02.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotionState {
+    pub linear_mm_s: i16,
+    pub angular_mrad_s: i16,
+    /// V1 count byte; 0 for V2 and RS232, which carry none here.
+    pub count: u8,
+}
+
+impl MotionState {
+    pub fn linear(&self) -> f64 {
+        f64::from(self.linear_mm_s) / 1000.0
+    }
+    pub fn angular(&self) -> f64 {
+        f64::from(self.angular_mrad_s) / 1000.0
+    }
+}
+
+/// RC transmitter state, 0x241 (SDK layout; not in the TRACER manuals).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RcState {
+    /// SWA bits 1:0, SWB 3:2, SWC 5:4, SWD 7:6.
+    pub switches: u8,
+    pub right_stick_h: i8,
+    pub right_stick_v: i8,
+    pub left_stick_v: i8,
+    pub left_stick_h: i8,
+    pub var_a: i8,
+    pub count: u8,
+}
+
+/// Position of an RC switch from its two bits.
+pub fn rc_switch_name(bits: u8) -> Option<&'static str> {
+    match bits & 0b11 {
+        0b10 => Some("up"),
+        0b01 => Some("middle"),
+        0b11 => Some("down"),
+        _ => None,
+    }
+}
+
+/// Motor high-speed feedback, 0x251/0x252.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotorHighSpeed {
+    /// 1 or 2.
+    pub motor: u8,
+    pub rpm: i16,
+    /// 0.1 A, signed.
+    pub current_deciamps: i16,
+    pub pulse_count: i32,
+}
+
+/// Motor driver feedback of CAN V1 (0x201/0x202) and RS232 (0xAA/0x03, 0x04).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotorDriverState {
+    pub motor: u8,
+    /// 0.1 A, unsigned.
+    pub current_deciamps: u16,
+    pub rpm: i16,
+    pub driver_temperature: i8,
+    /// V1 count byte or RS232 frame id.
+    pub count: u8,
+}
+
+/// Motor low-speed feedback, 0x261/0x262.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MotorLowSpeed {
+    pub motor: u8,
+    /// 0.1 V.
+    pub driver_decivolts: u16,
+    /// °C.
+    pub driver_temperature: i16,
+    /// °C; -40 means no sensor.
+    pub motor_temperature: i8,
+    pub driver_state: u8,
+}
+
+impl MotorLowSpeed {
+    pub fn driver_faults(&self) -> Flags {
+        Flags::new(FlagTable::DriverState, u16::from(self.driver_state))
+    }
+}
+
+/// Wheel odometers, 0x311, in mm.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Odometry {
+    pub left_mm: i32,
+    pub right_mm: i32,
+}
+
+/// Version response, 0x41A: each a u16 with major in the high byte.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct VersionResponse {
+    pub controller_hw: u16,
+    pub driver_hw: u16,
+    pub controller_sw: u16,
+    pub driver_sw: u16,
+}
+
+/// Everything the TRACER speaks, in both directions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Message {
+    MotionCommand(MotionCommand),
+    PercentMotionCommand(PercentMotionCommand),
+    LightCommand(Lights),
+    ControlModeCommand(u8),
+    FaultClear(u8),
+    VersionRequest,
+    SystemState(SystemState),
+    MotionState(MotionState),
+    LightState(Lights),
+    RcState(RcState),
+    MotorHighSpeed(MotorHighSpeed),
+    MotorDriverState(MotorDriverState),
+    MotorLowSpeed(MotorLowSpeed),
+    Odometry(Odometry),
+    VersionResponse(VersionResponse),
+}
+
+impl Message {
+    /// The stable message name of JSON `msg`. Encodings of the same thing share one name.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Message::MotionCommand(_) | Message::PercentMotionCommand(_) => "motion_command",
+            Message::LightCommand(_) => "light_command",
+            Message::ControlModeCommand(_) => "control_mode_command",
+            Message::FaultClear(_) => "fault_clear",
+            Message::VersionRequest => "version_request",
+            Message::SystemState(_) => "system_state",
+            Message::MotionState(_) => "motion_state",
+            Message::LightState(_) => "light_state",
+            Message::RcState(_) => "rc_state",
+            Message::MotorHighSpeed(_) | Message::MotorDriverState(_) => "motor_high_speed",
+            Message::MotorLowSpeed(_) => "motor_low_speed",
+            Message::Odometry(_) => "odometry",
+            Message::VersionResponse(_) => "version_response",
+        }
+    }
+
+    /// True for messages that can make the robot move.
+    pub fn moves_robot(&self) -> bool {
+        match self {
+            Message::MotionCommand(cmd) => *cmd != MotionCommand::STOP,
+            Message::PercentMotionCommand(cmd) => cmd.linear_percent != 0 || cmd.angular_percent != 0,
+            Message::ControlModeCommand(_) => true,
+            _ => false,
+        }
+    }
+}
+
+/// Every message name, in a fixed order (for filters and help text).
+pub const MESSAGE_NAMES: &[&str] = &[
+    "motion_command",
+    "light_command",
+    "control_mode_command",
+    "fault_clear",
+    "version_request",
+    "system_state",
+    "motion_state",
+    "light_state",
+    "rc_state",
+    "motor_high_speed",
+    "motor_low_speed",
+    "odometry",
+    "version_response",
+];
+
+/// A message together with the encoding it came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Decoded {
+    pub wire: Wire,
+    pub message: Message,
+}
