@@ -188,7 +188,10 @@ impl Decoder {
                 Ok(Line::Frame(record)) => {
                     let frame = record.frame;
                     self.frame(record.ts, record.iface, record.dir, &frame).map_err(|error| {
-                        anyhow::Error::from(Failure::data(format!("{name}:{number}: {error:#}")))
+                        match error.downcast::<Failure>() {
+                            Ok(failure) => Failure::data(format!("{name}:{number}: {}", failure.message)).into(),
+                            Err(other) => other,
+                        }
                     })?;
                 }
                 Ok(Line::Blank | Line::Comment) => self.stats.blank_or_comment += 1,
@@ -240,7 +243,7 @@ impl Decoder {
         if let Err(error) = event.decoded {
             self.stats.invalid_frames += 1;
             if self.strict {
-                bail!("invalid frame: {error}");
+                return Err(Failure::data(format!("invalid frame: {error}")).into());
             }
         }
         if !self.filter.passes(event) {

@@ -68,11 +68,23 @@ impl HexText {
     }
 }
 
-/// A capture is hex text when its start holds only hex digits, separators, `0x` and comments.
+/// A capture is hex text when its start (comments aside) holds only hex digits, separators and `0x` prefixes.
 fn looks_like_hex_text(start: &[u8]) -> bool {
-    !start.is_empty()
-        && start.iter().filter(|b| b.is_ascii_hexdigit()).count() * 2 >= start.len()
-        && !start.iter().any(|b| *b >= 0x80 || (*b < 0x20 && !b"\t\r\n".contains(b)))
+    let mut in_comment = false;
+    let mut digits = 0;
+    for &byte in start {
+        if in_comment {
+            in_comment = byte != b'\n';
+            continue;
+        }
+        match byte {
+            b'#' => in_comment = true,
+            b'0'..=b'9' | b'a'..=b'f' | b'A'..=b'F' => digits += 1,
+            b' ' | b'\t' | b'\r' | b'\n' | b',' | b';' | b':' | b'x' | b'X' => {}
+            _ => return false,
+        }
+    }
+    digits >= 2
 }
 
 pub fn decode(decoder: &mut Decoder, name: &str, mut input: impl Read) -> Result<()> {
@@ -167,5 +179,7 @@ mod tests {
         assert!(looks_like_hex_text(b"5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n"));
         assert!(!looks_like_hex_text(&[0x5A, 0xA5, 0x0A, 0x55, 0x01]));
         assert!(!looks_like_hex_text(b""));
+        assert!(looks_like_hex_text(b"# captured with minicom\n0x5A, 0xA5"));
+        assert!(!looks_like_hex_text(b"Z\xa5"));
     }
 }

@@ -1,0 +1,43 @@
+//! The committed completions and man pages must match what the CLI definition generates.
+//! Regenerate with: TRACERCTL_BLESS=1 cargo test --test integration generated
+
+use std::path::Path;
+
+use tracerctl::commands::completions::{completion_files, man_pages, write_generated};
+
+use crate::util::{stdout, tracerctl};
+
+#[test]
+fn completions_and_man_pages_are_fresh() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    if std::env::var_os("TRACERCTL_BLESS").is_some() {
+        write_generated(root).unwrap();
+    }
+    let expected = completion_files()
+        .into_iter()
+        .map(|(name, contents)| (root.join("completions").join(name), contents))
+        .chain(man_pages().unwrap().into_iter().map(|(name, contents)| (root.join("docs/man").join(name), contents)));
+    let mut count = 0;
+    for (path, contents) in expected {
+        let committed = std::fs::read(&path).unwrap_or_default();
+        assert!(
+            committed == contents,
+            "{} is stale or missing: run `TRACERCTL_BLESS=1 cargo test --test integration generated` and commit",
+            path.display()
+        );
+        count += 1;
+    }
+    assert!(count >= 5 + 3, "five shells and at least three man pages");
+}
+
+#[test]
+fn completions_subcommand_prints_the_committed_script() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for (shell, file) in [("bash", "tracerctl.bash"), ("zsh", "_tracerctl"), ("fish", "tracerctl.fish")] {
+        let output = tracerctl().args(["completions", shell]).output().unwrap();
+        assert!(output.status.success());
+        let committed = std::fs::read_to_string(root.join("completions").join(file)).unwrap();
+        assert_eq!(stdout(&output), committed, "{shell}");
+        assert!(committed.contains("decode"), "{shell} completion knows the decode subcommand");
+    }
+}

@@ -1,0 +1,5 @@
+//! One integration-test binary (as ripgrep does): every test runs the real `tracerctl`.
+
+mod decode;
+mod generated;
+mod util;

@@ -1,0 +1,31 @@
+//! Helpers shared by the integration tests: run the real binary, find fixtures.
+
+use std::path::PathBuf;
+use std::process::Output;
+
+use assert_cmd::Command;
+
+pub fn tracerctl() -> Command {
+    let mut command = Command::cargo_bin("tracerctl").expect("binary built");
+    command.env_remove("NO_COLOR").env_remove("TRACERCTL_IFACE");
+    command
+}
+
+pub fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)
+}
+
+pub fn stdout(output: &Output) -> String {
+    String::from_utf8(output.stdout.clone()).expect("utf-8 output")
+}
+
+pub fn stderr(output: &Output) -> String {
+    String::from_utf8(output.stderr.clone()).expect("utf-8 errors")
+}
+
+/// Runs `tracerctl decode --format json ARGS` and parses every line.
+pub fn decode_json(args: &[&str]) -> Vec<serde_json::Value> {
+    let output = tracerctl().arg("decode").arg("--format").arg("json").args(args).output().unwrap();
+    assert!(output.status.success(), "decode failed: {}", stderr(&output));
+    stdout(&output).lines().map(|line| serde_json::from_str(line).expect("valid JSON line")).collect()
+}
