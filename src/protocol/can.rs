@@ -55,7 +55,7 @@ pub enum DecodeError {
 
 /// A message that has no encoding on the requested wire.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{name} has no {wire} CAN encoding")]
+#[error("{name} has no {wire} encoding")]
 pub struct EncodeError {
     pub name: &'static str,
     pub wire: &'static str,
@@ -370,7 +370,7 @@ pub fn encode_v2(message: &Message) -> Result<CanFrame, EncodeError> {
             data[6..8].copy_from_slice(&v.driver_sw.to_be_bytes());
             (ID_VERSION_RESPONSE, 8)
         }
-        _ => return Err(EncodeError { name: message.name(), wire: "V2" }),
+        _ => return Err(EncodeError { name: message.name(), wire: "CAN V2" }),
     };
     Ok(CanFrame::new(id, &data[..len]).expect("V2 identifiers are standard and DLC <= 8"))
 }
@@ -437,7 +437,7 @@ pub fn encode_v1(message: &Message) -> Result<CanFrame, EncodeError> {
             data[6] = motor.count;
             0x200 + u32::from(motor.motor)
         }
-        _ => return Err(EncodeError { name: message.name(), wire: "V1" }),
+        _ => return Err(EncodeError { name: message.name(), wire: "CAN V1" }),
     };
     data[7] = v1_checksum(id, &data);
     Ok(CanFrame::new(id, &data).expect("V1 identifiers are standard"))
@@ -448,7 +448,7 @@ pub fn encode(decoded: &Decoded) -> Result<CanFrame, EncodeError> {
     match decoded.wire {
         Wire::CanV1 => encode_v1(&decoded.message),
         Wire::CanV2 => encode_v2(&decoded.message),
-        Wire::Serial => Err(EncodeError { name: decoded.message.name(), wire: "serial" }),
+        Wire::Serial => Err(EncodeError { name: decoded.message.name(), wire: "CAN (it is a serial message)" }),
     }
 }
 
@@ -557,7 +557,7 @@ mod tests {
             ((0.15, 0.0), "111#0096000000000000"),
             ((0.0, 0.05), "111#0000003200000000"),
             ((-0.5, 0.3), "111#FE0C012C00000000"),
-            ((0.0, -0.7853), "111#0000FCEF00000000"),
+            ((0.0, -ANGULAR_LIMIT), "111#0000FCEF00000000"),
         ];
         for ((linear, angular), text) in cases {
             let cmd = MotionCommand::from_si(linear, angular).unwrap();
@@ -667,7 +667,7 @@ mod tests {
     #[test]
     fn messages_without_a_wire_form_say_so() {
         let err = encode_v1(&Message::Odometry(Odometry::default())).unwrap_err();
-        assert_eq!(err.to_string(), "odometry has no V1 CAN encoding");
+        assert_eq!(err.to_string(), "odometry has no CAN V1 encoding");
         assert!(encode_v2(&Message::PercentMotionCommand(Default::default())).is_err());
         let bad_motor = MotorHighSpeed { motor: 3, ..Default::default() };
         assert!(encode_v2(&Message::MotorHighSpeed(bad_motor)).is_err());

@@ -236,7 +236,7 @@ pub static DRIVER_STATE: &[FlagInfo] = &[
         "driver_disabled",
         Severity::Info,
         "driver not enabled (SDK layout; normal in standby)",
-        "enable command mode (tracerctl mode can) before driving",
+        "enable command mode (0x421 = 0x01) before driving",
     ),
     flag(0x80, "driver_reset", Severity::Info, "driver reset (SDK layout)", "none; report it if it repeats"),
 ];
@@ -372,7 +372,7 @@ mod tests {
             for info in table.entries() {
                 assert_eq!(info.mask.count_ones(), 1, "{}", info.name);
                 assert_eq!(seen & info.mask, 0, "{} duplicated", info.name);
-                assert!(u32::from(info.mask.trailing_zeros()) < table.width());
+                assert!(info.mask.trailing_zeros() < table.width());
                 seen |= info.mask;
             }
         }

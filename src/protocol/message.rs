@@ -31,6 +31,8 @@ impl Wire {
 /// RS232 full scale (100 % = 1.5 m/s). The spec's 2.3 m/s no-load top speed is not a safe command limit.
 pub const LINEAR_LIMIT: f64 = 1.5;
 /// Angular speed limit for commands built from SI values, rad/s: the manual's RS232 full scale.
+/// (The manual's 0.7853 is a rounded pi/4; the firmware spec is the rounded number, so it stays.)
+#[allow(clippy::approx_constant)]
 pub const ANGULAR_LIMIT: f64 = 0.7853;
 /// Highest brightness of the custom light mode, percent.
 pub const BRIGHTNESS_MAX: u8 = 100;
@@ -297,7 +299,7 @@ pub fn fault_clear_v1_name(value: u8) -> Option<&'static str> {
 pub struct MotionState {
     pub linear_mm_s: i16,
     pub angular_mrad_s: i16,
-    /// V1 count byte; 0 for V2 and RS232, which carry none here.
+    /// V1 count byte or RS232 frame id; 0 for V2, which carries none.
     pub count: u8,
 }
 

@@ -1,5 +1,16 @@
 //! The TRACER protocol: typed messages and their CAN (V1, V2) and RS232 encodings. Pure: no I/O.
 
+pub mod can;
+pub mod detect;
+pub mod error_frame;
+pub mod faults;
+pub mod fields;
 pub mod frame;
+pub mod message;
+pub mod serial;
 
+pub use can::{decode, DecodeError, ProtocolHint};
+pub use faults::{FlagInfo, FlagTable, Flags, Severity};
+pub use fields::{for_each_field, Field, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};
+pub use message::{Decoded, Message, Wire};
