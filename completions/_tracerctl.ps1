@@ -43,6 +43,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('-s', '-s', [CompletionResultType]::ParameterName, 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance')
             [CompletionResult]::new('--summary', '--summary', [CompletionResultType]::ParameterName, 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance')
             [CompletionResult]::new('--strict', '--strict', [CompletionResultType]::ParameterName, 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)')
+            [CompletionResult]::new('--delta-stamps', '--delta-stamps', [CompletionResultType]::ParameterName, 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected')
             [CompletionResult]::new('--no-progress', '--no-progress', [CompletionResultType]::ParameterName, 'Never show a progress bar (it is shown only on a terminal, for large files)')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')

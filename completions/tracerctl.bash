@@ -85,7 +85,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -s -h -V --serial --format --summary --strict --id --msg --no-progress --protocol --color --help --version"
+            opts="-f -s -h -V --serial --format --summary --strict --id --msg --delta-stamps --no-progress --protocol --color --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0

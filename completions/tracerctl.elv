@@ -39,6 +39,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand -s 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
             cand --summary 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
             cand --strict 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
+            cand --delta-stamps 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected'
             cand --no-progress 'Never show a progress bar (it is shown only on a terminal, for large files)'
             cand -h 'Print help (see more with ''--help'')'
             cand --help 'Print help (see more with ''--help'')'

@@ -49,6 +49,7 @@ always\t''
 never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (it is shown only on a terminal, for large files)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s V -l version -d 'Print version'

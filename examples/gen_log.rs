@@ -28,7 +28,11 @@ fn main() -> io::Result<()> {
     let mut light_count = 0u8;
     'session: loop {
         let micros = 1_700_000_000_000_000u64 + tick * 20_000;
-        let ts = Timestamp { secs: micros / 1_000_000, nanos: (micros % 1_000_000) as u32 * 1000, kind: TimestampKind::Absolute };
+        let ts = Timestamp {
+            secs: micros / 1_000_000,
+            nanos: (micros % 1_000_000) as u32 * 1000,
+            kind: TimestampKind::Absolute,
+        };
         let phase = (tick % 3000) as f64 / 3000.0 * std::f64::consts::TAU;
         let estop = tick % 5000 >= 4000 && tick % 5000 < 4100;
         let linear = if estop { 0.0 } else { 1.2 * phase.sin() };
@@ -60,10 +64,29 @@ fn main() -> io::Result<()> {
         let mut messages = vec![
             Message::MotionCommand(command),
             Message::SystemState(state),
-            Message::MotionState(MotionState { linear_mm_s: command.linear_mm_s, angular_mrad_s: command.angular_mrad_s, count: 0 }),
-            Message::LightState(Lights { enable: 1, front_mode: LIGHT_ON, count: light_count, ..Default::default() }),
-            Message::MotorHighSpeed(MotorHighSpeed { motor: 1, rpm, current_deciamps: 12 + (rpm.abs() / 100), pulse_count: left_mm as i32 * 10 }),
-            Message::MotorHighSpeed(MotorHighSpeed { motor: 2, rpm: -rpm, current_deciamps: 12 + (rpm.abs() / 100), pulse_count: right_mm as i32 * 10 }),
+            Message::MotionState(MotionState {
+                linear_mm_s: command.linear_mm_s,
+                angular_mrad_s: command.angular_mrad_s,
+                count: 0,
+            }),
+            Message::LightState(Lights {
+                enable: 1,
+                front_mode: LIGHT_ON,
+                count: light_count,
+                ..Default::default()
+            }),
+            Message::MotorHighSpeed(MotorHighSpeed {
+                motor: 1,
+                rpm,
+                current_deciamps: 12 + (rpm.abs() / 100),
+                pulse_count: left_mm as i32 * 10,
+            }),
+            Message::MotorHighSpeed(MotorHighSpeed {
+                motor: 2,
+                rpm: -rpm,
+                current_deciamps: 12 + (rpm.abs() / 100),
+                pulse_count: right_mm as i32 * 10,
+            }),
             Message::Odometry(Odometry { left_mm: left_mm as i32, right_mm: right_mm as i32 }),
         ];
         light_count = light_count.wrapping_add(1);

@@ -78,6 +78,11 @@ pub struct DecodeArgs {
     #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = parse_msg_name)]
     pub messages: Vec<&'static str>,
 
+    /// Console timestamps are deltas between frames (candump -t d): add them up.
+    /// Such stamps look exactly like -t z ones, so this cannot be detected.
+    #[arg(long)]
+    pub delta_stamps: bool,
+
     /// Never show a progress bar (it is shown only on a terminal, for large files)
     #[arg(long)]
     pub no_progress: bool,

@@ -4,8 +4,8 @@
 //! exit code. `protocol` is pure (no I/O) and shared by every subcommand.
 
 pub mod candump;
-pub mod protocol;
 pub mod cli;
 pub mod commands;
 pub mod exit;
 pub mod output;
+pub mod protocol;

@@ -448,7 +448,9 @@ pub fn encode(decoded: &Decoded) -> Result<CanFrame, EncodeError> {
     match decoded.wire {
         Wire::CanV1 => encode_v1(&decoded.message),
         Wire::CanV2 => encode_v2(&decoded.message),
-        Wire::Serial => Err(EncodeError { name: decoded.message.name(), wire: "CAN (it is a serial message)" }),
+        Wire::Serial => {
+            Err(EncodeError { name: decoded.message.name(), wire: "CAN (it is a serial message)" })
+        }
     }
 }
 

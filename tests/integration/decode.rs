@@ -4,7 +4,7 @@ use std::io::Write;
 
 use serde_json::json;
 
-use crate::util::{data, decode_json, stderr, stdout, tracerctl};
+use crate::util::{data, decode_json, json_lines, stderr, stdout, tracerctl};
 
 fn session() -> String {
     data("tracer_session.log").display().to_string()
@@ -57,10 +57,7 @@ fn json_output_matches_the_documented_schema() {
     assert_eq!(objects[4]["ts"], json!(1700000000.0605));
     assert_eq!(objects[12]["fields"], json!({"linear_velocity": -0.2, "angular_velocity": -0.5}));
     assert_eq!(objects[13]["fields"], json!({"left_wheel_odometer": -0.063, "right_wheel_odometer": 0.018}));
-    assert_eq!(
-        objects[11]["fields"],
-        json!({"motor": 1, "rpm": 3000, "current": 5, "pulse_count": 0})
-    );
+    assert_eq!(objects[11]["fields"], json!({"motor": 1, "rpm": 3000, "current": 5, "pulse_count": 0}));
     assert_eq!(objects[8]["fields"]["faults"], json!(["battery_undervoltage_warning"]));
     assert_eq!(objects[8]["fields"]["fault_code"], json!(0x0200));
 }
@@ -105,7 +102,9 @@ fn summary_reports_rates_losses_modes_faults_battery_and_distance() {
     assert!(report.contains("commanded linear  +0.150 m/s"), "{report}");
     assert!(report.contains("motor 1           +3000 rpm"), "{report}");
     assert!(report.contains("protocol: V2"), "{report}");
-    assert!(report.contains("time span: 2023-11-14T22:13:20.000000Z .. 2023-11-14T22:13:20.260000Z (0.260 s)"));
+    assert!(
+        report.contains("time span: 2023-11-14T22:13:20.000000Z .. 2023-11-14T22:13:20.260000Z (0.260 s)")
+    );
     let rejected = report.split("Rejected input").nth(1).unwrap();
     assert!(rejected.contains("       1  "), "{rejected}");
 }
@@ -176,11 +175,9 @@ fn serial_captures_in_raw_bytes_and_hex_text() {
         writeln!(hex_file, "{}", line.join(", ")).unwrap();
     }
     for path in [&raw, &hex_path] {
-        let output =
-            tracerctl().args(["decode", "--format", "json", "--serial"]).arg(path).output().unwrap();
+        let output = tracerctl().args(["decode", "--format", "json", "--serial"]).arg(path).output().unwrap();
         assert!(output.status.success());
-        let objects: Vec<serde_json::Value> =
-            stdout(&output).lines().map(|l| serde_json::from_str(l).unwrap()).collect();
+        let objects = json_lines(&output);
         assert_eq!(objects.len(), 2, "{}", path.display());
         assert_eq!(objects[0]["id"], "0x5501");
         assert_eq!(objects[0]["iface"], "serial");

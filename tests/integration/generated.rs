@@ -16,7 +16,12 @@ fn completions_and_man_pages_are_fresh() {
     let expected = completion_files()
         .into_iter()
         .map(|(name, contents)| (root.join("completions").join(name), contents))
-        .chain(man_pages().unwrap().into_iter().map(|(name, contents)| (root.join("docs/man").join(name), contents)));
+        .chain(
+            man_pages()
+                .unwrap()
+                .into_iter()
+                .map(|(name, contents)| (root.join("docs/man").join(name), contents)),
+        );
     let mut count = 0;
     for (path, contents) in expected {
         let committed = std::fs::read(&path).unwrap_or_default();
@@ -37,7 +42,10 @@ fn completions_subcommand_prints_the_committed_script() {
         let output = tracerctl().args(["completions", shell]).output().unwrap();
         assert!(output.status.success());
         let committed = std::fs::read_to_string(root.join("completions").join(file)).unwrap();
-        assert_eq!(stdout(&output), committed, "{shell}");
+        assert!(
+            stdout(&output) == committed,
+            "completions/{file} differs from `tracerctl completions {shell}`"
+        );
         assert!(committed.contains("decode"), "{shell} completion knows the decode subcommand");
     }
 }

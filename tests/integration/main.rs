@@ -3,3 +3,4 @@
 mod decode;
 mod generated;
 mod util;
+mod variants;

@@ -23,9 +23,14 @@ pub fn stderr(output: &Output) -> String {
     String::from_utf8(output.stderr.clone()).expect("utf-8 errors")
 }
 
+/// Every line of standard output parsed as one JSON object.
+pub fn json_lines(output: &Output) -> Vec<serde_json::Value> {
+    stdout(output).lines().map(|line| serde_json::from_str(line).expect("valid JSON line")).collect()
+}
+
 /// Runs `tracerctl decode --format json ARGS` and parses every line.
 pub fn decode_json(args: &[&str]) -> Vec<serde_json::Value> {
     let output = tracerctl().arg("decode").arg("--format").arg("json").args(args).output().unwrap();
     assert!(output.status.success(), "decode failed: {}", stderr(&output));
-    stdout(&output).lines().map(|line| serde_json::from_str(line).expect("valid JSON line")).collect()
+    json_lines(&output)
 }

@@ -45,6 +45,7 @@ pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Res
         sink,
         stats: InputStats::default(),
         strict: args.strict,
+        delta_stamps: args.delta_stamps,
         progress: !args.no_progress && io::stderr().is_terminal(),
     };
 
@@ -138,6 +139,7 @@ pub struct Decoder {
     sink: Sink,
     pub stats: InputStats,
     strict: bool,
+    delta_stamps: bool,
     progress: bool,
 }
 
@@ -165,7 +167,8 @@ impl Decoder {
 
     fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>) -> Result<()> {
         let mut reader = LineReader::new(input);
-        let mut parser = LineParser::new();
+        let mut parser =
+            if self.delta_stamps { LineParser::new().with_delta_timestamps() } else { LineParser::new() };
         let bar = self.progress_bar(size);
         let mut consumed = 0u64;
         while let Some(raw) = reader.next_line().with_context(|| format!("cannot read {name}"))? {
@@ -174,7 +177,11 @@ impl Decoder {
                 RawLine::Line { number, text } => (number, text),
                 RawLine::TooLong { number, len } => {
                     consumed += len as u64 + 1;
-                    self.rejected(name, number, &format!("line of {len} bytes is too long for a candump line"))?;
+                    self.rejected(
+                        name,
+                        number,
+                        &format!("line of {len} bytes is too long for a candump line"),
+                    )?;
                     continue;
                 }
             };
@@ -189,7 +196,9 @@ impl Decoder {
                     let frame = record.frame;
                     self.frame(record.ts, record.iface, record.dir, &frame).map_err(|error| {
                         match error.downcast::<Failure>() {
-                            Ok(failure) => Failure::data(format!("{name}:{number}: {}", failure.message)).into(),
+                            Ok(failure) => {
+                                Failure::data(format!("{name}:{number}: {}", failure.message)).into()
+                            }
                             Err(other) => other,
                         }
                     })?;
@@ -199,8 +208,17 @@ impl Decoder {
                 Ok(Line::ErrorText) => self.stats.error_text_lines += 1,
                 Ok(Line::CanXl) => self.stats.can_xl_lines += 1,
                 Err(error) => {
-                    let reason = error.reason;
-                    self.rejected_with(name, number, &error.to_string(), reason)?;
+                    // A file of bare cansend frames ("211#00000103000000B1" per line) is read too.
+                    let bare = text.trim_ascii();
+                    let looks_bare = bare.contains(&b'#') && !bare.iter().any(u8::is_ascii_whitespace);
+                    match candump::parse_cansend(bare) {
+                        Ok(frame) => self.frame(None, "-", None, &frame)?,
+                        Err(frame_error) if looks_bare => {
+                            let message = format!("bare frame: {frame_error}");
+                            self.rejected_with(name, number, &message, frame_error.reason)?
+                        }
+                        Err(_) => self.rejected_with(name, number, &error.to_string(), error.reason)?,
+                    }
                 }
             }
         }
@@ -301,7 +319,8 @@ impl Decoder {
             }
             Sink::Summary(summary) => {
                 let report = if args.format == crate::output::Format::Json {
-                    let mut text = serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.detector))?;
+                    let mut text =
+                        serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.detector))?;
                     text.push('\n');
                     text
                 } else {

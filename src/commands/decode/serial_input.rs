@@ -144,11 +144,13 @@ fn emit(decoder: &mut Decoder, name: &str, event: StreamEvent) -> Result<()> {
         StreamEvent::Frame { frame, .. } => {
             decoder.stats.frames += 1;
             let decoded = Ok(serial::decode(&frame));
-            let event = Event { ts: None, iface: "serial", dir: None, frame: FrameRef::Serial(&frame), decoded };
+            let event =
+                Event { ts: None, iface: "serial", dir: None, frame: FrameRef::Serial(&frame), decoded };
             decoder.event(&event)
         }
         StreamEvent::BadChecksum { offset, computed, found } => {
-            let message = format!("serial checksum mismatch: computed 0x{computed:02X}, frame carries 0x{found:02X}");
+            let message =
+                format!("serial checksum mismatch: computed 0x{computed:02X}, frame carries 0x{found:02X}");
             decoder.reject_common(name, &format!("byte {offset}"), &message, "serial frame checksum mismatch")
         }
     }

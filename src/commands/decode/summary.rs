@@ -519,7 +519,8 @@ impl Summary {
                 let _ = writeln!(w, "  error frames: {}", errors.join(", "));
             }
             if stats.candump_dropped > 0 {
-                let _ = writeln!(w, "  candump reported {} frames dropped by the socket", stats.candump_dropped);
+                let _ =
+                    writeln!(w, "  candump reported {} frames dropped by the socket", stats.candump_dropped);
             }
         }
 
@@ -528,7 +529,11 @@ impl Summary {
             let _ = writeln!(w, "  none");
         }
         for rejection in &stats.rejected {
-            let _ = writeln!(w, "  {:>8}  {} (first at {})", rejection.count, rejection.reason, rejection.first_at);
+            let _ = writeln!(
+                w,
+                "  {:>8}  {} (first at {})",
+                rejection.count, rejection.reason, rejection.first_at
+            );
         }
         if stats.error_text_lines + stats.can_xl_lines + stats.blank_or_comment > 0 {
             let _ = writeln!(
@@ -580,7 +585,9 @@ impl Summary {
                 }
             }
         }
-        let extreme = |e: &Option<Extreme>, scale: f64| e.map(|e| json!({"value": e.value as f64 / scale, "at": at(&e.at)}));
+        let extreme = |e: &Option<Extreme>, scale: f64| {
+            e.map(|e| json!({"value": e.value as f64 / scale, "at": at(&e.at)}))
+        };
         json!({
             "lines": stats.lines,
             "frames": stats.frames,

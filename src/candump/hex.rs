@@ -1,0 +1,118 @@
+//! Byte-level helpers shared by the parsers: a hex lookup table and small scanners.
+
+/// Marks a byte that is not a hex digit in [`HEX_VALUE`].
+pub(crate) const NOT_HEX: u8 = 0xFF;
+
+/// Value of every byte as a hex digit (either case), or [`NOT_HEX`]. A table beats branching on ranges
+/// in the hot loop.
+pub(crate) static HEX_VALUE: [u8; 256] = {
+    let mut table = [NOT_HEX; 256];
+    let mut i = 0;
+    while i < 10 {
+        table[b'0' as usize + i] = i as u8;
+        i += 1;
+    }
+    let mut i = 0;
+    while i < 6 {
+        table[b'A' as usize + i] = 10 + i as u8;
+        table[b'a' as usize + i] = 10 + i as u8;
+        i += 1;
+    }
+    table
+};
+
+/// Uppercase hex digits, as candump writes them.
+pub(crate) const HEX_UPPER: &[u8; 16] = b"0123456789ABCDEF";
+
+#[inline]
+pub(crate) fn hex_value(byte: u8) -> Option<u8> {
+    let value = HEX_VALUE[byte as usize];
+    (value != NOT_HEX).then_some(value)
+}
+
+#[inline]
+pub(crate) fn is_hex(byte: u8) -> bool {
+    HEX_VALUE[byte as usize] != NOT_HEX
+}
+
+/// Decodes two hex digits into a byte.
+#[inline]
+pub(crate) fn hex_pair(hi: u8, lo: u8) -> Option<u8> {
+    let (hi, lo) = (HEX_VALUE[hi as usize], HEX_VALUE[lo as usize]);
+    // Both lookups are < 16 unless one is NOT_HEX, so one test covers both.
+    ((hi | lo) & 0xF0 == 0).then_some((hi << 4) | lo)
+}
+
+/// Value of an all-hex slice of at most 8 digits; `None` if any byte is not hex.
+#[inline]
+pub(crate) fn hex_u32(digits: &[u8]) -> Option<u32> {
+    let mut value = 0u32;
+    for &byte in digits {
+        value = (value << 4) | u32::from(hex_value(byte)?);
+    }
+    Some(value)
+}
+
+/// Index of the first byte at or after `pos` that is not a space.
+#[inline]
+pub(crate) fn skip_spaces(text: &[u8], mut pos: usize) -> usize {
+    while text.get(pos) == Some(&b' ') {
+        pos += 1;
+    }
+    pos
+}
+
+/// Index of the first space at or after `pos`, or `text.len()`.
+#[inline]
+pub(crate) fn token_end(text: &[u8], mut pos: usize) -> usize {
+    while let Some(&byte) = text.get(pos) {
+        if byte == b' ' {
+            break;
+        }
+        pos += 1;
+    }
+    pos
+}
+
+/// Parses up to 19 decimal digits starting at `pos` (19 digits always fit in a u64).
+/// Returns the value and the number of digits consumed (which may be 0); more digits are left alone.
+#[inline(always)]
+pub(crate) fn decimal_u64(text: &[u8], pos: usize) -> (u64, usize) {
+    let mut value = 0u64;
+    let mut count = 0;
+    for &byte in text.get(pos..).unwrap_or_default().iter().take(19) {
+        let digit = byte.wrapping_sub(b'0');
+        if digit > 9 {
+            break;
+        }
+        value = value * 10 + u64::from(digit);
+        count += 1;
+    }
+    (value, count)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hex_table_accepts_both_cases_and_nothing_else() {
+        for byte in 0..=255u8 {
+            let expected = (byte as char).to_digit(16).map(|d| d as u8);
+            assert_eq!(hex_value(byte), expected, "byte {byte:#x}");
+        }
+        assert_eq!(hex_pair(b'a', b'F'), Some(0xAF));
+        assert_eq!(hex_pair(b'g', b'0'), None);
+        assert_eq!(hex_pair(b'0', b' '), None);
+        assert_eq!(hex_u32(b"1FFFFFFF"), Some(0x1FFF_FFFF));
+        assert_eq!(hex_u32(b"12x"), None);
+    }
+
+    #[test]
+    fn decimal_stops_at_19_digits_and_non_digits() {
+        assert_eq!(decimal_u64(b"0012x", 0), (12, 4));
+        assert_eq!(decimal_u64(b"x", 0), (0, 0));
+        assert_eq!(decimal_u64(b"99999999999999999999", 0), (9_999_999_999_999_999_999, 19));
+        assert_eq!(decimal_u64(b"12", 5), (0, 0));
+    }
+}

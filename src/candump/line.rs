@@ -1,0 +1,563 @@
+//! One line of candump text, in either the log format or the console format, detected per line.
+
+use memchr::memchr;
+
+use super::cansend::{classify_id, data_frame, parse_frame_text, FrameText, IdForm};
+use super::hex::{decimal_u64, hex_pair, hex_value, is_hex, skip_spaces, token_end};
+use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
+use super::{LineError, Reason, Timestamp, TimestampKind};
+use crate::protocol::frame::{CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
+use crate::protocol::CanFrame;
+
+/// Longest interface name (IFNAMSIZ - 1).
+const IFACE_MAX_LEN: usize = 15;
+/// CAN FD flag bits as candump writes them.
+const FD_BRS: u8 = 0x1;
+const FD_ESI: u8 = 0x2;
+const FD_FDF: u8 = 0x4;
+
+/// Whether this host received or sent the frame (`-x`: log ` R`/` T`, console `RX`/`TX`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    Rx,
+    Tx,
+}
+
+/// One frame line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Record<'a> {
+    pub ts: Option<Timestamp>,
+    pub iface: &'a str,
+    pub frame: CanFrame,
+    pub dir: Option<Direction>,
+}
+
+/// What a line holds.
+#[derive(Debug, PartialEq, Eq)]
+pub enum Line<'a> {
+    Frame(Record<'a>),
+    /// Empty or only spaces.
+    Blank,
+    /// Starts with `#` or `;` (after optional spaces).
+    Comment,
+    /// `DROPCOUNT: dropped N CAN frame[s] on 'can0' socket (total drops M)`.
+    DropCount {
+        dropped: u64,
+    },
+    /// A TAB-started continuation line following a console ERRORFRAME (`-e`); any line starting with TAB.
+    ErrorText,
+    /// A syntactically valid CAN XL frame (not decoded; the caller counts it).
+    CanXl,
+}
+
+/// Parses candump text one line at a time.
+///
+/// Every line is classified on its own, so log and console lines may be mixed. The parser is stateful
+/// only for two things: the reusable scratch buffer that coloured (`-c`) lines are copied into without
+/// their ANSI codes, and the running sum of `-t d` deltas.
+///
+/// `-t d` and `-t z` print the same `(000.123456)` layout, so the parser cannot tell them apart: by default
+/// small stamps are taken as `-t z` (since the start). Call [`LineParser::with_delta_timestamps`] for
+/// `-t d` captures; then relative stamps of console lines are summed (the first delta starts the sum).
+/// Log lines never hold deltas (`candump -l` writes only `-t a` or `-t z` stamps). A console line whose
+/// frame is rejected still adds its delta, since that time did pass.
+#[derive(Debug, Default)]
+pub struct LineParser {
+    scratch: Vec<u8>,
+    deltas: bool,
+    delta_sum: DeltaSum,
+}
+
+impl LineParser {
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Treats relative console stamps as `-t d` deltas and reports their running sum.
+    pub fn with_delta_timestamps(mut self) -> Self {
+        self.deltas = true;
+        self
+    }
+
+    /// Forgets the running `-t d` sum (for a new file).
+    pub fn reset(&mut self) {
+        self.delta_sum = DeltaSum::default();
+    }
+
+    /// Parses one line. `line` has no trailing `\n`; a trailing `\r` is accepted.
+    ///
+    /// The result may borrow from `line` or from the parser's scratch buffer (coloured lines), hence the
+    /// shared lifetime. Error columns are 1-based byte columns; for coloured lines they count the text
+    /// without its colour codes.
+    pub fn parse<'a>(&'a mut self, line: &'a [u8]) -> Result<Line<'a>, LineError> {
+        if let Some(record) = parse_log_fast(line) {
+            return Ok(Line::Frame(record));
+        }
+        let text: &'a [u8] = if memchr(0x1B, line).is_some() {
+            strip_ansi(line, &mut self.scratch);
+            &self.scratch
+        } else {
+            line
+        };
+        let deltas = self.deltas.then_some(&mut self.delta_sum);
+        parse_general(text, deltas).map_err(|(pos, reason)| LineError { column: pos + 1, reason })
+    }
+}
+
+/// The fast path for the common log line `(1700000000.002500) can0 211#00000103000000B1[ R]`: standard
+/// or extended data frames of 0-8 bytes without separators. Returns `None` for anything else (including
+/// errors), leaving the line to the general path, which must give the same result for lines accepted here.
+#[inline]
+fn parse_log_fast(line: &[u8]) -> Option<Record<'_>> {
+    if line.first() != Some(&b'(') {
+        return None;
+    }
+    let line = line.strip_suffix(b"\r").unwrap_or(line);
+    let (secs, nanos, after_ts) = parse_numeric(line, 1).ok()?;
+    if line.get(after_ts) != Some(&b' ') {
+        return None;
+    }
+    let iface_start = skip_spaces(line, after_ts + 1);
+    let mut pos = iface_start;
+    while let Some(0x21..=0x7E) = line.get(pos) {
+        pos += 1;
+    }
+    if pos == iface_start || pos - iface_start > IFACE_MAX_LEN || line.get(pos) != Some(&b' ') {
+        return None;
+    }
+    let iface = std::str::from_utf8(&line[iface_start..pos]).ok()?;
+    let id_start = pos + 1;
+    let (id, extended, mut pos) = if line.get(id_start + 3) == Some(&b'#') {
+        let id = hex3(line.get(id_start..id_start + 3)?)?;
+        (id, false, id_start + 4)
+    } else if line.get(id_start + 8) == Some(&b'#') {
+        let digits = line.get(id_start..id_start + 8)?;
+        let id = digits.iter().try_fold(0u32, |acc, &b| Some((acc << 4) | u32::from(hex_value(b)?)))?;
+        (id, true, id_start + 9)
+    } else {
+        return None;
+    };
+    if id > if extended { EFF_MAX } else { SFF_MAX } {
+        return None; // error frames and out-of-range ids: the general path decides
+    }
+    let mut data = [0u8; CC_MAX_LEN];
+    let mut len = 0;
+    while let Some(&hi) = line.get(pos) {
+        if hi == b' ' {
+            break;
+        }
+        if len == CC_MAX_LEN {
+            return None;
+        }
+        data[len] = hex_pair(hi, *line.get(pos + 1)?)?;
+        len += 1;
+        pos += 2;
+    }
+    let dir = match line.get(pos..)? {
+        [] => None,
+        b" R" => Some(Direction::Rx),
+        b" T" => Some(Direction::Tx),
+        _ => return None,
+    };
+    let frame = data_frame_fixed(id, extended, &data, len)?;
+    Some(Record { ts: Some(Timestamp::from_numeric(secs, nanos)), iface, frame, dir })
+}
+
+/// `CanFrame::new`/`new_extended` with a constant-length slice per arm, so the payload copy is a few
+/// moves instead of a `memcpy` call (measurable on the hot path).
+#[inline(always)]
+fn data_frame_fixed(id: u32, extended: bool, data: &[u8; CC_MAX_LEN], len: usize) -> Option<CanFrame> {
+    let build = |payload: &[u8]| match extended {
+        false => CanFrame::new(id, payload),
+        true => CanFrame::new_extended(id, payload),
+    };
+    let frame = match len {
+        0 => build(&[]),
+        1 => build(&data[..1]),
+        2 => build(&data[..2]),
+        3 => build(&data[..3]),
+        4 => build(&data[..4]),
+        5 => build(&data[..5]),
+        6 => build(&data[..6]),
+        7 => build(&data[..7]),
+        _ => build(&data[..]),
+    };
+    frame.ok()
+}
+
+#[inline(always)]
+fn hex3(digits: &[u8]) -> Option<u32> {
+    match digits {
+        [a, b, c] => {
+            let (a, b, c) = (hex_value(*a)?, hex_value(*b)?, hex_value(*c)?);
+            Some((u32::from(a) << 8) | (u32::from(b) << 4) | u32::from(c))
+        }
+        _ => None,
+    }
+}
+
+/// Copies `line` into `out` without ANSI escape sequences (`ESC [ params final`; a lone ESC is dropped).
+fn strip_ansi(line: &[u8], out: &mut Vec<u8>) {
+    out.clear();
+    let mut rest = line;
+    while let Some(esc) = memchr(0x1B, rest) {
+        out.extend_from_slice(&rest[..esc]);
+        rest = &rest[esc + 1..];
+        if rest.first() == Some(&b'[') {
+            let mut end = 1;
+            while let Some(0x20..=0x3F) = rest.get(end) {
+                end += 1;
+            }
+            if let Some(0x40..=0x7E) = rest.get(end) {
+                end += 1;
+            }
+            rest = rest.get(end..).unwrap_or_default();
+        }
+    }
+    out.extend_from_slice(rest);
+}
+
+/// A parsed `(...)` stamp before it is classified.
+#[derive(Clone, Copy)]
+struct RawStamp {
+    secs: u64,
+    nanos: u32,
+    /// `-t A` wall-clock form: always absolute.
+    dated: bool,
+}
+
+impl RawStamp {
+    fn classify(self) -> Timestamp {
+        match self.dated {
+            true => Timestamp { secs: self.secs, nanos: self.nanos, kind: TimestampKind::Absolute },
+            false => Timestamp::from_numeric(self.secs, self.nanos),
+        }
+    }
+}
+
+/// Every line shape: comments, drop counts, log lines (any variant), console lines.
+fn parse_general<'a>(text: &'a [u8], deltas: Option<&mut DeltaSum>) -> Result<Line<'a>, PosError> {
+    if text.first() == Some(&b'\t') {
+        return Ok(Line::ErrorText);
+    }
+    let text = trim_end(text);
+    let start = skip_spaces(text, 0);
+    let Some(&first) = text.get(start) else {
+        return Ok(Line::Blank);
+    };
+    match first {
+        b'#' | b';' => return Ok(Line::Comment),
+        b'D' if text[start..].starts_with(b"DROPCOUNT:") => return parse_dropcount(text, start),
+        _ => {}
+    }
+
+    let mut stamp = None;
+    let mut iface_start = start;
+    if first == b'(' {
+        let open = start + 1;
+        let dated = matches!(text.get(open..open + 5), Some([a, b, c, d, b'-'])
+            if [a, b, c, d].iter().all(|x| x.is_ascii_digit()));
+        let (secs, nanos, end) = match dated {
+            true => parse_date_time(text, open)?,
+            false => parse_numeric(text, open)?,
+        };
+        stamp = Some(RawStamp { secs, nanos, dated });
+        match text.get(end) {
+            Some(b' ') => {}
+            Some(_) => return Err((end, Reason::ExpectedSpace)),
+            None => return Err((end, Reason::MissingInterface)),
+        }
+        iface_start = skip_spaces(text, end);
+    }
+
+    let iface_end = token_end(text, iface_start);
+    let next = skip_spaces(text, iface_end);
+    if next == text.len() {
+        // A single field: not enough for any candump line.
+        let field = &text[iface_start..iface_end];
+        return Err(match stamp {
+            // A bare `211#00...` (cansend syntax) lacks only the interface name.
+            _ if memchr(b'#', field).is_some() => (iface_start, Reason::MissingInterface),
+            None => (start, Reason::NotCandump),
+            Some(_) => (next, Reason::MissingFrame),
+        });
+    }
+    let next_end = token_end(text, next);
+    let field = &text[next..next_end];
+
+    // Log format: the field after the interface is the frame.
+    if memchr(b'#', field).is_some() {
+        let iface = check_iface(text, iface_start, iface_end)?;
+        let frame = parse_frame_text(field).map_err(|(pos, reason)| (next + pos, reason))?;
+        let dir = match &text[skip_spaces(text, next_end)..] {
+            [] => None,
+            b"R" => Some(Direction::Rx),
+            b"T" => Some(Direction::Tx),
+            _ => return Err((skip_spaces(text, next_end), Reason::TrailingGarbage)),
+        };
+        return Ok(match frame {
+            FrameText::Can(frame) => {
+                Line::Frame(Record { ts: stamp.map(RawStamp::classify), iface, frame, dir })
+            }
+            FrameText::Xl => Line::CanXl,
+        });
+    }
+
+    // Console format: [RX|TX flag flag] id [len] bytes...
+    let (dir, fd_bits, id_start) = match field {
+        b"RX" | b"TX" => {
+            let (fd_bits, id_start) = parse_message_info(text, next_end)?;
+            let dir = if field == b"RX" { Direction::Rx } else { Direction::Tx };
+            (Some(dir), fd_bits, id_start)
+        }
+        _ => {
+            let len_field = skip_spaces(text, next_end);
+            if !matches!(text.get(len_field), Some(b'[' | b'{')) {
+                // Neither shape: a hex field is most likely a log frame that lost its '#'.
+                return Err(match field.iter().all(|&b| is_hex(b)) {
+                    true => (next_end, Reason::MissingHash),
+                    false => (start, Reason::NotCandump),
+                });
+            }
+            (None, 0, next)
+        }
+    };
+    let iface = check_iface(text, iface_start, iface_end)?;
+    let ts = stamp.map(|stamp| match deltas {
+        Some(sum) if !stamp.dated && stamp.secs < super::RELATIVE_LIMIT_SECS => {
+            sum.add(stamp.secs, stamp.nanos)
+        }
+        _ => stamp.classify(),
+    });
+    Ok(match parse_console_frame(text, id_start, fd_bits)? {
+        FrameText::Can(frame) => Line::Frame(Record { ts, iface, frame, dir }),
+        FrameText::Xl => Line::CanXl,
+    })
+}
+
+fn trim_end(text: &[u8]) -> &[u8] {
+    let mut end = text.len();
+    while end > 0 && matches!(text[end - 1], b' ' | b'\r' | b'\n') {
+        end -= 1;
+    }
+    &text[..end]
+}
+
+/// Validates an interface name: 1..=15 printable ASCII characters.
+fn check_iface(text: &[u8], start: usize, end: usize) -> Result<&str, PosError> {
+    let name = &text[start..end];
+    if let Some(bad) = name.iter().position(|b| !(0x21..=0x7E).contains(b)) {
+        return Err((start + bad, Reason::BadInterface));
+    }
+    if name.len() > IFACE_MAX_LEN {
+        return Err((start, Reason::InterfaceTooLong));
+    }
+    std::str::from_utf8(name).map_err(|_| (start, Reason::BadInterface))
+}
+
+/// The `-x` columns after `RX`/`TX`: `- -`, `B -`, `- E`, `B E` (and CAN XL's `S`/`R`). Returns the FD flag
+/// bits they stand for and where the identifier starts.
+fn parse_message_info(text: &[u8], after_dir: usize) -> Result<(u8, usize), PosError> {
+    let mut bits = 0;
+    let mut pos = after_dir;
+    for (allowed, flag) in [(b"-BS", FD_BRS), (b"-ER", FD_ESI)] {
+        let start = skip_spaces(text, pos);
+        let end = token_end(text, start);
+        match text.get(start..end) {
+            Some(&[column]) if start > pos && allowed.contains(&column) => {
+                if matches!(column, b'B' | b'E') {
+                    bits |= flag;
+                }
+            }
+            _ => return Err((start, Reason::BadMessageInfo)),
+        }
+        pos = end;
+    }
+    Ok((bits, skip_spaces(text, pos)))
+}
+
+/// The console frame: `151   [8]  00 01 ...`, `12345678  [64]  ...`, `151   [0]  remote request`,
+/// `151   {F}  ...`, `20000004   [8]  ...   ERRORFRAME`, `123 [0003] (...) ...` (CAN XL).
+fn parse_console_frame(text: &[u8], id_start: usize, fd_bits: u8) -> Result<FrameText, PosError> {
+    let id_end = token_end(text, id_start);
+    let id_digits = &text[id_start..id_end];
+    if let Some(bad) = id_digits.iter().position(|&b| !is_hex(b)) {
+        return Err((id_start + bad, Reason::NotHex));
+    }
+    let (id, form) = match id_digits.len() {
+        3 | 8 => classify_id(id_digits).map_err(|(_, reason)| (id_start, reason))?,
+        _ => return Err((id_start, Reason::IdLength)),
+    };
+    let len_start = skip_spaces(text, id_end);
+    let (length, after) = parse_length_field(text, len_start)?;
+
+    let (len, raw_dlc, fd) = match length {
+        Length::Xl => return Ok(FrameText::Xl),
+        Length::Classic { len, raw_dlc } => (len, raw_dlc, false),
+        Length::Fd(len) => (len, None, true),
+    };
+    let body = skip_spaces(text, after);
+    if !fd && text[body..].starts_with(b"remote request") {
+        if form == IdForm::Error {
+            return Err((body, Reason::ErrorFrameNotData));
+        }
+        let end = body + b"remote request".len();
+        if end < text.len() {
+            return Err((skip_spaces(text, end), Reason::TrailingGarbage));
+        }
+        let frame =
+            CanFrame::new_remote(id, form.is_extended(), len as u8).map_err(|e| (len_start, e.into()))?;
+        return with_raw_dlc(frame, raw_dlc, len_start);
+    }
+
+    let mut data = [0u8; FD_MAX_LEN];
+    let mut pos = after;
+    for slot in data.iter_mut().take(len) {
+        // candump's own layout, " HH", first; anything else goes through the tolerant scan.
+        if let Some(&[b' ', hi, lo]) = text.get(pos..pos + 3) {
+            if let Some(byte) = hex_pair(hi, lo) {
+                if matches!(text.get(pos + 3), None | Some(b' ')) {
+                    *slot = byte;
+                    pos += 3;
+                    continue;
+                }
+            }
+        }
+        let start = skip_spaces(text, pos);
+        let end = token_end(text, start);
+        let column = &text[start..end];
+        if column.is_empty() {
+            return Err((start, Reason::LengthMismatch));
+        }
+        if start == pos {
+            return Err((start, Reason::ExpectedSpace));
+        }
+        let byte = match column {
+            [hi, lo] => hex_pair(*hi, *lo),
+            _ => None,
+        };
+        let Some(byte) = byte else {
+            return Err(match column {
+                // The ASCII column or the error tag came early: fewer bytes than the length says.
+                [b'\'', ..] | b"ERRORFRAME" => (start, Reason::LengthMismatch),
+                _ => (start, Reason::ConsoleByte),
+            });
+        };
+        *slot = byte;
+        pos = end;
+    }
+    check_console_tail(text, pos, form)?;
+
+    let frame = if fd {
+        if form == IdForm::Error {
+            return Err((len_start, Reason::ErrorFrameNotData));
+        }
+        // Without -x the two-digit length is the only FD marker: report FDF, as candump -L >= 2025.01 does.
+        CanFrame::new_fd(id, form.is_extended(), FD_FDF | fd_bits, &data[..len])
+            .map_err(|e| (len_start, e.into()))?
+    } else {
+        data_frame(id, form, &data[..len]).map_err(|reason| (len_start, reason))?
+    };
+    with_raw_dlc(frame, raw_dlc, len_start)
+}
+
+fn with_raw_dlc(frame: CanFrame, raw_dlc: Option<u8>, pos: usize) -> Result<FrameText, PosError> {
+    match raw_dlc {
+        Some(dlc) => frame.with_raw_dlc(dlc).map(FrameText::Can).map_err(|e| (pos, e.into())),
+        None => Ok(FrameText::Can(frame)),
+    }
+}
+
+/// What follows the data bytes: nothing, the `-a` ASCII column `'...'`, or `ERRORFRAME` on error frames.
+fn check_console_tail(text: &[u8], pos: usize, form: IdForm) -> Result<(), PosError> {
+    let start = skip_spaces(text, pos);
+    let tail = &text[start..];
+    let ascii = tail.len() >= 2 && tail.first() == Some(&b'\'') && tail.last() == Some(&b'\'');
+    let error_tag = tail == b"ERRORFRAME" && form == IdForm::Error;
+    if tail.is_empty() || (start > pos && (ascii || error_tag)) {
+        return Ok(());
+    }
+    let looks_like_byte =
+        matches!(tail, [a, b, ..] if is_hex(*a) && is_hex(*b)) && token_end(text, start) == start + 2;
+    Err(match looks_like_byte {
+        true => (start, Reason::LengthMismatch),
+        false => (start, Reason::TrailingGarbage),
+    })
+}
+
+/// A console length field.
+enum Length {
+    /// `[0]`..`[8]`, or `{0}`..`{F}` with `-8` (length min(dlc, 8), raw DLC when 9..F).
+    Classic { len: usize, raw_dlc: Option<u8> },
+    /// `[00]`..`[64]`: a CAN FD frame.
+    Fd(usize),
+    /// `[0000]`: a CAN XL frame.
+    Xl,
+}
+
+/// Parses the length field at `pos`; returns it and the index just past its closing bracket.
+fn parse_length_field(text: &[u8], pos: usize) -> Result<(Length, usize), PosError> {
+    match text.get(pos) {
+        Some(b'[') => {
+            let (value, digits) = decimal_u64(text, pos + 1);
+            let close = pos + 1 + digits;
+            if text.get(close) != Some(&b']') {
+                return Err((pos, Reason::BadLength));
+            }
+            let length = match (digits, value) {
+                (1, len @ 0..=8) => Length::Classic { len: len as usize, raw_dlc: None },
+                (2, len) if len <= 64 && FD_LENGTHS.contains(&(len as u8)) => Length::Fd(len as usize),
+                (2, _) => return Err((pos, Reason::BadFdLength)),
+                (4, _) => Length::Xl,
+                _ => return Err((pos, Reason::BadLength)),
+            };
+            Ok((length, close + 1))
+        }
+        Some(b'{') => {
+            let dlc = text.get(pos + 1).and_then(|&b| hex_value(b));
+            match (dlc, text.get(pos + 2)) {
+                (Some(dlc), Some(b'}')) => {
+                    let len = usize::from(dlc).min(CC_MAX_LEN);
+                    Ok((Length::Classic { len, raw_dlc: (dlc > 8).then_some(dlc) }, pos + 3))
+                }
+                _ => Err((pos, Reason::BadLength)),
+            }
+        }
+        _ => Err((pos, Reason::BadLength)),
+    }
+}
+
+/// `DROPCOUNT: dropped N CAN frame[s] on 'can0' socket (total drops M)`.
+fn parse_dropcount(text: &[u8], start: usize) -> Result<Line<'static>, PosError> {
+    const PREFIX: &[u8] = b"DROPCOUNT: dropped ";
+    if !text[start..].starts_with(PREFIX) {
+        return Err((start, Reason::BadDropCount));
+    }
+    let mut pos = start + PREFIX.len();
+    // candump prints the u32 count with %d, so counts of 2^31 and more appear negative.
+    let negative = text.get(pos) == Some(&b'-');
+    pos += usize::from(negative);
+    let (count, digits) = decimal_u64(text, pos);
+    if digits == 0 || !text[pos + digits..].starts_with(b" CAN frame") {
+        return Err((pos, Reason::BadDropCount));
+    }
+    let dropped = match negative {
+        false => count,
+        true if (1..=1 << 31).contains(&count) => (1u64 << 32) - count,
+        true => return Err((pos, Reason::BadDropCount)),
+    };
+    Ok(Line::DropCount { dropped })
+}
+
+#[cfg(test)]
+pub(crate) fn parse_log_fast_for_tests(line: &[u8]) -> Option<Record<'_>> {
+    parse_log_fast(line)
+}
+
+#[cfg(test)]
+pub(crate) fn parse_general_for_tests(line: &[u8]) -> Option<Record<'_>> {
+    match parse_general(line, None) {
+        Ok(Line::Frame(record)) => Some(record),
+        _ => None,
+    }
+}

@@ -1,0 +1,250 @@
+//! Timestamps as candump writes them: `(1700000000.002500)`, `(000.123456)`, `(2020-12-19 12:04:45.485261)`.
+
+use super::hex::decimal_u64;
+use super::Reason;
+
+/// Seconds values below this (before 1973-03-03) are taken as relative stamps (`-t z`, `-t d`,
+/// python-can's `(0.000000)`): no real capture is that old.
+pub const RELATIVE_LIMIT_SECS: u64 = 100_000_000;
+
+/// A timestamp exactly as the log had it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Timestamp {
+    pub secs: u64,
+    /// 0..1_000_000_000.
+    pub nanos: u32,
+    pub kind: TimestampKind,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TimestampKind {
+    /// Seconds since the epoch (log default, console `-t a`; `-t A` converted treating the wall-clock as UTC).
+    Absolute,
+    /// Since the start of the capture (`-t z`, or the running sum of `-t d` deltas).
+    Relative,
+}
+
+impl Timestamp {
+    pub fn as_secs_f64(&self) -> f64 {
+        self.secs as f64 + f64::from(self.nanos) * 1e-9
+    }
+
+    pub fn as_nanos(&self) -> u128 {
+        u128::from(self.secs) * 1_000_000_000 + u128::from(self.nanos)
+    }
+
+    /// Classifies a numeric stamp by its value (see [`RELATIVE_LIMIT_SECS`]).
+    pub(crate) fn from_numeric(secs: u64, nanos: u32) -> Self {
+        let kind = if secs < RELATIVE_LIMIT_SECS { TimestampKind::Relative } else { TimestampKind::Absolute };
+        Self { secs, nanos, kind }
+    }
+}
+
+/// Scales a fraction of `digits` decimal digits to nanoseconds.
+const NANO_SCALE: [u32; 10] = [0, 100_000_000, 10_000_000, 1_000_000, 100_000, 10_000, 1_000, 100, 10, 1];
+
+/// Error position (0-based index into the text) and reason.
+pub(crate) type PosError = (usize, Reason);
+
+/// Parses `secs.frac)` starting at `pos` (just after the `(`). Returns seconds, nanoseconds and the index
+/// just past the `)`. Accepts 1..=19 seconds digits and 1..=9 fraction digits.
+#[inline]
+pub(crate) fn parse_numeric(text: &[u8], pos: usize) -> Result<(u64, u32, usize), PosError> {
+    let (secs, secs_digits) = decimal_u64(text, pos);
+    let mut at = pos + secs_digits;
+    match text.get(at) {
+        Some(b'.') if secs_digits > 0 => {}
+        Some(byte) if byte.is_ascii_digit() => return Err((pos, Reason::TimestampTooLarge)),
+        _ => return Err(bad_char(text, pos, at, Reason::BadTimestamp)),
+    }
+    at += 1;
+    let frac_start = at;
+    let (frac, frac_digits) = decimal_u64(text, frac_start);
+    at += frac_digits;
+    if frac_digits == 0 || frac_digits > 9 {
+        return Err(bad_char(text, pos, frac_start, Reason::TimestampFraction));
+    }
+    if text.get(at) != Some(&b')') {
+        return Err(bad_char(text, pos, at, Reason::BadTimestamp));
+    }
+    // frac < 10^9 and the scale makes it nanoseconds, so the product fits in u32.
+    let nanos = frac as u32 * NANO_SCALE[frac_digits];
+    Ok((secs, nanos, at + 1))
+}
+
+/// Parses the `-t A` form `YYYY-MM-DD HH:MM:SS.frac)` starting at `pos` (just after the `(`), treating the
+/// wall-clock time as UTC (candump printed local time and did not say which zone).
+pub(crate) fn parse_date_time(text: &[u8], pos: usize) -> Result<(u64, u32, usize), PosError> {
+    // Fixed-width fields and the separator expected after each.
+    const FIELDS: [(usize, u8); 6] = [(4, b'-'), (2, b'-'), (2, b' '), (2, b':'), (2, b':'), (2, b'.')];
+    let mut values = [0u64; 6];
+    let mut at = pos;
+    for (value, &(width, separator)) in values.iter_mut().zip(FIELDS.iter()) {
+        let (number, digits) = decimal_u64(text, at);
+        if digits != width || text.get(at + width) != Some(&separator) {
+            return Err(bad_char(text, pos, at, Reason::BadDateTime));
+        }
+        *value = number;
+        at += width + 1;
+    }
+    let (frac, frac_digits) = decimal_u64(text, at);
+    if frac_digits == 0 || frac_digits > 9 {
+        return Err(bad_char(text, pos, at, Reason::TimestampFraction));
+    }
+    at += frac_digits;
+    if text.get(at) != Some(&b')') {
+        return Err(bad_char(text, pos, at, Reason::BadTimestamp));
+    }
+    let [year, month, day, hour, minute, second] = values;
+    let valid = year >= 1970
+        && (1..=12).contains(&month)
+        && day >= 1
+        && day <= days_in_month(year, month)
+        && hour < 24
+        && minute < 60
+        && second < 60;
+    if !valid {
+        return Err((pos, Reason::BadDateTime));
+    }
+    let days = days_from_civil(year as i64, month as u32, day as u32);
+    // `valid` guarantees days >= 0 and the year has at most 4 digits, so no overflow.
+    let secs = days as u64 * 86_400 + hour * 3_600 + minute * 60 + second;
+    Ok((secs, frac as u32 * NANO_SCALE[frac_digits], at + 1))
+}
+
+/// The reason for a bad character, unless the real problem is a missing `)`.
+fn bad_char(text: &[u8], open: usize, at: usize, reason: Reason) -> PosError {
+    let rest = text.get(open..).unwrap_or_default();
+    if memchr::memchr(b')', rest).is_none() {
+        (open.saturating_sub(1), Reason::UnterminatedTimestamp)
+    } else {
+        (at, reason)
+    }
+}
+
+fn is_leap(year: u64) -> bool {
+    year % 4 == 0 && (year % 100 != 0 || year % 400 == 0)
+}
+
+fn days_in_month(year: u64, month: u64) -> u64 {
+    match month {
+        2 if is_leap(year) => 29,
+        2 => 28,
+        4 | 6 | 9 | 11 => 30,
+        _ => 31,
+    }
+}
+
+/// Days since 1970-01-01 of a proleptic Gregorian date (Howard Hinnant's `days_from_civil`).
+pub(crate) fn days_from_civil(year: i64, month: u32, day: u32) -> i64 {
+    let year = if month <= 2 { year - 1 } else { year };
+    let era = if year >= 0 { year } else { year - 399 } / 400;
+    let year_of_era = year - era * 400; // [0, 399]
+    let month_from_march = if month > 2 { month - 3 } else { month + 9 }; // [0, 11]
+    let day_of_year = (153 * i64::from(month_from_march) + 2) / 5 + i64::from(day) - 1; // [0, 365]
+    let day_of_era = year_of_era * 365 + year_of_era / 4 - year_of_era / 100 + day_of_year; // [0, 146096]
+    era * 146_097 + day_of_era - 719_468
+}
+
+/// Running sum of `-t d` deltas.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct DeltaSum {
+    secs: u64,
+    nanos: u32,
+}
+
+impl DeltaSum {
+    /// Adds one delta and returns the sum as a relative timestamp (saturating, never panicking).
+    pub(crate) fn add(&mut self, secs: u64, nanos: u32) -> Timestamp {
+        let mut total_nanos = self.nanos + nanos; // both < 10^9: no overflow
+        let mut carry = 0;
+        if total_nanos >= 1_000_000_000 {
+            total_nanos -= 1_000_000_000;
+            carry = 1;
+        }
+        self.secs = self.secs.saturating_add(secs).saturating_add(carry);
+        self.nanos = total_nanos;
+        Timestamp { secs: self.secs, nanos: self.nanos, kind: TimestampKind::Relative }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numeric_stamps_scale_any_fraction_width() {
+        assert_eq!(parse_numeric(b"(1700000000.002500)", 1), Ok((1_700_000_000, 2_500_000, 19)));
+        assert_eq!(parse_numeric(b"(0.5)", 1), Ok((0, 500_000_000, 5)));
+        assert_eq!(parse_numeric(b"(1614188635.1000000)", 1), Ok((1_614_188_635, 100_000_000, 20)));
+        assert_eq!(parse_numeric(b"(1.123456789)", 1), Ok((1, 123_456_789, 13)));
+    }
+
+    #[test]
+    fn numeric_stamp_errors_point_at_the_problem() {
+        assert_eq!(parse_numeric(b"(1.1234567890)", 1), Err((3, Reason::TimestampFraction)));
+        assert_eq!(parse_numeric(b"(1.)", 1), Err((3, Reason::TimestampFraction)));
+        assert_eq!(parse_numeric(b"(1.5", 1), Err((0, Reason::UnterminatedTimestamp)));
+        assert_eq!(parse_numeric(b"(.5)", 1), Err((1, Reason::BadTimestamp)));
+        assert_eq!(parse_numeric(b"(17)", 1), Err((3, Reason::BadTimestamp)));
+        assert_eq!(parse_numeric(b"(1.5x)", 1), Err((4, Reason::BadTimestamp)));
+        assert_eq!(parse_numeric(b"(12345678901234567890.1)", 1), Err((1, Reason::TimestampTooLarge)));
+    }
+
+    #[test]
+    fn date_time_is_converted_as_utc() {
+        // 2020-12-19 12:04:45 UTC = 1608379485 (date -u -d '2020-12-19 12:04:45' +%s).
+        let text = b"(2020-12-19 12:04:45.485261)";
+        assert_eq!(parse_date_time(text, 1), Ok((1_608_379_485, 485_261_000, text.len())));
+        assert_eq!(parse_date_time(b"(1970-01-01 00:00:00.0)", 1), Ok((0, 0, 23)));
+        // Leap day and the last second of a year.
+        assert_eq!(parse_date_time(b"(2024-02-29 00:00:00.0)", 1).map(|r| r.0), Ok(1_709_164_800));
+        assert_eq!(parse_date_time(b"(2023-12-31 23:59:59.9)", 1).map(|r| r.0), Ok(1_704_067_199));
+    }
+
+    #[test]
+    fn impossible_dates_are_rejected() {
+        for text in [
+            &b"(2023-02-29 00:00:00.0)"[..],
+            b"(2023-13-01 00:00:00.0)",
+            b"(2023-00-01 00:00:00.0)",
+            b"(2023-04-31 00:00:00.0)",
+            b"(2023-01-01 24:00:00.0)",
+            b"(2023-01-01 00:60:00.0)",
+            b"(1969-12-31 23:59:59.0)",
+        ] {
+            assert_eq!(parse_date_time(text, 1), Err((1, Reason::BadDateTime)), "{}", text.escape_ascii());
+        }
+        assert_eq!(parse_date_time(b"(2023-1-01 00:00:00.0)", 1), Err((6, Reason::BadDateTime)));
+        assert_eq!(parse_date_time(b"(2023-01-01 00:00:00.)", 1), Err((21, Reason::TimestampFraction)));
+        assert_eq!(parse_date_time(b"(2023-01-01 00:00:00.5", 1), Err((0, Reason::UnterminatedTimestamp)));
+    }
+
+    #[test]
+    fn days_from_civil_matches_known_dates() {
+        assert_eq!(days_from_civil(1970, 1, 1), 0);
+        assert_eq!(days_from_civil(2000, 3, 1), 11_017);
+        assert_eq!(days_from_civil(1969, 12, 31), -1);
+        assert_eq!(days_from_civil(2023, 11, 14), 19_675);
+    }
+
+    #[test]
+    fn classification_and_conversions() {
+        let ts = Timestamp::from_numeric(1_700_000_000, 2_500_000);
+        assert_eq!(ts.kind, TimestampKind::Absolute);
+        assert_eq!(ts.as_nanos(), 1_700_000_000_002_500_000);
+        assert!((ts.as_secs_f64() - 1_700_000_000.002_5).abs() < 1e-6);
+        assert_eq!(Timestamp::from_numeric(99_999_999, 0).kind, TimestampKind::Relative);
+        assert_eq!(Timestamp::from_numeric(100_000_000, 0).kind, TimestampKind::Absolute);
+    }
+
+    #[test]
+    fn delta_sum_carries_nanoseconds() {
+        let mut sum = DeltaSum::default();
+        assert_eq!(sum.add(0, 600_000_000).as_nanos(), 600_000_000);
+        let ts = sum.add(1, 600_000_000);
+        assert_eq!((ts.secs, ts.nanos, ts.kind), (2, 200_000_000, TimestampKind::Relative));
+        let ts = sum.add(u64::MAX, 0);
+        assert_eq!(ts.secs, u64::MAX);
+    }
+}
