@@ -77,7 +77,15 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
             }
             out.push(b'}');
         }
-        Shape::Raw => out.push(b'}'),
+        Shape::Raw => {
+            if let super::FrameRef::Can(frame) = event.frame {
+                if frame.kind() == crate::protocol::FrameKind::Fd {
+                    out.extend_from_slice(b"\"fd\":true,\"fd_flags\":");
+                    push_int(out, frame.fd_flags());
+                }
+            }
+            out.push(b'}');
+        }
     }
     out.extend_from_slice(b"}\n");
 }

@@ -14,7 +14,8 @@ pub enum Severity {
     Warning,
     /// The robot will not move, or stops, while the bit is set.
     Fault,
-    /// Latched protection: stays set until the host sends a fault-clear (0x441 / `clear-errors`).
+    /// Latched protection: stays set until the host clears it (V1/RS232: the fault-clear code carried in the
+    /// motion command, codes 7 and 8).
     Protection,
     /// A bit no document defines.
     Unknown,
@@ -94,7 +95,7 @@ pub static SYSTEM_V2: &[FlagInfo] = &[
         "rc_disconnected",
         Severity::Fault,
         "RC transmitter disconnection protection",
-        "switch the RC transmitter on (or fully off) and check its range; then clear-errors",
+        "switch the RC transmitter on (or fully off) and check its range; if the bit stays set, send a fault clear (0x441)",
     ),
 ];
 
@@ -147,14 +148,14 @@ pub static SYSTEM_V1_SERIAL: &[FlagInfo] = &[
         "motor1_comm_fault",
         Severity::Fault,
         "no communication with motor driver 1",
-        "check motor 1's driver cable and power; then clear-errors motor1",
+        "check motor 1's driver cable and power; then send fault-clear code 3 (motor 1 communication)",
     ),
     flag(
         0x0008,
         "motor2_comm_fault",
         Severity::Fault,
         "no communication with motor driver 2",
-        "check motor 2's driver cable and power; then clear-errors motor2",
+        "check motor 2's driver cable and power; then send fault-clear code 4 (motor 2 communication)",
     ),
     flag(
         0x0010,
@@ -175,14 +176,14 @@ pub static SYSTEM_V1_SERIAL: &[FlagInfo] = &[
         "driver_overheat_protection",
         Severity::Protection,
         "motor driver above 65 C: output limited, motion commands ignored",
-        "stop, let the drivers cool, then clear-errors",
+        "stop, let the drivers cool, then send fault-clear code 7 (driver over-temperature)",
     ),
     flag(
         0x0080,
         "motor_overcurrent_protection",
         Severity::Protection,
         "motor current above 20 A RMS: motion commands ignored",
-        "check for a jammed wheel or overload, then clear-errors",
+        "check for a jammed wheel or overload, then send fault-clear code 8 (over-current)",
     ),
 ];
 
@@ -222,14 +223,14 @@ pub static DRIVER_STATE: &[FlagInfo] = &[
         "can_disconnected",
         Severity::Fault,
         "driver lost CAN communication with the controller (TRACER manual)",
-        "check the internal CAN wiring to this driver; power-cycle; then clear-errors",
+        "check the internal CAN wiring to this driver and power-cycle; if the bit stays set, send a fault clear (0x441) for this motor",
     ),
     flag(
         0x20,
         "driver_fault",
         Severity::Fault,
         "driver error (SDK layout)",
-        "clear-errors for this motor; power-cycle if it returns",
+        "send a fault clear (0x441) for this motor; power-cycle if it returns",
     ),
     flag(
         0x40,

@@ -49,3 +49,32 @@ fn completions_subcommand_prints_the_committed_script() {
         assert!(committed.contains("decode"), "{shell} completion knows the decode subcommand");
     }
 }
+
+/// One markdown row of docs/protocol.md §5 for a fault bit.
+fn fault_row(table: tracerctl::protocol::FlagTable, info: &tracerctl::protocol::FlagInfo) -> String {
+    let bit = info.mask.trailing_zeros();
+    let (place, mask) = match table {
+        tracerctl::protocol::FlagTable::DriverState => {
+            (format!("byte 5 bit {bit}"), format!("0x{:02X}", info.mask))
+        }
+        _ if bit >= 8 => (format!("byte 4 bit {}", bit - 8), format!("0x{:04X}", info.mask)),
+        _ => (format!("byte 5 bit {bit}"), format!("0x{:04X}", info.mask)),
+    };
+    format!(
+        "| {place} | `{mask}` | `{}` | {} | {} | {} |",
+        info.name, info.severity, info.meaning, info.action
+    )
+}
+
+#[test]
+fn protocol_doc_lists_every_fault_bit_as_the_code_defines_it() {
+    use tracerctl::protocol::FlagTable;
+    let doc =
+        std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/protocol.md")).unwrap();
+    for table in [FlagTable::SystemV2, FlagTable::SystemV1Serial, FlagTable::DriverState] {
+        for info in table.entries() {
+            let row = fault_row(table, info);
+            assert!(doc.contains(&row), "docs/protocol.md lacks or has a stale row; expected:\n{row}");
+        }
+    }
+}

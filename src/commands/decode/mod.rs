@@ -41,6 +41,7 @@ pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Res
     let mut decoder = Decoder {
         protocol,
         detector: ProtocolDetector::default(),
+        seen: ProtocolDetector::default(),
         filter: Filter { ids: args.ids.clone(), messages: args.messages.clone() },
         sink,
         stats: InputStats::default(),
@@ -134,7 +135,10 @@ impl InputStats {
 /// The decoding pipeline shared by every input kind.
 pub struct Decoder {
     protocol: ProtocolHint,
+    /// Detection within the current input.
     detector: ProtocolDetector,
+    /// Totals over every finished input, for the report.
+    seen: ProtocolDetector,
     filter: Filter,
     sink: Sink,
     pub stats: InputStats,
@@ -144,7 +148,17 @@ pub struct Decoder {
 }
 
 impl Decoder {
+    /// One input: a file, standard input or a frame. Each starts with a fresh protocol detector, since
+    /// separate captures may come from different robots; the run's totals are kept for the report.
     fn input(&mut self, input: &str) -> Result<()> {
+        let result = self.input_inner(input);
+        self.seen.v1_frames += self.detector.v1_frames;
+        self.seen.v2_frames += self.detector.v2_frames;
+        self.detector = ProtocolDetector::default();
+        result
+    }
+
+    fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
             return self.candump("<stdin>", io::stdin().lock(), None);
         }
@@ -319,12 +333,11 @@ impl Decoder {
             }
             Sink::Summary(summary) => {
                 let report = if args.format == crate::output::Format::Json {
-                    let mut text =
-                        serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.detector))?;
+                    let mut text = serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.seen))?;
                     text.push('\n');
                     text
                 } else {
-                    summary.report(&self.stats, &self.detector)
+                    summary.report(&self.stats, &self.seen)
                 };
                 let mut out = io::stdout().lock();
                 out.write_all(report.as_bytes())?;

@@ -366,8 +366,14 @@ impl Summary {
         for (name, serial) in &stats.serial {
             let _ = writeln!(
                 w,
-                "  serial {name}: {} bytes, {} frames, {} bad checksums, {} bytes skipped",
-                serial.bytes, serial.frames, serial.bad_checksum, serial.skipped_bytes
+                "  serial {name}: {} bytes, {} frames, {} bad checksums, {} bad length bytes, {} bad frame types, \
+                 {} bytes skipped",
+                serial.bytes,
+                serial.frames,
+                serial.bad_checksum,
+                serial.bad_length,
+                serial.bad_type,
+                serial.skipped_bytes
             );
         }
         if !self.interfaces.is_empty() {
@@ -547,7 +553,7 @@ impl Summary {
 
     /// The same report as JSON.
     pub fn to_json(&self, stats: &InputStats, detector: &ProtocolDetector) -> Json {
-        let ts = |ts: Option<Timestamp>| ts.map(|t| t.as_secs_f64());
+        let ts = |ts: Option<Timestamp>| ts.map(|t| exact_seconds(&t));
         let at = |at: &At| json!({ "ts": ts(at.ts), "frame": at.frame });
         let mut ids: Vec<&IdStats> = self.ids.iter().collect();
         ids.sort_by_key(|stats| stats.key);
@@ -561,6 +567,7 @@ impl Summary {
                     "worst_gap_at": ts(s.worst_gap_at),
                     "frames_lost": s.last_counter.map(|_| s.frames_lost),
                     "count_skips": s.last_counter.map(|_| s.counter_skips),
+                    "count_repeats": s.last_counter.map(|_| s.counter_repeats),
                     "invalid": s.invalid,
                 })
             })
@@ -600,14 +607,18 @@ impl Summary {
             "last": ts(self.last),
             "ids": ids,
             "events": self.events.iter().map(|(a, text)| json!({"at": at(a), "event": text})).collect::<Vec<_>>(),
+            "events_not_listed": self.events_not_listed,
             "faults": faults,
             "battery": {"min": extreme(&self.battery_min, 10.0), "max": extreme(&self.battery_max, 10.0), "last": extreme(&self.battery_last, 10.0)},
             "odometry": self.wheels.iter().map(|w| json!({"travelled": w.travelled_mm as f64 / 1000.0,
                 "net": w.first.zip(w.last).map(|(f, l)| (l - f) as f64 / 1000.0), "resets": w.resets})).collect::<Vec<_>>(),
             "top_speeds": {"measured_linear": extreme(&self.measured_linear, 1000.0), "measured_angular": extreme(&self.measured_angular, 1000.0),
                 "commanded_linear": extreme(&self.commanded_linear, 1000.0), "commanded_angular": extreme(&self.commanded_angular, 1000.0)},
+            "motors": (0..2).map(|m| json!({"motor": m + 1, "rpm": extreme(&self.rpm[m], 1.0), "current": extreme(&self.current[m], 10.0)})).collect::<Vec<_>>(),
+            "error_frames": ERROR_CLASSES.iter().zip(self.error_classes).filter(|(_, n)| *n > 0).map(|((_, name), n)| json!({"class": name, "frames": n})).collect::<Vec<_>>(),
             "serial": stats.serial.iter().map(|(name, s)| json!({"input": name, "bytes": s.bytes, "frames": s.frames,
-                "bad_checksum": s.bad_checksum, "skipped_bytes": s.skipped_bytes})).collect::<Vec<_>>(),
+                "bad_checksum": s.bad_checksum, "bad_length": s.bad_length, "bad_type": s.bad_type,
+                "skipped_bytes": s.skipped_bytes})).collect::<Vec<_>>(),
         })
     }
 
@@ -637,6 +648,16 @@ fn fault_line(out: &mut String, source: &str, table: FlagTable, bit: u32, seen: 
         info.action
     );
     true
+}
+
+/// Seconds as the nearest f64 to the exact decimal, so JSON shows `0.3`, not `0.30000000000000004`.
+fn exact_seconds(ts: &Timestamp) -> f64 {
+    let text = if ts.nanos % 1000 == 0 {
+        format!("{}.{:06}", ts.secs, ts.nanos / 1000)
+    } else {
+        format!("{}.{:09}", ts.secs, ts.nanos)
+    };
+    text.parse().unwrap_or_else(|_| ts.as_secs_f64())
 }
 
 fn volts(decivolts: i64) -> String {
