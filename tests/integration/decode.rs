@@ -248,3 +248,27 @@ fn help_and_version() {
         "tracerctl: /nonexistent/capture.log: no such file (frames are written like 211#00000103000000B1)\n"
     );
 }
+
+#[test]
+fn progress_bar_only_on_a_terminal_and_only_for_large_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("large.log");
+    let line = "(1700000000.000000) can0 211#00000103000000B1\n";
+    std::fs::write(&path, line.repeat(200_000)).unwrap(); // 9.2 MB, above the 8 MiB threshold
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    // `script` runs the command on a real pseudo-terminal, so stderr is a terminal.
+    let on_terminal = |extra: &str| {
+        let command =
+            format!("'{}' decode --summary {extra} '{}' > /dev/null", binary.display(), path.display());
+        let output =
+            std::process::Command::new("script").args(["-qec", &command, "/dev/null"]).output().unwrap();
+        assert!(output.status.success(), "{}", stderr(&output));
+        String::from_utf8_lossy(&output.stdout).into_owned()
+    };
+    let shown = on_terminal("");
+    assert!(shown.contains("MiB/"), "bytes done/total on the terminal: {shown:?}");
+    assert!(!on_terminal("--no-progress").contains("MiB/"));
+    // Not a terminal (the test's pipe): never a bar.
+    let piped = tracerctl().args(["decode", "--summary"]).arg(&path).output().unwrap();
+    assert_eq!(stderr(&piped), "");
+}
