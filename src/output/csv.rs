@@ -47,7 +47,17 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
                 cells[column] = Some(field.value);
             }
         }),
-        Shape::Invalid(error) => push_cell(out, &error.to_string()),
+        // Error texts contain commas: always quoted (RFC 4180).
+        Shape::Invalid(error) => {
+            out.push(b'"');
+            super::push_display(out, &error, |out, byte| {
+                if byte == b'"' {
+                    out.push(b'"');
+                }
+                out.push(byte);
+            });
+            out.push(b'"');
+        }
         _ => {}
     }
     for cell in &cells {

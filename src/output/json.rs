@@ -54,8 +54,9 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
             out.push(b'}');
         }
         Shape::Invalid(error) => {
-            out.extend_from_slice(b"},\"error\":");
-            push_string(out, &error.to_string());
+            out.extend_from_slice(b"},\"error\":\"");
+            super::push_display(out, &error, push_escaped);
+            out.push(b'"');
         }
         Shape::ErrorFrame(error) => {
             out.extend_from_slice(b"\"classes\":");
@@ -126,15 +127,20 @@ fn push_string_array<'a>(out: &mut Vec<u8>, names: impl Iterator<Item = &'a str>
 pub fn push_string(out: &mut Vec<u8>, text: &str) {
     out.push(b'"');
     for byte in text.bytes() {
-        match byte {
-            b'"' => out.extend_from_slice(b"\\\""),
-            b'\\' => out.extend_from_slice(b"\\\\"),
-            0..=0x1F => {
-                out.extend_from_slice(b"\\u00");
-                push_hex(out, &[byte]);
-            }
-            _ => out.push(byte),
-        }
+        push_escaped(out, byte);
     }
     out.push(b'"');
+}
+
+/// One byte of a JSON string body, escaped where JSON requires it.
+fn push_escaped(out: &mut Vec<u8>, byte: u8) {
+    match byte {
+        b'"' => out.extend_from_slice(b"\\\""),
+        b'\\' => out.extend_from_slice(b"\\\\"),
+        0..=0x1F => {
+            out.extend_from_slice(b"\\u00");
+            push_hex(out, &[byte]);
+        }
+        _ => out.push(byte),
+    }
 }

@@ -137,6 +137,23 @@ impl EventWriter {
     }
 }
 
+/// Writes a value's `Display` text through `escape` (one byte at a time) without allocating.
+pub fn push_display(out: &mut Vec<u8>, value: &impl std::fmt::Display, escape: fn(&mut Vec<u8>, u8)) {
+    struct Escaping<'a> {
+        out: &'a mut Vec<u8>,
+        escape: fn(&mut Vec<u8>, u8),
+    }
+    impl std::fmt::Write for Escaping<'_> {
+        fn write_str(&mut self, text: &str) -> std::fmt::Result {
+            for byte in text.bytes() {
+                (self.escape)(self.out, byte);
+            }
+            Ok(())
+        }
+    }
+    let _ = std::fmt::write(&mut Escaping { out, escape }, format_args!("{value}"));
+}
+
 fn direction_name(dir: Direction) -> &'static str {
     match dir {
         Direction::Rx => "rx",

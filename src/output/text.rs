@@ -38,7 +38,7 @@ pub fn write(out: &mut Vec<u8>, event: &Event, color: bool) {
         Shape::Message(decoded) => for_each_field(&decoded, |field| push_field(out, &field, color)),
         Shape::Invalid(error) => {
             out.extend_from_slice(b" error=\"");
-            out.extend_from_slice(error.to_string().as_bytes());
+            super::push_display(out, &error, |out, byte| out.push(byte));
             out.extend_from_slice(b"\" data=");
             event.push_data(out);
         }

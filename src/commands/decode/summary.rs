@@ -1,5 +1,6 @@
 //! `decode --summary`: the report a technician reads. Memory is bounded: per-ID tables, capped event lists.
 
+use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::time::{Duration, UNIX_EPOCH};
 
@@ -16,6 +17,11 @@ use crate::protocol::{Decoded, FrameKind};
 
 /// At most this many mode and vehicle-state events are listed; the rest are counted.
 const MAX_LISTED_EVENTS: usize = 200;
+/// Identifiers beyond this many (extended, serial, FD) share one "other" row, so memory stays bounded.
+const MAX_OTHER_IDS: usize = 4096;
+/// The key of that row.
+const OTHER_KEY: u64 = u64::MAX;
+
 /// A wheel odometer step larger than this between consecutive frames is a reset, not travel.
 const ODOMETER_JUMP_MM: i64 = 2_000;
 
@@ -92,6 +98,8 @@ pub struct Summary {
     last: Option<Timestamp>,
     /// Index into `ids` + 1 for each standard identifier; 0 = not seen.
     standard_index: Box<[u32; 2048]>,
+    /// Index into `ids` for every other key (extended, error, serial, FD).
+    other_index: HashMap<u64, usize>,
     ids: Vec<IdStats>,
     interfaces: Vec<String>,
     last_iface: String,
@@ -123,6 +131,7 @@ impl Default for Summary {
             first: None,
             last: None,
             standard_index: Box::new([0; 2048]),
+            other_index: HashMap::new(),
             ids: Vec::new(),
             interfaces: Vec::new(),
             last_iface: String::new(),
@@ -251,10 +260,16 @@ impl Summary {
                 index as usize - 1
             }
         } else {
-            match self.ids.iter().position(|stats| stats.key == key) {
-                Some(index) => index,
+            let key = if self.other_index.len() >= MAX_OTHER_IDS && !self.other_index.contains_key(&key) {
+                OTHER_KEY
+            } else {
+                key
+            };
+            match self.other_index.get(&key) {
+                Some(index) => *index,
                 None => {
                     self.ids.push(IdStats { key, ..IdStats::default() });
+                    self.other_index.insert(key, self.ids.len() - 1);
                     self.ids.len() - 1
                 }
             }
@@ -680,7 +695,9 @@ fn protocol_text(detector: &ProtocolDetector) -> String {
 
 fn key_text(key: u64) -> String {
     let id = key & 0xFFFF_FFFF;
-    if key & 1 << 34 != 0 {
+    if key == OTHER_KEY {
+        format!("other ids (beyond {MAX_OTHER_IDS})")
+    } else if key & 1 << 34 != 0 {
         format!("0x{id:04X}")
     } else if key & 1 << 33 != 0 {
         format!("0x{:08X}", id | 0x2000_0000)

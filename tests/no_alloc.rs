@@ -1,0 +1,100 @@
+//! The decode hot path allocates nothing per line: decoding 20x more lines costs exactly as many heap
+//! allocations (all of them set-up). One test in this binary, so no other test's allocations are counted.
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use tracerctl::candump::{Line, LineParser, LineReader, RawLine};
+use tracerctl::commands::decode::summary::Summary;
+use tracerctl::output::{Event, EventWriter, Format, FrameRef};
+use tracerctl::protocol::{decode, ProtocolHint};
+
+struct CountingAllocator;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for CountingAllocator {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: CountingAllocator = CountingAllocator;
+
+/// A mix of log and console lines (coloured ones too), TRACER and other frames.
+const SAMPLE: &[&str] = &[
+    "(1700000000.000000) can0 211#00000103020000B1",
+    "(1700000000.000100) can0 221#0096FE0C00000000 R",
+    "(1700000000.000200)   can0 311#FFFFFFC100000012",
+    "(1700000000.000300) can0 262#01070027D8400000",
+    "(1700000000.000400) can0 130#01000A0000000045",
+    "(1700000000.000500) can0 20000004#0008000000007800",
+    "(1700000000.000600) can0 00000123#11",
+    " (1700000000.000700)  can0  251   [8]  0B B8 00 32 00 00 00 00",
+    " (1700000000.000800)  \x1b[31mcan0\x1b[0m  231   [8]  01 01 00 00 00 00 00 05",
+    "  can0  121   [8]  01 03 1E 00 00 00 00 05   '........'",
+];
+
+enum Sink {
+    Writer(EventWriter),
+    Summary,
+}
+
+/// Allocations made while decoding `lines` lines into `sink`, set-up included.
+fn allocations_for(lines: usize, sink: &Sink) -> usize {
+    let text: String = SAMPLE.iter().cycle().take(lines).map(|line| format!("{line}\n")).collect();
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let mut reader = LineReader::new(text.as_bytes());
+    let mut parser = LineParser::new();
+    let mut out = Vec::with_capacity(64 * 1024);
+    let mut summary = Summary::default();
+    let mut frames = 0;
+    while let Some(raw) = reader.next_line().unwrap() {
+        let RawLine::Line { text, .. } = raw else { panic!("no line is too long") };
+        let Ok(Line::Frame(record)) = parser.parse(text) else { panic!("every sample line parses") };
+        let frame = record.frame;
+        let event = Event {
+            ts: record.ts,
+            iface: record.iface,
+            dir: record.dir,
+            frame: FrameRef::Can(&frame),
+            decoded: decode(&frame, ProtocolHint::Auto),
+        };
+        match sink {
+            Sink::Writer(writer) => {
+                writer.write(&mut out, &event);
+                out.clear();
+            }
+            Sink::Summary => summary.event(&event),
+        }
+        frames += 1;
+    }
+    assert_eq!(frames, lines);
+    let used = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    drop(summary);
+    used
+}
+
+#[test]
+fn decoding_allocates_nothing_per_line() {
+    for (name, sink) in [
+        ("json", Sink::Writer(EventWriter::new(Format::Json, false))),
+        ("text", Sink::Writer(EventWriter::new(Format::Text, true))),
+        ("csv", Sink::Writer(EventWriter::new(Format::Csv, false))),
+        ("summary", Sink::Summary),
+    ] {
+        // The sample text itself is built before counting starts, so only decoding is measured.
+        let small = allocations_for(1_000, &sink);
+        let large = allocations_for(20_000, &sink);
+        assert_eq!(small, large, "{name}: {small} allocations for 1,000 lines, {large} for 20,000");
+    }
+}
