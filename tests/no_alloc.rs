@@ -1,8 +1,8 @@
 //! The decode hot path allocates nothing per line: decoding 20x more lines costs exactly as many heap
-//! allocations (all of them set-up). One test in this binary, so no other test's allocations are counted.
+//! allocations (all of them set-up). Allocations are counted on the test's own thread only.
 
 use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::cell::Cell;
 
 use tracerctl::candump::{Line, LineParser, LineReader, RawLine};
 use tracerctl::commands::decode::summary::Summary;
@@ -11,18 +11,29 @@ use tracerctl::protocol::{decode, ProtocolHint};
 
 struct CountingAllocator;
 
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    // Counted per thread: the test harness allocates on its own threads at any time.
+    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
+}
+
+fn count_one() {
+    let _ = ALLOCATIONS.try_with(|count| count.set(count.get() + 1));
+}
+
+fn allocations_so_far() -> usize {
+    ALLOCATIONS.with(Cell::get)
+}
 
 unsafe impl GlobalAlloc for CountingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count_one();
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        count_one();
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -52,7 +63,7 @@ enum Sink {
 /// Allocations made while decoding `lines` lines into `sink`, set-up included.
 fn allocations_for(lines: usize, sink: &Sink) -> usize {
     let text: String = SAMPLE.iter().cycle().take(lines).map(|line| format!("{line}\n")).collect();
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    let before = allocations_so_far();
     let mut reader = LineReader::new(text.as_bytes());
     let mut parser = LineParser::new();
     let mut out = Vec::with_capacity(64 * 1024);
@@ -79,7 +90,7 @@ fn allocations_for(lines: usize, sink: &Sink) -> usize {
         frames += 1;
     }
     assert_eq!(frames, lines);
-    let used = ALLOCATIONS.load(Ordering::Relaxed) - before;
+    let used = allocations_so_far() - before;
     drop(summary);
     used
 }
