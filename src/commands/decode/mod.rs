@@ -17,7 +17,7 @@ use crate::cli::{ColorChoice, DecodeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::{Event, EventWriter, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
-use crate::protocol::{self, CanFrame, FrameKind, ProtocolHint};
+use crate::protocol::{self, CanFrame, ProtocolHint};
 use summary::Summary;
 
 /// Output is written in blocks of about this size.
@@ -370,9 +370,4 @@ pub fn totals_line(stats: &InputStats) -> String {
         line.push_str(&format!("; candump reported {} dropped frames", stats.candump_dropped));
     }
     line
-}
-
-/// True when the frame could be a TRACER message (used by the summary for the raw count).
-pub fn is_tracer_candidate(frame: &CanFrame) -> bool {
-    frame.kind() == FrameKind::Data && !frame.is_extended()
 }
