@@ -596,34 +596,3 @@ mod fast_path_props {
         }
     }
 }
-
-/// Throughput sanity check, not a benchmark and not run by default:
-/// `cargo test --release --lib candump::line_tests::throughput -- --ignored --nocapture`.
-#[test]
-#[ignore]
-fn throughput() {
-    use super::{LineReader, RawLine};
-    use std::time::Instant;
-
-    let templates = [
-        ("log", "(1700000000.002500) can0 211#00000103000000B1\n"),
-        ("console", " (1700000000.002500)  can0  211   [8]  00 00 01 03 00 00 00 B1\n"),
-    ];
-    for (name, line) in templates {
-        let input = line.repeat(1_000_000);
-        let start = Instant::now();
-        let mut reader = LineReader::new(input.as_bytes());
-        let mut parser = LineParser::new();
-        let mut frames = 0u64;
-        while let Some(raw) = reader.next_line().unwrap() {
-            if let RawLine::Line { text, .. } = raw {
-                if let Ok(Line::Frame(record)) = parser.parse(text) {
-                    frames += u64::from(record.frame.id() == 0x211);
-                }
-            }
-        }
-        let secs = start.elapsed().as_secs_f64();
-        assert_eq!(frames, 1_000_000);
-        println!("{name}: {:.1} M lines/s ({:.0} ns/line)", 1.0 / secs, secs * 1e3);
-    }
-}
