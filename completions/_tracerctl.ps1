@@ -23,28 +23,185 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         'tracerctl' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
             [CompletionResult]::new('decode', 'decode', [CompletionResultType]::ParameterValue, 'Decode candump logs, single frames or RS232 captures')
+            [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the live bus, decoded, with warnings when periodic frames go stale')
+            [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)')
+            [CompletionResult]::new('mode', 'mode', [CompletionResultType]::ParameterValue, 'Switch the control mode (0x421) and report the mode before and after')
+            [CompletionResult]::new('clear-errors', 'clear-errors', [CompletionResultType]::ParameterValue, 'Clear latched faults (0x441) and report which bits cleared and which remain')
+            [CompletionResult]::new('lights', 'lights', [CompletionResultType]::ParameterValue, 'Set the lights (0x121), confirmed from the light state (0x231)')
+            [CompletionResult]::new('send-raw', 'send-raw', [CompletionResultType]::ParameterValue, 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean')
+            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
         }
         'tracerctl;decode' {
-            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 capture to decode: raw bytes, or hex text such as "5A A5 0A 55 ..."')
             [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--id', '--id', [CompletionResultType]::ParameterName, 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)')
             [CompletionResult]::new('--msg', '--msg', [CompletionResultType]::ParameterName, 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
             [CompletionResult]::new('-s', '-s', [CompletionResultType]::ParameterName, 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance')
             [CompletionResult]::new('--summary', '--summary', [CompletionResultType]::ParameterName, 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance')
             [CompletionResult]::new('--strict', '--strict', [CompletionResultType]::ParameterName, 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)')
             [CompletionResult]::new('--delta-stamps', '--delta-stamps', [CompletionResultType]::ParameterName, 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected')
             [CompletionResult]::new('--no-progress', '--no-progress', [CompletionResultType]::ParameterName, 'Never show a progress bar (it is shown only on a terminal, for large files)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;monitor' {
+            [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--id', '--id', [CompletionResultType]::ParameterName, 'Only frames with these identifiers (hex, comma-separated)')
+            [CompletionResult]::new('--msg', '--msg', [CompletionResultType]::ParameterName, 'Only these messages (comma-separated)')
+            [CompletionResult]::new('--log', '--log', [CompletionResultType]::ParameterName, 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line')
+            [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'Stop after this long (e.g. 10s, 2m); default: until Ctrl-C')
+            [CompletionResult]::new('--silence', '--silence', [CompletionResultType]::ParameterName, 'Warn when the bus is silent this long')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--raw', '--raw', [CompletionResultType]::ParameterName, 'Print frames as candump -L lines instead of decoding them')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;drive' {
+            [CompletionResult]::new('--linear', '--linear', [CompletionResultType]::ParameterName, 'Linear speed in m/s (+ forward)')
+            [CompletionResult]::new('--angular', '--angular', [CompletionResultType]::ParameterName, 'Angular speed in rad/s (+ counter-clockwise)')
+            [CompletionResult]::new('--for', '--for', [CompletionResultType]::ParameterName, 'How long to drive (e.g. 2s, 1500ms); default: until Ctrl-C')
+            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed, m/s (at most 1.5)')
+            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed, rad/s (at most 0.7853)')
+            [CompletionResult]::new('--accel', '--accel', [CompletionResultType]::ParameterName, 'Linear acceleration of the ramp, m/s²')
+            [CompletionResult]::new('--angular-accel', '--angular-accel', [CompletionResultType]::ParameterName, 'Angular acceleration of the ramp, rad/s²')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--ignore-faults', '--ignore-faults', [CompletionResultType]::ParameterName, 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;mode' {
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for the robot to confirm')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;clear-errors' {
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to watch the status afterwards')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;lights' {
+            [CompletionResult]::new('--front', '--front', [CompletionResultType]::ParameterName, 'Front light mode')
+            [CompletionResult]::new('--brightness', '--brightness', [CompletionResultType]::ParameterName, 'Front brightness for --front custom, percent (0-100)')
+            [CompletionResult]::new('--rear', '--rear', [CompletionResultType]::ParameterName, 'Rear light mode (reserved on TRACER: sent, but the firmware ignores it)')
+            [CompletionResult]::new('--rear-brightness', '--rear-brightness', [CompletionResultType]::ParameterName, 'Rear brightness for --rear custom, percent (0-100)')
+            [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for the light state to confirm')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--release', '--release', [CompletionResultType]::ParameterName, 'Hand the lights back to the firmware')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;send-raw' {
+            [CompletionResult]::new('--repeat', '--repeat', [CompletionResultType]::ParameterName, 'Send the frames this many times')
+            [CompletionResult]::new('--period', '--period', [CompletionResultType]::ParameterName, 'Time between repeats, milliseconds')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--force', '--force', [CompletionResultType]::ParameterName, 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)')
+            [CompletionResult]::new('--fix-checksum', '--fix-checksum', [CompletionResultType]::ParameterName, 'Compute the checksum of RS232 frames instead of requiring it')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;sim' {
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; see docs/sim.md)')
+            [CompletionResult]::new('--rc', '--rc', [CompletionResultType]::ParameterName, 'An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)')
+            [CompletionResult]::new('--battery', '--battery', [CompletionResultType]::ParameterName, 'Starting battery voltage')
+            [CompletionResult]::new('--drain', '--drain', [CompletionResultType]::ParameterName, 'Speed up battery drain by this factor (to see the low-battery warnings quickly)')
+            [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'Stop after this long; default: until Ctrl-C')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--pty', '--pty', [CompletionResultType]::ParameterName, 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
@@ -54,6 +211,12 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         'tracerctl;completions' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
@@ -62,11 +225,39 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         }
         'tracerctl;help' {
             [CompletionResult]::new('decode', 'decode', [CompletionResultType]::ParameterValue, 'Decode candump logs, single frames or RS232 captures')
+            [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the live bus, decoded, with warnings when periodic frames go stale')
+            [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)')
+            [CompletionResult]::new('mode', 'mode', [CompletionResultType]::ParameterValue, 'Switch the control mode (0x421) and report the mode before and after')
+            [CompletionResult]::new('clear-errors', 'clear-errors', [CompletionResultType]::ParameterValue, 'Clear latched faults (0x441) and report which bits cleared and which remain')
+            [CompletionResult]::new('lights', 'lights', [CompletionResultType]::ParameterValue, 'Set the lights (0x121), confirmed from the light state (0x231)')
+            [CompletionResult]::new('send-raw', 'send-raw', [CompletionResultType]::ParameterValue, 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean')
+            [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
         }
         'tracerctl;help;decode' {
+            break
+        }
+        'tracerctl;help;monitor' {
+            break
+        }
+        'tracerctl;help;drive' {
+            break
+        }
+        'tracerctl;help;mode' {
+            break
+        }
+        'tracerctl;help;clear-errors' {
+            break
+        }
+        'tracerctl;help;lights' {
+            break
+        }
+        'tracerctl;help;send-raw' {
+            break
+        }
+        'tracerctl;help;sim' {
             break
         }
         'tracerctl;help;completions' {

@@ -1,6 +1,6 @@
 # Print an optspec for argparse to handle cmd's options that are independent of any subcommand.
 function __fish_tracerctl_global_optspecs
-    string join \n protocol= color= h/help V/version
+    string join \n protocol= color= iface= serial= baud= sim replay= speed= h/help V/version
 end
 
 function __fish_tracerctl_needs_command
@@ -30,12 +30,24 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 capture to decode: raw bytes, or hex text such as "5A A5 0A 55 ..."' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
@@ -47,20 +59,179 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (it is shown only on a terminal, for large files)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
+json\t'One JSON object per line (schema in docs/json.md)'
+csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (hex, comma-separated)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages (comma-separated)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s, 2m); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines instead of decoding them'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ counter-clockwise)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (at most 1.5)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-faults -d 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l timeout -d 'How long to wait for the robot to confirm' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l timeout -d 'How long to watch the status afterwards' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l front -d 'Front light mode' -r -f -a "off\t''
+on\t''
+breath\t''
+custom\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l brightness -d 'Front brightness for --front custom, percent (0-100)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear -d 'Rear light mode (reserved on TRACER: sent, but the firmware ignores it)' -r -f -a "off\t''
+on\t''
+breath\t''
+custom\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear-brightness -d 'Rear brightness for --rear custom, percent (0-100)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l timeout -d 'How long to wait for the light state to confirm' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l release -d 'Hand the lights back to the firmware'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l repeat -d 'Send the frames this many times' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l period -d 'Time between repeats, milliseconds' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute the checksum of RS232 frames instead of requiring it'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; see docs/sim.md)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l rc -d 'An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)' -r -f -a "top\t'SWB at the top: command mode allowed'
+middle\t'SWB in the middle: RC mode, commands are ignored'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l battery -d 'Starting battery voltage' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l drain -d 'Speed up battery drain by this factor (to see the low-battery warnings quickly)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l duration -d 'Stop after this long; default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -28,6 +28,9 @@ pub struct Cli {
     #[arg(long, global = true, value_enum, default_value_t = ColorChoice::Auto, value_name = "WHEN")]
     pub color: ColorChoice,
 
+    #[command(flatten)]
+    pub link: LinkArgs,
+
     #[command(subcommand)]
     pub command: Command,
 }
@@ -37,6 +40,20 @@ pub enum Command {
     /// Decode candump logs, single frames or RS232 captures
     #[command(after_help = DECODE_AFTER_HELP)]
     Decode(DecodeArgs),
+    /// Watch the live bus, decoded, with warnings when periodic frames go stale
+    Monitor(MonitorArgs),
+    /// Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)
+    Drive(DriveArgs),
+    /// Switch the control mode (0x421) and report the mode before and after
+    Mode(ModeArgs),
+    /// Clear latched faults (0x441) and report which bits cleared and which remain
+    ClearErrors(ClearErrorsArgs),
+    /// Set the lights (0x121), confirmed from the light state (0x231)
+    Lights(LightsArgs),
+    /// Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean
+    SendRaw(SendRawArgs),
+    /// Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)
+    Sim(SimArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
 }
@@ -53,10 +70,6 @@ pub struct DecodeArgs {
     /// candump logs, '-' for standard input, or frames in cansend syntax (e.g. 211#00000103000000B1)
     #[arg(value_name = "INPUT")]
     pub inputs: Vec<String>,
-
-    /// RS232 capture to decode: raw bytes, or hex text such as "5A A5 0A 55 ..."
-    #[arg(long = "serial", value_name = "FILE")]
-    pub serial: Vec<PathBuf>,
 
     /// Output format
     #[arg(long, short = 'f', value_enum, default_value_t = Format::Text)]
@@ -86,6 +99,237 @@ pub struct DecodeArgs {
     /// Never show a progress bar (it is shown only on a terminal, for large files)
     #[arg(long)]
     pub no_progress: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct MonitorArgs {
+    /// Output format
+    #[arg(long, short = 'f', value_enum, default_value_t = Format::Text)]
+    pub format: Format,
+
+    /// Print frames as candump -L lines instead of decoding them
+    #[arg(long)]
+    pub raw: bool,
+
+    /// Only frames with these identifiers (hex, comma-separated)
+    #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_parser = parse_id)]
+    pub ids: Vec<u32>,
+
+    /// Only these messages (comma-separated)
+    #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = parse_msg_name)]
+    pub messages: Vec<&'static str>,
+
+    /// Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line
+    #[arg(long, value_name = "FILE")]
+    pub log: Option<PathBuf>,
+
+    /// Stop after this long (e.g. 10s, 2m); default: until Ctrl-C
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub duration: Option<std::time::Duration>,
+
+    /// Warn when the bus is silent this long
+    #[arg(long, value_name = "DURATION", default_value = "500ms", value_parser = parse_duration)]
+    pub silence: std::time::Duration,
+}
+
+#[derive(Debug, Args)]
+pub struct DriveArgs {
+    /// Linear speed in m/s (+ forward)
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "M/S")]
+    pub linear: f64,
+
+    /// Angular speed in rad/s (+ counter-clockwise)
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "RAD/S")]
+    pub angular: f64,
+
+    /// How long to drive (e.g. 2s, 1500ms); default: until Ctrl-C
+    #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
+    pub duration: Option<std::time::Duration>,
+
+    /// Cap on the linear speed, m/s (at most 1.5)
+    #[arg(long, default_value_t = 0.5, value_name = "M/S")]
+    pub max_linear: f64,
+
+    /// Cap on the angular speed, rad/s (at most 0.7853)
+    #[arg(long, default_value_t = 0.5, value_name = "RAD/S")]
+    pub max_angular: f64,
+
+    /// Linear acceleration of the ramp, m/s²
+    #[arg(long, default_value_t = 0.5, value_name = "M/S2")]
+    pub accel: f64,
+
+    /// Angular acceleration of the ramp, rad/s²
+    #[arg(long, default_value_t = 1.0, value_name = "RAD/S2")]
+    pub angular_accel: f64,
+
+    /// Start even with the E-stop pressed or a latched fault (the robot may still refuse)
+    #[arg(long)]
+    pub ignore_faults: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ModeChoice {
+    /// CAN command mode (0x421 = 0x01)
+    Can,
+    /// Serial command mode (0x421 = 0x02)
+    Serial,
+    /// Standby (0x421 = 0x00)
+    Standby,
+}
+
+#[derive(Debug, Args)]
+pub struct ModeArgs {
+    #[arg(value_enum)]
+    pub mode: ModeChoice,
+
+    /// How long to wait for the robot to confirm
+    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    pub timeout: std::time::Duration,
+}
+
+#[derive(Debug, Args)]
+pub struct ClearErrorsArgs {
+    /// Which faults to clear
+    #[arg(value_enum, default_value_t = crate::link::ClearTarget::All)]
+    pub target: crate::link::ClearTarget,
+
+    /// How long to watch the status afterwards
+    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    pub timeout: std::time::Duration,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LightModeChoice {
+    Off,
+    On,
+    Breath,
+    Custom,
+}
+
+#[derive(Debug, Args)]
+#[command(group(clap::ArgGroup::new("what").required(true).args(["front", "release"])))]
+pub struct LightsArgs {
+    /// Front light mode
+    #[arg(long, value_enum)]
+    pub front: Option<LightModeChoice>,
+
+    /// Front brightness for --front custom, percent (0-100)
+    #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
+    pub brightness: Option<u8>,
+
+    /// Rear light mode (reserved on TRACER: sent, but the firmware ignores it)
+    #[arg(long, value_enum)]
+    pub rear: Option<LightModeChoice>,
+
+    /// Rear brightness for --rear custom, percent (0-100)
+    #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
+    pub rear_brightness: Option<u8>,
+
+    /// Hand the lights back to the firmware
+    #[arg(long, conflicts_with_all = ["front", "brightness", "rear", "rear_brightness"])]
+    pub release: bool,
+
+    /// How long to wait for the light state to confirm
+    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    pub timeout: std::time::Duration,
+}
+
+#[derive(Debug, Args)]
+pub struct SendRawArgs {
+    /// Frames in cansend syntax (111#0096000000000000), or 13-byte RS232 frames in hex with --serial
+    #[arg(required = true, value_name = "FRAME")]
+    pub frames: Vec<String>,
+
+    /// Send the frames this many times
+    #[arg(long, default_value_t = 1, value_name = "N")]
+    pub repeat: u32,
+
+    /// Time between repeats, milliseconds
+    #[arg(long, default_value_t = 20, value_name = "MS")]
+    pub period: u64,
+
+    /// Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)
+    #[arg(long)]
+    pub force: bool,
+
+    /// Compute the checksum of RS232 frames instead of requiring it
+    #[arg(long)]
+    pub fix_checksum: bool,
+}
+
+#[derive(Debug, Args)]
+pub struct SimArgs {
+    /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface
+    #[arg(long)]
+    pub pty: bool,
+
+    /// Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; see docs/sim.md)
+    #[arg(long = "fault", value_name = "SPEC")]
+    pub faults: Vec<String>,
+
+    /// An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)
+    #[arg(long, value_enum, value_name = "SWB")]
+    pub rc: Option<RcSwitchChoice>,
+
+    /// Starting battery voltage
+    #[arg(long, value_name = "VOLTS")]
+    pub battery: Option<f64>,
+
+    /// Speed up battery drain by this factor (to see the low-battery warnings quickly)
+    #[arg(long, value_name = "FACTOR")]
+    pub drain: Option<f64>,
+
+    /// Stop after this long; default: until Ctrl-C
+    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    pub duration: Option<std::time::Duration>,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum RcSwitchChoice {
+    /// SWB at the top: command mode allowed
+    Top,
+    /// SWB in the middle: RC mode, commands are ignored
+    Middle,
+}
+
+/// A duration such as `2s`, `1500ms`, `1m30s`, or plain seconds (`2.5`).
+pub fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
+    if let Ok(seconds) = text.parse::<f64>() {
+        if seconds.is_finite() && seconds >= 0.0 {
+            return Ok(std::time::Duration::from_secs_f64(seconds));
+        }
+    }
+    humantime::parse_duration(text)
+        .map_err(|error| format!("'{text}' is not a duration such as 2s or 500ms: {error}"))
+}
+
+/// How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Link")]
+pub struct LinkArgs {
+    /// SocketCAN interface
+    #[arg(long, global = true, env = "TRACERCTL_IFACE", default_value = "can0", value_name = "NAME")]
+    pub iface: String,
+
+    /// RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)
+    #[arg(long, global = true, value_name = "PATH", conflicts_with_all = ["sim", "replay"])]
+    pub serial: Vec<PathBuf>,
+
+    /// Serial baud rate
+    #[arg(long, global = true, default_value_t = 115_200, value_name = "BAUD")]
+    pub baud: u32,
+
+    /// Talk to an in-process virtual TRACER instead of a robot
+    #[arg(long, global = true, conflicts_with = "replay")]
+    pub sim: bool,
+
+    /// Play a candump log back as a read-only source (monitor, dashboard)
+    #[arg(long, global = true, value_name = "FILE")]
+    pub replay: Option<PathBuf>,
+
+    /// Replay speed factor (2 = twice as fast; 0 = as fast as possible)
+    #[arg(long, global = true, default_value_t = 1.0, value_name = "N")]
+    pub speed: f64,
 }
 
 #[derive(Debug, Args)]
@@ -171,6 +415,31 @@ mod tests {
     #[test]
     fn definition_is_consistent() {
         command().debug_assert();
+    }
+
+    #[test]
+    fn negative_speeds_and_durations_parse() {
+        use clap::Parser;
+        let cli = Cli::try_parse_from([
+            "tracerctl",
+            "drive",
+            "--linear",
+            "-0.5",
+            "--angular",
+            "-0.2",
+            "--for",
+            "1500ms",
+        ])
+        .unwrap();
+        let Command::Drive(args) = cli.command else { panic!() };
+        assert_eq!((args.linear, args.angular), (-0.5, -0.2));
+        assert_eq!(args.duration, Some(std::time::Duration::from_millis(1500)));
+        assert_eq!(parse_duration("2.5"), Ok(std::time::Duration::from_millis(2500)));
+        assert!(parse_duration("soon").is_err());
+        assert!(Cli::try_parse_from(["tracerctl", "lights"]).is_err(), "lights needs --front or --release");
+        assert!(
+            Cli::try_parse_from(["tracerctl", "lights", "--front", "custom", "--brightness", "101"]).is_err()
+        );
     }
 
     #[test]

@@ -10,6 +10,11 @@ pub const FAILURE: u8 = 1;
 pub const USAGE: u8 = 2;
 /// Bad input data with `--strict`.
 pub const DATA_ERROR: u8 = 3;
+/// The robot is not ready or did not do what was asked (E-stop, latched fault, mode not switched,
+/// faults that did not clear, lights not confirmed, no status from the robot).
+pub const NOT_DONE: u8 = 4;
+/// After a termination signal: 128 + the signal number (130 SIGINT, 143 SIGTERM, 129 SIGHUP).
+pub const SIGNAL_BASE: u8 = 128;
 
 /// An error that carries its own exit status.
 #[derive(Debug, thiserror::Error)]
@@ -22,6 +27,11 @@ pub struct Failure {
 impl Failure {
     pub fn data(message: impl Into<String>) -> Self {
         Self { code: DATA_ERROR, message: message.into() }
+    }
+
+    /// The robot is not ready or did not do it.
+    pub fn not_done(message: impl Into<String>) -> Self {
+        Self { code: NOT_DONE, message: message.into() }
     }
 }
 

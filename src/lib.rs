@@ -6,6 +6,12 @@
 pub mod candump;
 pub mod cli;
 pub mod commands;
+pub mod control;
 pub mod exit;
+pub mod link;
 pub mod output;
 pub mod protocol;
+pub mod session;
+pub mod signals;
+
+pub mod sim;

@@ -4,6 +4,7 @@
 //! no allocation.
 
 pub mod csv;
+pub mod filter;
 pub mod json;
 pub mod number;
 pub mod text;

@@ -2,6 +2,11 @@
 
 mod decode;
 mod docs;
+mod drive;
 mod generated;
+mod monitor;
+mod robot_commands;
+mod send_raw;
+mod serial_peer;
 mod util;
 mod variants;

@@ -7,7 +7,7 @@ pub mod summary;
 
 use std::fs::File;
 use std::io::{self, IsTerminal, Read, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -15,6 +15,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use crate::candump::{self, Line, LineParser, LineReader, RawLine, Reason};
 use crate::cli::{ColorChoice, DecodeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::output::filter::Filter;
 use crate::output::{Event, EventWriter, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::{self, CanFrame, ProtocolHint};
@@ -27,7 +28,7 @@ const PROGRESS_MIN_BYTES: u64 = 8 * 1024 * 1024;
 /// How many rejected lines are printed individually before only being counted.
 const MAX_SHOWN_REJECTS: usize = 10;
 
-pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Result<u8> {
+pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color: ColorChoice) -> Result<u8> {
     let stdout = io::stdout();
     let color = color.enabled(stdout.is_terminal());
     let sink = if args.summary {
@@ -42,7 +43,7 @@ pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Res
         protocol,
         detector: ProtocolDetector::default(),
         seen: ProtocolDetector::default(),
-        filter: Filter { ids: args.ids.clone(), messages: args.messages.clone() },
+        filter: Filter::new(&args.ids, &args.messages),
         sink,
         stats: InputStats::default(),
         strict: args.strict,
@@ -51,7 +52,7 @@ pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Res
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
-    if inputs.is_empty() && args.serial.is_empty() {
+    if inputs.is_empty() && serial.is_empty() {
         if io::stdin().is_terminal() {
             eprintln!(
                 "tracerctl: no input: give a candump log, '-' for standard input, \
@@ -64,29 +65,12 @@ pub fn run(args: &DecodeArgs, protocol: ProtocolHint, color: ColorChoice) -> Res
     for input in inputs {
         decoder.input(input)?;
     }
-    for path in &args.serial {
+    for path in serial {
         let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
         let name = path.display().to_string();
         serial_input::decode(&mut decoder, &name, file)?;
     }
     decoder.finish(args)
-}
-
-/// Frames pass when they match every filter given.
-struct Filter {
-    ids: Vec<u32>,
-    messages: Vec<&'static str>,
-}
-
-impl Filter {
-    fn passes(&self, event: &Event) -> bool {
-        let id = match event.frame {
-            FrameRef::Can(frame) => frame.id(),
-            FrameRef::Serial(frame) => u32::from(frame.id()),
-        };
-        (self.ids.is_empty() || self.ids.contains(&id))
-            && (self.messages.is_empty() || self.messages.contains(&event.msg_name()))
-    }
 }
 
 enum Sink {

@@ -1,0 +1,231 @@
+//! Live-path measurements for docs/performance.md, against the release binary over a real pseudo-terminal
+//! (the test plays the robot on the master side).
+//!
+//!   cargo build --release && cargo run --release --example live_bench -- [SECONDS]
+//!
+//! 1. drive: the period of motion frames as they arrive (p50/p99/max deviation from 20 ms) and the CPU
+//!    the drive process uses (utime + stime from /proc, as a share of one core).
+//! 2. monitor at normal traffic: the robot's 4 feedback frames every 20 ms; CPU share of one core.
+//! 3. monitor under a flood: frames written as fast as the terminal takes them; frames counted by the
+//!    monitor versus frames sent (none may be lost).
+
+use std::io::{Read, Write};
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use serialport::SerialPort;
+use tracerctl::protocol::message::{Message, MotionState, MotorDriverState, SystemState};
+use tracerctl::protocol::serial::{SerialEncoder, StreamDecoder, StreamEvent};
+
+fn binary() -> std::path::PathBuf {
+    let exe = std::env::current_exe().unwrap();
+    exe.parent().unwrap().parent().unwrap().join("tracerctl")
+}
+
+/// CPU seconds (user + system) a process has used so far.
+fn cpu_seconds(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap_or_default();
+    let fields: Vec<&str> = stat.rsplit(')').next().unwrap_or("").split_whitespace().collect();
+    let ticks: f64 = fields.get(11).and_then(|v| v.parse().ok()).unwrap_or(0.0)
+        + fields.get(12).and_then(|v| v.parse().ok()).unwrap_or(0.0);
+    ticks / 100.0
+}
+
+fn pty() -> (serialport::TTYPort, String) {
+    let (mut master, slave) = serialport::TTYPort::pair().expect("pseudo-terminal");
+    let path = slave.name().unwrap();
+    drop(slave);
+    master.set_timeout(Duration::from_millis(2)).unwrap();
+    (master, path)
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    sorted[((sorted.len() - 1) as f64 * p).round() as usize]
+}
+
+fn feedback(encoder: &mut SerialEncoder) -> Vec<u8> {
+    let status = SystemState { control_mode: 2, battery_decivolts: 259, ..Default::default() };
+    let messages = [
+        Message::SystemState(status),
+        Message::MotionState(MotionState { linear_mm_s: 300, ..Default::default() }),
+        Message::MotorDriverState(MotorDriverState {
+            motor: 1,
+            rpm: 38,
+            current_deciamps: 15,
+            ..Default::default()
+        }),
+        Message::MotorDriverState(MotorDriverState {
+            motor: 2,
+            rpm: -38,
+            current_deciamps: 15,
+            ..Default::default()
+        }),
+    ];
+    messages.iter().flat_map(|m| encoder.encode_next(m).unwrap()).collect()
+}
+
+/// Reads host frames on a thread of its own (blocking reads), so arrival times are not delayed by the
+/// feedback writer.
+fn record_motion_frames(mut reader: Box<dyn SerialPort>) -> std::sync::mpsc::Receiver<Instant> {
+    let (sender, arrivals) = std::sync::mpsc::channel();
+    reader.set_timeout(Duration::from_millis(500)).unwrap();
+    std::thread::spawn(move || {
+        let mut decoder = StreamDecoder::new();
+        let mut buffer = [0u8; 256];
+        loop {
+            match reader.read(&mut buffer) {
+                Ok(read) => {
+                    let now = Instant::now();
+                    let mut stop = false;
+                    decoder.feed(&buffer[..read], |event| {
+                        if let StreamEvent::Frame { frame, .. } = event {
+                            if frame.frame_type == 0x55 && frame.command == 0x01 {
+                                stop |= sender.send(now).is_err();
+                            }
+                        }
+                    });
+                    if stop {
+                        return;
+                    }
+                }
+                Err(error) if error.kind() == std::io::ErrorKind::TimedOut => {}
+                // No one on the terminal side yet: the master sees a hang-up until the host opens it.
+                Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => {
+                    std::thread::sleep(Duration::from_millis(1))
+                }
+                Err(_) => return,
+            }
+        }
+    });
+    arrivals
+}
+
+fn drive(seconds: u64) {
+    let (mut master, path) = pty();
+    let arrivals_rx = record_motion_frames(master.try_clone().unwrap());
+    let mut child = Command::new(binary())
+        .args(["--serial", &path, "drive", "--linear", "0.3", "--for", &format!("{seconds}s")])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut encoder = SerialEncoder::new();
+    let mut next_feedback = Instant::now();
+    let start = Instant::now();
+    let mut cpu_start = None;
+    let mut cpu_end = None;
+    while child.try_wait().unwrap().is_none() {
+        let _ = master.write_all(&feedback(&mut encoder));
+        next_feedback += Duration::from_millis(20);
+        let elapsed = start.elapsed();
+        if cpu_start.is_none() && elapsed > Duration::from_secs(1) {
+            cpu_start = Some((Instant::now(), cpu_seconds(child.id())));
+        }
+        if cpu_end.is_none() && elapsed > Duration::from_secs(seconds.saturating_sub(1).max(2)) {
+            cpu_end = Some((Instant::now(), cpu_seconds(child.id())));
+        }
+        std::thread::sleep(next_feedback.saturating_duration_since(Instant::now()));
+    }
+    let arrivals: Vec<Instant> = arrivals_rx.try_iter().collect();
+    // Skip the first second (start-up, ramp) and the stop frames at the end.
+    let steady: Vec<Instant> =
+        arrivals.iter().copied().filter(|t| t.duration_since(start) > Duration::from_secs(1)).collect();
+    let mut deviations: Vec<f64> =
+        steady.windows(2).map(|w| (w[1].duration_since(w[0]).as_secs_f64() * 1000.0 - 20.0).abs()).collect();
+    deviations.truncate(deviations.len().saturating_sub(3));
+    deviations.sort_by(f64::total_cmp);
+    let cpu = match (cpu_start, cpu_end) {
+        (Some((t0, c0)), Some((t1, c1))) => (c1 - c0) / t1.duration_since(t0).as_secs_f64() * 100.0,
+        _ => f64::NAN,
+    };
+    println!(
+        "drive: {} periods measured; deviation from 20 ms: p50 {:.3} ms, p99 {:.3} ms, max {:.3} ms; CPU {:.2} % of one core",
+        deviations.len(),
+        percentile(&deviations, 0.5),
+        percentile(&deviations, 0.99),
+        deviations.last().copied().unwrap_or(0.0),
+        cpu
+    );
+}
+
+fn monitor_normal(seconds: u64) {
+    let (mut master, path) = pty();
+    let mut child = Command::new(binary())
+        .args(["--serial", &path, "monitor", "--format", "json", "--duration", &format!("{seconds}s")])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut encoder = SerialEncoder::new();
+    let start = Instant::now();
+    let mut next = Instant::now();
+    let mut cpu_start = None;
+    let mut cpu_end = None;
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() >= next {
+            let _ = master.write_all(&feedback(&mut encoder));
+            next += Duration::from_millis(20);
+        }
+        let elapsed = start.elapsed();
+        if cpu_start.is_none() && elapsed > Duration::from_secs(1) {
+            cpu_start = Some((Instant::now(), cpu_seconds(child.id())));
+        }
+        if cpu_end.is_none() && elapsed > Duration::from_secs(seconds.saturating_sub(1).max(2)) {
+            cpu_end = Some((Instant::now(), cpu_seconds(child.id())));
+        }
+        let mut sink = [0u8; 256];
+        let _ = master.read(&mut sink);
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    if let (Some((t0, c0)), Some((t1, c1))) = (cpu_start, cpu_end) {
+        println!(
+            "monitor: 200 frames/s (4 x 50 Hz) for {:.1} s: CPU {:.2} % of one core",
+            t1.duration_since(t0).as_secs_f64(),
+            (c1 - c0) / t1.duration_since(t0).as_secs_f64() * 100.0
+        );
+    }
+}
+
+fn monitor_flood(frames: usize) {
+    let (mut master, path) = pty();
+    let child = Command::new(binary())
+        .args(["--serial", &path, "monitor", "--format", "json", "--duration", "30s"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    let mut encoder = SerialEncoder::new();
+    let status = Message::SystemState(SystemState { battery_decivolts: 259, ..Default::default() });
+    let mut batch = Vec::with_capacity(13 * 1000);
+    let start = Instant::now();
+    let mut sent = 0;
+    master.set_timeout(Duration::from_secs(5)).unwrap();
+    while sent < frames {
+        batch.clear();
+        for _ in 0..1000.min(frames - sent) {
+            batch.extend_from_slice(&encoder.encode_next(&status).unwrap());
+            sent += 1;
+        }
+        master.write_all(&batch).unwrap();
+    }
+    let elapsed = start.elapsed();
+    std::thread::sleep(Duration::from_millis(500));
+    unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
+    let output = child.wait_with_output().unwrap();
+    let report = String::from_utf8_lossy(&output.stderr);
+    let counted =
+        report.lines().find(|l| l.contains("0xAA01")).unwrap_or("(no 0xAA01 line)").trim().to_string();
+    println!(
+        "monitor flood: {sent} frames written in {:.3} s ({:.0} frames/s); monitor's count: {counted}",
+        elapsed.as_secs_f64(),
+        sent as f64 / elapsed.as_secs_f64()
+    );
+}
+
+fn main() {
+    let seconds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(10);
+    drive(seconds);
+    monitor_normal(seconds);
+    monitor_flood(200_000);
+}

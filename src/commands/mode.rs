@@ -1,0 +1,256 @@
+//! `tracerctl mode can|serial|standby`: switch the control mode and report it from the system state.
+//!
+//! Protocol V2 CAN has a control-mode command (0x421, DLC 1: 0x00 standby, 0x01 CAN, 0x02 serial). RS232
+//! and protocol V1 have none: there the motion command carries the mode, so a zero-speed motion command
+//! selects serial mode (RS232) or CAN command mode (V1), and nothing can select the others.
+//!
+//! The mode is confirmed from a system state (0x211) received after the first send; the command is sent
+//! again up to twice within `--timeout`, as real firmware may miss one.
+
+use std::io::Write;
+use std::time::{Duration, Instant};
+
+use anyhow::Result;
+
+use super::live;
+use crate::cli::{Cli, ModeArgs, ModeChoice};
+use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::link::{Codec, LinkFrame};
+use crate::protocol::message::{vehicle_state_name, SystemState, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
+use crate::protocol::Wire;
+use crate::session::{RobotStatus, Session};
+
+/// Sends after the first one, if the robot has not switched yet.
+const RESENDS: u32 = 2;
+
+pub fn run(cli: &Cli, args: &ModeArgs) -> Result<u8> {
+    let session = live::open(cli, true)?;
+    execute(&session, args, &mut std::io::stdout().lock())
+}
+
+/// Switches the mode on an open session; the result goes to `out`, a failure is the error.
+pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Result<u8> {
+    // The link kind is known at once; V1 only after listening, so check RS232 before waiting.
+    if session.wire() == Wire::Serial {
+        mode_code(Wire::Serial, args.mode)?;
+    }
+    let before = live::first_status(session);
+    let wire = session.wire();
+    let code = mode_code(wire, args.mode)?;
+    let wanted = live::mode_name(code, wire);
+
+    if let Some((state, state_wire)) = before.filter(|(state, _)| state.control_mode == code) {
+        writeln!(out, "control mode: already {wanted} ({})", condition(&state, state_wire))?;
+        return Ok(SUCCESS);
+    }
+
+    let attempt = send_until(
+        session,
+        args.timeout,
+        RESENDS,
+        || vec![command_frame(&mut session.codec(), args.mode).expect("the mode was checked for this wire")],
+        |status, sent| {
+            status
+                .system
+                .filter(|(at, state, _)| *at > sent && state.control_mode == code)
+                .map(|(_, state, wire)| (state, wire))
+        },
+    )?;
+    let sent = what_is_sent(wire, code);
+    if let Some((state, state_wire)) = attempt.found {
+        let from =
+            before.map_or_else(|| "unknown".to_string(), |(state, w)| live::mode_name(state.control_mode, w));
+        writeln!(out, "control mode: {from} -> {wanted} ({})", condition(&state, state_wire))?;
+        return Ok(SUCCESS);
+    }
+
+    let status = session.status();
+    let latest =
+        status.system.filter(|(at, ..)| *at > attempt.first_sent).map(|(_, state, wire)| (state, wire));
+    let timeout = humantime::format_duration(args.timeout);
+    let message = match (latest, before) {
+        (Some((state, state_wire)), _) => format!(
+            "the robot is still in {} mode ({}), not {wanted}, {timeout} after sending {sent} {} time{}: {}",
+            live::mode_name(state.control_mode, state_wire),
+            condition(&state, state_wire),
+            attempt.sends,
+            plural(attempt.sends),
+            live::why_not_command_mode(&state, state_wire),
+        ),
+        (None, None) => {
+            format!("sent {sent} but cannot confirm the mode: {}", live::no_status_message(session, &status))
+        }
+        (None, Some(_)) => format!(
+            "sent {sent} but no system status arrived within {timeout} afterwards: {}",
+            live::no_status_message(session, &status)
+        ),
+    };
+    Err(Failure::not_done(message).into())
+}
+
+/// The control-mode value the robot reports for `mode` on `wire` (0x211 byte 1, RS232 system status d1),
+/// or a usage error when the link cannot select that mode.
+pub fn mode_code(wire: Wire, mode: ModeChoice) -> Result<u8, Failure> {
+    let usage = |message: &str| Failure { code: USAGE, message: message.to_string() };
+    match (wire, mode) {
+        (Wire::CanV2, ModeChoice::Standby) => Ok(MODE_STANDBY),
+        (Wire::CanV2, ModeChoice::Can) => Ok(MODE_CAN),
+        (Wire::CanV2, ModeChoice::Serial) => Ok(MODE_SERIAL),
+        (Wire::Serial, ModeChoice::Serial) => Ok(MODE_SERIAL),
+        (Wire::CanV1, ModeChoice::Can) => Ok(MODE_CAN),
+        (Wire::Serial, _) => Err(usage(
+            "RS232 has no control-mode command: over --serial only `mode serial` works (zero-speed serial \
+             motion commands select serial mode); use the CAN link for `mode can` or `mode standby`",
+        )),
+        (Wire::CanV1, _) => Err(usage(
+            "protocol V1 has no control-mode command (0x421): only `mode can` works (a zero-speed 0x130 \
+             command selects CAN mode); standby and serial need V2 firmware",
+        )),
+    }
+}
+
+/// The frame that asks for `mode`: 0x421 on V2 CAN, a zero-speed motion command on RS232 (serial mode)
+/// and V1 (CAN mode); `None` when the wire cannot select that mode (see `mode_code`).
+pub fn command_frame(codec: &mut Codec, mode: ModeChoice) -> Option<LinkFrame> {
+    let code = mode_code(codec.wire, mode).ok()?;
+    match codec.wire {
+        Wire::CanV2 => codec.control_mode(code),
+        Wire::CanV1 | Wire::Serial => Some(codec.enable_command_mode()),
+    }
+}
+
+fn what_is_sent(wire: Wire, code: u8) -> String {
+    match wire {
+        Wire::CanV2 => format!("0x421 = 0x{code:02X}"),
+        Wire::CanV1 => "a zero-speed 0x130 command".to_string(),
+        Wire::Serial => "a zero-speed RS232 motion command".to_string(),
+    }
+}
+
+/// `normal, 25.9 V, faults: none`
+pub(crate) fn condition(state: &SystemState, wire: Wire) -> String {
+    let vehicle = vehicle_state_name(state.vehicle_state)
+        .map_or_else(|| format!("vehicle state 0x{:02X}", state.vehicle_state), str::to_string);
+    format!("{vehicle}, {:.1} V, faults: {}", state.battery_voltage(), live::fault_list(state, wire))
+}
+
+pub(crate) fn plural(count: u32) -> &'static str {
+    if count == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// What `send_until` saw.
+#[derive(Debug)]
+pub(crate) struct Attempt<T> {
+    /// The confirmation, if it came in time.
+    pub found: Option<T>,
+    /// How many times the frames were sent.
+    pub sends: u32,
+    /// Just before the first send: status received after this is a reply.
+    pub first_sent: Instant,
+}
+
+/// Sends the frames `frames` builds, then waits for `confirmed` (given the status and the time of the
+/// first send); if it does not come, sends again, up to `resends` more times spread evenly over `timeout`.
+pub(crate) fn send_until<T>(
+    session: &Session,
+    timeout: Duration,
+    resends: u32,
+    mut frames: impl FnMut() -> Vec<LinkFrame>,
+    mut confirmed: impl FnMut(&RobotStatus, Instant) -> Option<T>,
+) -> Result<Attempt<T>> {
+    let first_sent = Instant::now();
+    let deadline = first_sent + timeout;
+    let slice = timeout / (resends + 1);
+    let mut sends = 0;
+    for attempt in 0..=resends {
+        for frame in frames() {
+            session.send(&frame)?;
+        }
+        sends += 1;
+        let until =
+            if attempt == resends { deadline } else { (first_sent + slice * (attempt + 1)).min(deadline) };
+        let wait = until.saturating_duration_since(Instant::now());
+        if let Some(found) = session.wait_for(wait, |status| confirmed(status, first_sent)) {
+            return Ok(Attempt { found: Some(found), sends, first_sent });
+        }
+        if session.status().link_error.is_some() {
+            break;
+        }
+    }
+    Ok(Attempt { found: None, sends, first_sent })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cansend(frame: Option<LinkFrame>) -> String {
+        match frame {
+            Some(LinkFrame::Can(frame)) => frame.to_string(),
+            other => panic!("expected a CAN frame, got {other:?}"),
+        }
+    }
+
+    #[test]
+    fn v2_frames_are_0x421_with_dlc_1() {
+        let mut codec = Codec::new(Wire::CanV2);
+        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Can)), "421#01");
+        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Standby)), "421#00");
+        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Serial)), "421#02");
+        let Some(LinkFrame::Can(frame)) = command_frame(&mut codec, ModeChoice::Can) else { panic!() };
+        assert_eq!(frame.len(), 1);
+    }
+
+    #[test]
+    fn serial_mode_over_rs232_is_a_zero_speed_serial_motion_command() {
+        let mut codec = Codec::new(Wire::Serial);
+        let Some(LinkFrame::Serial(frame)) = command_frame(&mut codec, ModeChoice::Serial) else { panic!() };
+        // 5A A5 0A 55 01 | mode 02, no fault clear, 0 %, 0 % | frame id 00 | checksum
+        let bytes = frame.to_bytes();
+        assert_eq!(&bytes[..11], &[0x5A, 0xA5, 0x0A, 0x55, 0x01, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00]);
+        let sum = bytes[..12].iter().fold(0u8, |sum, byte| sum.wrapping_add(*byte));
+        assert_eq!(bytes[12], sum);
+        assert_eq!(command_frame(&mut codec, ModeChoice::Can), None);
+        assert_eq!(command_frame(&mut codec, ModeChoice::Standby), None);
+    }
+
+    #[test]
+    fn v1_can_mode_is_a_zero_speed_0x130() {
+        let mut codec = Codec::new(Wire::CanV1);
+        let text = cansend(command_frame(&mut codec, ModeChoice::Can));
+        assert!(text.starts_with("130#0100000000000"), "{text}");
+        assert_eq!(command_frame(&mut codec, ModeChoice::Serial), None);
+    }
+
+    #[test]
+    fn impossible_modes_are_usage_errors_that_say_what_works() {
+        let error = mode_code(Wire::Serial, ModeChoice::Standby).unwrap_err();
+        assert_eq!(error.code, USAGE);
+        assert!(error.message.contains("only `mode serial` works"), "{}", error.message);
+        let error = mode_code(Wire::CanV1, ModeChoice::Serial).unwrap_err();
+        assert_eq!(error.code, USAGE);
+        assert!(error.message.contains("only `mode can` works"), "{}", error.message);
+        assert_eq!(mode_code(Wire::CanV2, ModeChoice::Standby).unwrap(), 0);
+    }
+
+    #[test]
+    fn condition_names_state_voltage_and_faults() {
+        let state = SystemState {
+            vehicle_state: 0,
+            control_mode: 1,
+            battery_decivolts: 259,
+            fault_code: 0,
+            count: 0,
+        };
+        assert_eq!(condition(&state, Wire::CanV2), "normal, 25.9 V, faults: none");
+        let state = SystemState { vehicle_state: 1, fault_code: 0x0200, ..state };
+        assert_eq!(
+            condition(&state, Wire::CanV2),
+            "estop, 25.9 V, faults: battery_undervoltage_warning [warning]"
+        );
+    }
+}

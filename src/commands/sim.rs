@@ -1,0 +1,120 @@
+//! `tracerctl sim`: a virtual TRACER on a CAN interface, a serial port, or a new pseudo-terminal.
+//!
+//! Faults come from `--fault NAME@TIME` and, at run time, from lines on standard input (`estop`,
+//! `estop-release`, any fault name): a test or a second terminal can press the E-stop mid-run.
+
+use std::io::{BufRead, Write};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+
+use crate::cli::{Cli, RcSwitchChoice, SimArgs};
+use crate::exit::SUCCESS;
+use crate::link::{self, LinkChoice};
+use crate::signals;
+use crate::sim::{serve, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimState, SimWire};
+
+pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
+    anyhow::ensure!(!cli.link.sim, "`sim` is the simulator itself: leave out --sim");
+    anyhow::ensure!(cli.link.replay.is_none(), "`sim` serves a link: --replay does not apply");
+    let mut config = SimConfig::default();
+    for spec in &args.faults {
+        let fault: ScheduledFault =
+            spec.parse().map_err(|error| anyhow::anyhow!("--fault {spec}: {error}"))?;
+        config.faults.push(fault);
+    }
+    if let Some(swb) = args.rc {
+        config.rc_present = true;
+        config.rc_swb = match swb {
+            RcSwitchChoice::Top => RcSwitch::Top,
+            RcSwitchChoice::Middle => RcSwitch::Middle,
+        };
+    }
+    if let Some(volts) = args.battery {
+        anyhow::ensure!((18.0..=30.0).contains(&volts), "--battery {volts}: expected 18 to 30 V");
+        config.battery_start_v = volts;
+    }
+    if let Some(factor) = args.drain {
+        anyhow::ensure!(factor.is_finite() && factor >= 0.0, "--drain must be 0 or positive");
+        config.battery_drain_factor = factor;
+    }
+
+    let mut stdout = std::io::stdout().lock();
+    let link = if args.pty {
+        config.wire = SimWire::Serial;
+        let (master, slave) = serialport::TTYPort::pair().context("cannot create a pseudo-terminal")?;
+        let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no name")?;
+        // Close our handle on the terminal side so the host can open it (it is opened exclusively).
+        drop(slave);
+        writeln!(stdout, "PTY {path}")?;
+        writeln!(stdout, "connect with: tracerctl --serial {path} monitor")?;
+        stdout.flush()?;
+        link::serial::from_port(Box::new(master), &path, true)?
+    } else {
+        match LinkChoice::from_args(&cli.link)? {
+            LinkChoice::Serial { path, baud } => {
+                config.wire = SimWire::Serial;
+                link::serial::open(&path, baud)?
+            }
+            choice => {
+                let (link, _) = crate::session::open_link(&choice, None)?;
+                writeln!(stdout, "serving a virtual TRACER on {}", link.name)?;
+                stdout.flush()?;
+                link
+            }
+        }
+    };
+
+    let running = serve::start(config, link)?;
+    let signal = signals::listen(|_| {})?;
+    let (lines, inbox) = mpsc::channel::<String>();
+    std::thread::Builder::new()
+        .name("tracerctl-sim-stdin".into())
+        .spawn(move || {
+            for line in std::io::stdin().lock().lines().map_while(Result::ok) {
+                if lines.send(line).is_err() {
+                    break;
+                }
+            }
+        })
+        .context("cannot start the input thread")?;
+
+    let started = Instant::now();
+    let mut last_report = String::new();
+    let mut stderr = std::io::stderr().lock();
+    while signal.received().is_none() && args.duration.is_none_or(|d| started.elapsed() < d) {
+        while let Ok(line) = inbox.try_recv() {
+            let line = line.trim();
+            if line.is_empty() {
+                continue;
+            }
+            match line.parse::<FaultKind>() {
+                Ok(fault) => {
+                    running.inject(fault);
+                    writeln!(stderr, "sim: injected {line}")?;
+                }
+                Err(error) => writeln!(stderr, "sim: {error}")?,
+            }
+        }
+        let report = summary(&running.state());
+        if report != last_report {
+            writeln!(stderr, "sim {:7.2} s: {report}", started.elapsed().as_secs_f64())?;
+            last_report = report;
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    running.stop();
+    Ok(SUCCESS)
+}
+
+/// One line of what changed that a person watching the simulator cares about (no speeds: they change
+/// every frame; mode, vehicle state, faults, battery to 0.1 V and what blocks motion).
+fn summary(state: &SimState) -> String {
+    let vehicle = crate::protocol::message::vehicle_state_name(state.vehicle_state).unwrap_or("unknown");
+    let blocked = state.motion_block.map(|block| format!(", motion blocked: {block}")).unwrap_or_default();
+    format!(
+        "mode {}, {vehicle}, {:.1} V, fault code 0x{:04X}{blocked}",
+        state.control_mode, state.battery_voltage, state.fault_code
+    )
+}

@@ -1,0 +1,134 @@
+//! RS232 link: 115200 8N1 `5A A5` frames through serialport, reading and writing at once.
+
+use std::collections::VecDeque;
+use std::io::{self, Read, Write};
+use std::path::Path;
+use std::sync::{Arc, Mutex};
+use std::time::Duration;
+
+use serialport::SerialPort;
+
+use super::{now_timestamp, FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
+use crate::protocol::serial::{StreamDecoder, StreamEvent};
+use crate::protocol::Wire;
+
+/// Writes must not stall the 50 Hz sender for long: a frame takes about 1.1 ms at 115200 baud.
+const WRITE_TIMEOUT: Duration = Duration::from_millis(50);
+
+struct SerialTx(Mutex<Box<dyn SerialPort>>);
+
+impl FrameTx for SerialTx {
+    fn send(&self, frame: &LinkFrame) -> io::Result<()> {
+        let LinkFrame::Serial(frame) = frame else {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "a CAN frame cannot be sent on a serial link",
+            ));
+        };
+        let mut port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        port.write_all(&frame.to_bytes())?;
+        port.flush()
+    }
+}
+
+struct SerialRx {
+    port: Box<dyn SerialPort>,
+    decoder: StreamDecoder,
+    ready: VecDeque<Received>,
+    buffer: Vec<u8>,
+    stats: RxStats,
+    /// A pseudo-terminal master reports EIO while no one has the other end open: wait, don't fail.
+    tolerate_hangup: bool,
+}
+
+impl FrameRx for SerialRx {
+    fn recv(&mut self, timeout: Duration) -> io::Result<Option<Received>> {
+        if let Some(received) = self.ready.pop_front() {
+            return Ok(Some(received));
+        }
+        self.port.set_timeout(timeout.max(Duration::from_millis(1))).map_err(io::Error::from)?;
+        let read = match self.port.read(&mut self.buffer) {
+            Ok(0) => return Ok(None),
+            Ok(read) => read,
+            Err(error) if error.kind() == io::ErrorKind::TimedOut => return Ok(None),
+            // A pseudo-terminal with nobody on the other side reports a hang-up (EIO, or POLLHUP which
+            // serialport turns into BrokenPipe): wait for a client instead of failing.
+            Err(error)
+                if self.tolerate_hangup
+                    && (error.kind() == io::ErrorKind::BrokenPipe || error.raw_os_error() == Some(EIO)) =>
+            {
+                std::thread::sleep(timeout.min(Duration::from_millis(20)));
+                return Ok(None);
+            }
+            Err(error) => return Err(error),
+        };
+        let ts = now_timestamp();
+        let (ready, stats) = (&mut self.ready, &mut self.stats);
+        self.decoder.feed(&self.buffer[..read], |event| match event {
+            StreamEvent::Frame { frame, .. } => {
+                stats.frames += 1;
+                ready.push_back(Received { ts, frame: LinkFrame::Serial(frame) });
+            }
+            StreamEvent::BadChecksum { .. } => stats.serial_bad_checksum += 1,
+        });
+        self.stats.serial_skipped_bytes = self.decoder.stats().skipped_bytes;
+        Ok(self.ready.pop_front())
+    }
+
+    fn stats(&self) -> RxStats {
+        self.stats
+    }
+}
+
+/// EIO (the same number on Linux and macOS).
+const EIO: i32 = 5;
+
+/// Wraps an open port (a real one, or one end of a pseudo-terminal pair).
+pub fn from_port(port: Box<dyn SerialPort>, name: &str, tolerate_hangup: bool) -> anyhow::Result<Link> {
+    let mut writer = port.try_clone().map_err(|error| anyhow::anyhow!("cannot share {name}: {error}"))?;
+    writer.set_timeout(WRITE_TIMEOUT)?;
+    let rx = SerialRx {
+        port,
+        decoder: StreamDecoder::new(),
+        ready: VecDeque::new(),
+        buffer: vec![0; 4096],
+        stats: RxStats::default(),
+        tolerate_hangup,
+    };
+    Ok(Link {
+        name: name.to_string(),
+        kind: LinkKind::Serial,
+        wire: Wire::Serial,
+        tx: Arc::new(SerialTx(Mutex::new(writer))),
+        rx: Box::new(rx),
+    })
+}
+
+/// Opens a serial port at `baud`, 8N1, no flow control, with errors that say what to do.
+pub fn open(path: &Path, baud: u32) -> anyhow::Result<Link> {
+    let name = path.display().to_string();
+    let port = serialport::new(name.clone(), baud)
+        .data_bits(serialport::DataBits::Eight)
+        .parity(serialport::Parity::None)
+        .stop_bits(serialport::StopBits::One)
+        .flow_control(serialport::FlowControl::None)
+        .timeout(Duration::from_millis(100))
+        .open()
+        .map_err(|error| open_error(&name, error))?;
+    from_port(port, &name, false)
+}
+
+fn open_error(name: &str, error: serialport::Error) -> anyhow::Error {
+    use serialport::ErrorKind;
+    match error.kind() {
+        ErrorKind::NoDevice | ErrorKind::Io(io::ErrorKind::NotFound) => anyhow::anyhow!(
+            "serial port {name} does not exist: plug in the adapter and look for it with \
+             `ls /dev/ttyUSB* /dev/ttyACM*` and `dmesg | tail`"
+        ),
+        ErrorKind::Io(io::ErrorKind::PermissionDenied) => anyhow::anyhow!(
+            "permission denied opening {name}: add yourself to the dialout group \
+             (`sudo usermod -aG dialout $USER`, then log in again)"
+        ),
+        _ => anyhow::anyhow!("cannot open serial port {name}: {error}"),
+    }
+}

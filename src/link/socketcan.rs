@@ -1,0 +1,279 @@
+//! SocketCAN link (Linux): kernel receive timestamps, error frames in words, socket drops counted, and
+//! errors that say what to do.
+
+use std::io;
+use std::mem::{size_of, zeroed};
+use std::os::fd::{AsRawFd, RawFd};
+use std::path::Path;
+use std::ptr;
+use std::sync::Arc;
+use std::time::Duration;
+
+use socketcan::{CanSocket, Socket, SocketOptions};
+
+use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
+use crate::candump::{Timestamp, TimestampKind};
+use crate::protocol::frame::{EFF_MAX, ERR_FLAG};
+use crate::protocol::{CanFrame, FrameKind, Wire};
+
+const CAN_EFF_FLAG: u32 = 0x8000_0000;
+const CAN_RTR_FLAG: u32 = 0x4000_0000;
+/// `ARPHRD_CAN`, the link type of CAN interfaces in /sys/class/net/*/type.
+const ARPHRD_CAN: u32 = 280;
+/// `SO_RXQ_OVFL`: the kernel reports, with every frame, how many frames this socket has dropped.
+const SO_RXQ_OVFL: libc::c_int = 40;
+
+struct SocketTx(Arc<CanSocket>);
+
+impl FrameTx for SocketTx {
+    fn send(&self, frame: &LinkFrame) -> io::Result<()> {
+        let LinkFrame::Can(frame) = frame else {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "a serial frame cannot be sent on a CAN link",
+            ));
+        };
+        self.0.write_frame(&to_socketcan(frame)?)
+    }
+}
+
+/// Our frame as the kernel's `can_frame`, wrapped in socketcan's type.
+fn to_socketcan(frame: &CanFrame) -> io::Result<socketcan::CanFrame> {
+    let mut raw: libc::can_frame = unsafe { zeroed() };
+    raw.can_id = match frame.kind() {
+        FrameKind::Data if frame.is_extended() => frame.id() | CAN_EFF_FLAG,
+        FrameKind::Data => frame.id(),
+        FrameKind::Remote => frame.id() | CAN_RTR_FLAG | if frame.is_extended() { CAN_EFF_FLAG } else { 0 },
+        FrameKind::Error => frame.id() | ERR_FLAG,
+        FrameKind::Fd => {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                "CAN FD frames are not sent on a classic link",
+            ))
+        }
+    };
+    raw.can_dlc = frame.len() as u8;
+    raw.data[..frame.data().len()].copy_from_slice(frame.data());
+    Ok(socketcan::CanFrame::from(raw))
+}
+
+/// The kernel's `can_frame` as our frame.
+fn from_raw(raw: &libc::can_frame) -> Option<CanFrame> {
+    let len = usize::from(raw.can_dlc.min(8));
+    let id = raw.can_id;
+    if id & ERR_FLAG != 0 {
+        return CanFrame::new_error(id & EFF_MAX & !ERR_FLAG, &raw.data[..len]).ok();
+    }
+    let extended = id & CAN_EFF_FLAG != 0;
+    let bare = if extended { id & EFF_MAX } else { id & 0x7FF };
+    if id & CAN_RTR_FLAG != 0 {
+        return CanFrame::new_remote(bare, extended, len as u8).ok();
+    }
+    if extended {
+        CanFrame::new_extended(bare, &raw.data[..len]).ok()
+    } else {
+        CanFrame::new(bare, &raw.data[..len]).ok()
+    }
+}
+
+struct SocketRx {
+    socket: Arc<CanSocket>,
+    stats: RxStats,
+}
+
+#[repr(C, align(8))]
+struct ControlBuffer([u8; 256]);
+
+impl SocketRx {
+    /// One `recvmsg` with the kernel timestamp (SO_TIMESTAMPNS) and the drop counter (SO_RXQ_OVFL).
+    fn receive(&mut self, fd: RawFd) -> io::Result<Option<Received>> {
+        let mut raw: libc::can_frame = unsafe { zeroed() };
+        let mut iov =
+            libc::iovec { iov_base: ptr::addr_of_mut!(raw).cast(), iov_len: size_of::<libc::can_frame>() };
+        let mut control = ControlBuffer([0; 256]);
+        let mut message: libc::msghdr = unsafe { zeroed() };
+        message.msg_iov = &mut iov;
+        message.msg_iovlen = 1;
+        message.msg_control = control.0.as_mut_ptr().cast();
+        message.msg_controllen = control.0.len() as _;
+        // SAFETY: every pointer in `message` refers to live, correctly sized local buffers.
+        let read = unsafe { libc::recvmsg(fd, &mut message, libc::MSG_DONTWAIT) };
+        if read < 0 {
+            let error = io::Error::last_os_error();
+            return match error.kind() {
+                io::ErrorKind::WouldBlock => Ok(None),
+                _ => Err(explain_io(error, "")),
+            };
+        }
+        if read as usize != size_of::<libc::can_frame>() {
+            return Ok(None);
+        }
+        let mut ts = None;
+        // SAFETY: walking the control messages the kernel wrote, with the libc helpers.
+        let mut cmsg = unsafe { libc::CMSG_FIRSTHDR(&message) };
+        while !cmsg.is_null() {
+            let (level, kind) = unsafe { ((*cmsg).cmsg_level, (*cmsg).cmsg_type) };
+            let data = unsafe { libc::CMSG_DATA(cmsg) };
+            if level == libc::SOL_SOCKET && kind == libc::SO_TIMESTAMPNS {
+                let spec = unsafe { ptr::read_unaligned(data.cast::<libc::timespec>()) };
+                ts = Some(Timestamp {
+                    secs: spec.tv_sec.max(0) as u64,
+                    nanos: spec.tv_nsec.clamp(0, 999_999_999) as u32,
+                    kind: TimestampKind::Absolute,
+                });
+            } else if level == libc::SOL_SOCKET && kind == SO_RXQ_OVFL {
+                let dropped = unsafe { ptr::read_unaligned(data.cast::<u32>()) };
+                self.stats.socket_drops = u64::from(dropped);
+            }
+            cmsg = unsafe { libc::CMSG_NXTHDR(&message, cmsg) };
+        }
+        let Some(frame) = from_raw(&raw) else { return Ok(None) };
+        self.stats.frames += 1;
+        if frame.kind() == FrameKind::Error {
+            self.stats.error_frames += 1;
+        }
+        Ok(Some(Received { ts: ts.unwrap_or_else(super::now_timestamp), frame: LinkFrame::Can(frame) }))
+    }
+}
+
+impl FrameRx for SocketRx {
+    fn recv(&mut self, timeout: Duration) -> io::Result<Option<Received>> {
+        let fd = self.socket.as_raw_fd();
+        if let Some(received) = self.receive(fd)? {
+            return Ok(Some(received));
+        }
+        let mut poll = libc::pollfd { fd, events: libc::POLLIN, revents: 0 };
+        let millis = timeout.as_millis().clamp(1, i32::MAX as u128) as i32;
+        // SAFETY: one valid pollfd.
+        let ready = unsafe { libc::poll(&mut poll, 1, millis) };
+        if ready < 0 {
+            let error = io::Error::last_os_error();
+            return if error.kind() == io::ErrorKind::Interrupted { Ok(None) } else { Err(error) };
+        }
+        if ready == 0 {
+            return Ok(None);
+        }
+        self.receive(fd)
+    }
+
+    fn stats(&self) -> RxStats {
+        self.stats
+    }
+}
+
+/// Adds what to do to the errors a CAN socket can give.
+pub fn explain_io(error: io::Error, iface: &str) -> io::Error {
+    let iface = if iface.is_empty() { "the interface" } else { iface };
+    let hint = match error.raw_os_error() {
+        Some(libc::ENETDOWN) => format!(
+            "{iface} is down: bring it up with `sudo ip link set {iface} up type can bitrate 500000` \
+             (a vcan interface: `sudo ip link set up {iface}`)"
+        ),
+        Some(libc::ENOBUFS) => format!(
+            "the transmit queue of {iface} is full: no other node acknowledges the frames. \
+             Is the robot on, the bus wired and terminated, and the bitrate 500000?"
+        ),
+        Some(libc::ENODEV) | Some(libc::ENXIO) => format!("{iface} has disappeared (adapter unplugged?)"),
+        _ => return error,
+    };
+    io::Error::new(error.kind(), format!("{hint} ({error})"))
+}
+
+fn sys_net(iface: &str, file: &str) -> Option<String> {
+    std::fs::read_to_string(Path::new("/sys/class/net").join(iface).join(file))
+        .ok()
+        .map(|s| s.trim().to_string())
+}
+
+/// Opens `iface`, checking in order: the kernel has CAN, the interface exists, is CAN, and is up.
+pub fn open(iface: &str) -> anyhow::Result<Link> {
+    // SAFETY: a plain socket(2) call; the descriptor is closed right away.
+    let probe = unsafe { libc::socket(libc::PF_CAN, libc::SOCK_RAW, libc::CAN_RAW) };
+    if probe < 0 {
+        let error = io::Error::last_os_error();
+        if error.raw_os_error() == Some(libc::EAFNOSUPPORT) {
+            anyhow::bail!(
+                "this kernel has no SocketCAN support ({error}): load it with `sudo modprobe can can-raw` \
+                 (plus your adapter's driver, e.g. gs_usb or peak_usb), or use --serial PORT or --sim"
+            );
+        }
+        anyhow::bail!("cannot create a CAN socket: {error}");
+    }
+    // SAFETY: `probe` is a descriptor we own.
+    unsafe { libc::close(probe) };
+    if sys_net(iface, "type").is_none() {
+        anyhow::bail!(
+            "CAN interface {iface} does not exist: list interfaces with `ip -br link show type can`; \
+             check the adapter with `dmesg | tail`; to test without hardware: \
+             `sudo ip link add dev vcan0 type vcan && sudo ip link set up vcan0` and --iface vcan0"
+        );
+    }
+    if sys_net(iface, "type").and_then(|t| t.parse::<u32>().ok()) != Some(ARPHRD_CAN) {
+        anyhow::bail!("{iface} is not a CAN interface (see `ip -br link show type can`)");
+    }
+    let flags =
+        sys_net(iface, "flags").and_then(|f| u32::from_str_radix(f.trim_start_matches("0x"), 16).ok());
+    if flags.is_some_and(|flags| flags & 1 == 0) {
+        anyhow::bail!(
+            "CAN interface {iface} is down: bring it up with `sudo ip link set {iface} up type can bitrate 500000` \
+             (a vcan interface: `sudo ip link set up {iface}`)"
+        );
+    }
+    let socket = CanSocket::open(iface).map_err(|error| match error.kind() {
+        io::ErrorKind::PermissionDenied => anyhow::anyhow!(
+            "permission denied opening a CAN socket on {iface} ({error}): run as a user allowed raw CAN sockets"
+        ),
+        _ => anyhow::anyhow!("cannot open CAN interface {iface}: {}", explain_io(error, iface)),
+    })?;
+    socket.set_error_filter_accept_all()?;
+    socket.set_recv_timestamp(true)?;
+    let enable: libc::c_int = 1;
+    // SAFETY: setsockopt with a valid int option value.
+    unsafe {
+        libc::setsockopt(
+            socket.as_raw_fd(),
+            libc::SOL_SOCKET,
+            SO_RXQ_OVFL,
+            ptr::addr_of!(enable).cast(),
+            size_of::<libc::c_int>() as libc::socklen_t,
+        );
+    }
+    let socket = Arc::new(socket);
+    Ok(Link {
+        name: iface.to_string(),
+        kind: LinkKind::SocketCan,
+        wire: Wire::CanV2,
+        tx: Arc::new(SocketTx(Arc::clone(&socket))),
+        rx: Box::new(SocketRx { socket, stats: RxStats::default() }),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_convert_both_ways() {
+        for frame in [
+            CanFrame::new(0x211, &[0, 0, 1, 3, 0, 0, 0, 0xB1]).unwrap(),
+            CanFrame::new_extended(0x123, &[0x11]).unwrap(),
+            CanFrame::new_remote(0x7FF, false, 5).unwrap(),
+            CanFrame::new_error(0x44, &[0, 0, 0, 0, 0, 0, 127, 0]).unwrap(),
+        ] {
+            let kernel = to_socketcan(&frame).unwrap();
+            let raw: &libc::can_frame = kernel.as_ref();
+            assert_eq!(from_raw(raw), Some(frame), "{frame}");
+        }
+    }
+
+    #[test]
+    fn a_kernel_without_can_gets_a_message_that_says_what_to_do() {
+        // This machine's kernel has no CAN; on one with CAN the interface does not exist. Either way the
+        // error names the fix.
+        let error = open("tracerctl-no-such0").err().expect("cannot open").to_string();
+        assert!(
+            error.contains("modprobe can can-raw") || error.contains("does not exist: list interfaces"),
+            "{error}"
+        );
+    }
+}

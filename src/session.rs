@@ -1,0 +1,261 @@
+//! A live session with the robot: the link, a reader thread that keeps the latest robot status, and the
+//! codec for sending. Every live command (monitor aside, which reads frames itself) is built on it.
+
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+
+use crate::link::{self, Codec, FrameRx, FrameTx, LinkChoice, LinkFrame, LinkKind, RxStats};
+use crate::protocol::detect::{ProtocolDetector, Verdict};
+use crate::protocol::message::{
+    Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, SystemState,
+};
+use crate::protocol::{Decoded, Message, ProtocolHint, Wire};
+
+/// The latest of everything the robot reported.
+#[derive(Clone, Debug, Default)]
+pub struct RobotStatus {
+    /// System state and the wire it came on (which decides the fault-bit table).
+    pub system: Option<(Instant, SystemState, Wire)>,
+    pub motion: Option<(Instant, MotionState)>,
+    pub lights: Option<(Instant, Lights)>,
+    pub motor_high: [Option<MotorHighSpeed>; 2],
+    pub motor_driver: [Option<MotorDriverState>; 2],
+    pub motor_low: [Option<MotorLowSpeed>; 2],
+    pub odometry: Option<Odometry>,
+    pub detector: ProtocolDetector,
+    pub frames: u64,
+    pub last_frame: Option<Instant>,
+    pub rx: RxStats,
+    /// Set when the link failed or ended; the reader has stopped.
+    pub link_error: Option<String>,
+}
+
+impl RobotStatus {
+    fn apply(&mut self, now: Instant, decoded: &Decoded) {
+        match decoded.message {
+            Message::SystemState(state) => self.system = Some((now, state, decoded.wire)),
+            Message::MotionState(state) => self.motion = Some((now, state)),
+            Message::LightState(lights) => self.lights = Some((now, lights)),
+            Message::MotorHighSpeed(motor) if matches!(motor.motor, 1 | 2) => {
+                self.motor_high[usize::from(motor.motor - 1)] = Some(motor)
+            }
+            Message::MotorDriverState(motor) if matches!(motor.motor, 1 | 2) => {
+                self.motor_driver[usize::from(motor.motor - 1)] = Some(motor)
+            }
+            Message::MotorLowSpeed(motor) if matches!(motor.motor, 1 | 2) => {
+                self.motor_low[usize::from(motor.motor - 1)] = Some(motor)
+            }
+            Message::Odometry(odometry) => self.odometry = Some(odometry),
+            _ => {}
+        }
+    }
+
+    /// The latest system state, if it is no older than `max_age`.
+    pub fn fresh_system(&self, max_age: Duration) -> Option<(SystemState, Wire)> {
+        self.system.filter(|(at, ..)| at.elapsed() <= max_age).map(|(_, state, wire)| (state, wire))
+    }
+}
+
+struct Shared {
+    status: Mutex<RobotStatus>,
+    changed: Condvar,
+    stop: AtomicBool,
+}
+
+/// An open session. Dropping it stops the reader thread (and the simulator of `--sim`).
+pub struct Session {
+    pub name: String,
+    pub kind: LinkKind,
+    pub tx: Arc<dyn FrameTx>,
+    codec: Mutex<Codec>,
+    hint: ProtocolHint,
+    shared: Arc<Shared>,
+    reader: Option<JoinHandle<()>>,
+    simulator: Option<crate::sim::serve::Running>,
+}
+
+impl Session {
+    /// Opens the chosen link and starts reading. With `--sim`, starts a virtual TRACER first.
+    pub fn open(choice: &LinkChoice, hint: ProtocolHint, sim: Option<crate::sim::SimConfig>) -> Result<Self> {
+        let wire_for_can = match hint {
+            ProtocolHint::V1 => Wire::CanV1,
+            _ => Wire::CanV2,
+        };
+        let (link, simulator) = open_link(choice, sim)?;
+        let wire = if link.wire == Wire::Serial { Wire::Serial } else { wire_for_can };
+        let shared = Arc::new(Shared {
+            status: Mutex::new(RobotStatus::default()),
+            changed: Condvar::new(),
+            stop: AtomicBool::new(false),
+        });
+        let reader = {
+            let shared = Arc::clone(&shared);
+            let rx = link.rx;
+            let codec = Codec::new(wire);
+            std::thread::Builder::new()
+                .name("tracerctl-reader".into())
+                .spawn(move || read_loop(rx, codec, hint, &shared))
+                .context("cannot start the reader thread")?
+        };
+        Ok(Self {
+            name: link.name,
+            kind: link.kind,
+            tx: link.tx,
+            codec: Mutex::new(Codec::new(wire)),
+            hint,
+            shared,
+            reader: Some(reader),
+            simulator,
+        })
+    }
+
+    /// The wire commands are encoded for.
+    pub fn wire(&self) -> Wire {
+        self.codec().wire
+    }
+
+    /// The codec (for building frames to send).
+    pub fn codec(&self) -> MutexGuard<'_, Codec> {
+        self.codec.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+    }
+
+    /// A copy of the latest status.
+    pub fn status(&self) -> RobotStatus {
+        self.shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).clone()
+    }
+
+    /// Waits until `check` returns `Some` for the status, or `timeout` passes.
+    pub fn wait_for<T>(
+        &self,
+        timeout: Duration,
+        mut check: impl FnMut(&RobotStatus) -> Option<T>,
+    ) -> Option<T> {
+        let deadline = Instant::now() + timeout;
+        let mut status = self.shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        loop {
+            if let Some(found) = check(&status) {
+                return Some(found);
+            }
+            let now = Instant::now();
+            if now >= deadline {
+                return None;
+            }
+            status = self
+                .shared
+                .changed
+                .wait_timeout(status, deadline - now)
+                .unwrap_or_else(|poisoned| poisoned.into_inner())
+                .0;
+        }
+    }
+
+    /// Waits for a system-state frame newer than `after` (so a reply to something just sent).
+    pub fn wait_system_after(&self, after: Instant, timeout: Duration) -> Option<(SystemState, Wire)> {
+        self.wait_for(timeout, |status| {
+            status.system.filter(|(at, ..)| *at > after).map(|(_, state, wire)| (state, wire))
+        })
+    }
+
+    /// In auto mode on CAN, listens up to `timeout` for the robot's protocol version and encodes for it.
+    /// Returns what was seen, to tell the user.
+    pub fn settle_protocol(&self, timeout: Duration) -> Verdict {
+        let verdict = self
+            .wait_for(timeout, |status| match status.detector.verdict() {
+                Verdict::Unknown => None,
+                verdict => Some(verdict),
+            })
+            .unwrap_or(Verdict::Unknown);
+        let mut codec = self.codec();
+        if self.hint == ProtocolHint::Auto && codec.wire != Wire::Serial && verdict == Verdict::V1 {
+            *codec = Codec::new(Wire::CanV1);
+        }
+        verdict
+    }
+
+    /// Sends one frame.
+    pub fn send(&self, frame: &LinkFrame) -> Result<()> {
+        self.tx.send(frame).with_context(|| format!("cannot send on {}", self.name))
+    }
+
+    /// The simulator behind `--sim`, if any.
+    pub fn simulator(&self) -> Option<&crate::sim::serve::Running> {
+        self.simulator.as_ref()
+    }
+}
+
+impl Drop for Session {
+    fn drop(&mut self) {
+        self.shared.stop.store(true, Ordering::SeqCst);
+        if let Some(reader) = self.reader.take() {
+            let _ = reader.join();
+        }
+    }
+}
+
+/// Opens the chosen link; with `--sim`, also starts the virtual TRACER on the other end (stopped when the
+/// returned handle drops). For commands that read frames themselves (monitor).
+pub fn open_link(
+    choice: &LinkChoice,
+    sim: Option<crate::sim::SimConfig>,
+) -> Result<(link::Link, Option<crate::sim::serve::Running>)> {
+    Ok(match choice {
+        LinkChoice::Sim => {
+            let config = sim.unwrap_or_default();
+            let wire = match config.wire {
+                crate::sim::SimWire::Serial => Wire::Serial,
+                crate::sim::SimWire::CanV2 => Wire::CanV2,
+            };
+            let (host, robot) = link::channel::pair(wire, LinkKind::Sim, "sim");
+            (host, Some(crate::sim::serve::start(config, robot)?))
+        }
+        LinkChoice::Replay { path, speed } => (link::replay::open(path, *speed)?, None),
+        LinkChoice::Serial { path, baud } => (link::serial::open(path, *baud)?, None),
+        LinkChoice::SocketCan { iface } => (open_socketcan(iface)?, None),
+    })
+}
+
+#[cfg(target_os = "linux")]
+fn open_socketcan(iface: &str) -> Result<link::Link> {
+    link::socketcan::open(iface)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn open_socketcan(_iface: &str) -> Result<link::Link> {
+    anyhow::bail!("SocketCAN exists only on Linux: use --serial PORT or --sim")
+}
+
+fn read_loop(mut rx: Box<dyn FrameRx>, codec: Codec, hint: ProtocolHint, shared: &Shared) {
+    while !shared.stop.load(Ordering::SeqCst) {
+        let received = rx.recv(Duration::from_millis(20));
+        let mut status = shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        status.rx = rx.stats();
+        match received {
+            Ok(Some(received)) => {
+                let now = Instant::now();
+                status.frames += 1;
+                status.last_frame = Some(now);
+                if let LinkFrame::Can(frame) = &received.frame {
+                    status.detector.observe(frame);
+                }
+                let hint = match hint {
+                    ProtocolHint::Auto => status.detector.hint(),
+                    forced => forced,
+                };
+                if let Ok(Some(decoded)) = codec.decode(&received.frame, hint) {
+                    status.apply(now, &decoded);
+                }
+                shared.changed.notify_all();
+            }
+            Ok(None) => {}
+            Err(error) => {
+                status.link_error = Some(error.to_string());
+                shared.changed.notify_all();
+                return;
+            }
+        }
+    }
+}

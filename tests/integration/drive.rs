@@ -1,0 +1,123 @@
+//! `tracerctl drive` against the in-process simulator and, byte for byte, over a real pseudo-terminal.
+
+use std::process::Stdio;
+use std::time::{Duration, Instant};
+
+use tracerctl::protocol::message::{SystemState, VEHICLE_ESTOP};
+use tracerctl::protocol::serial::SerialFrame;
+
+use crate::serial_peer::{healthy, FakeRobot};
+use crate::util::{stderr, tracerctl};
+
+/// (linear %, angular %) of an RS232 motion control frame, or None for other frames.
+fn percent(frame: &SerialFrame) -> Option<(i8, i8)> {
+    (frame.frame_type == 0x55 && frame.command == 0x01)
+        .then(|| (frame.payload[2] as i8, frame.payload[3] as i8))
+}
+
+#[test]
+fn drives_the_simulator_and_stops_when_time_is_up() {
+    let output = tracerctl().args(["--sim", "drive", "--linear", "0.3", "--for", "2s"]).output().unwrap();
+    let report = stderr(&output);
+    assert_eq!(output.status.code(), Some(0), "{report}");
+    assert!(report.contains("robot: normal, mode standby"), "the simulator boots in standby: {report}");
+    // One status line a second when stderr is not a terminal; by the second, the robot moves at 0.3 m/s.
+    let moving = report.lines().filter(|l| l.contains("measured +0.3") || l.contains("measured +0.29"));
+    assert!(moving.count() >= 1, "{report}");
+    assert!(report.contains("(time up)"), "{report}");
+    assert!(report.contains("last command +0.000 m/s +0.000 rad/s"), "{report}");
+}
+
+#[test]
+fn caps_are_applied_and_said() {
+    let output = tracerctl().args(["--sim", "drive", "--linear", "-3", "--for", "200ms"]).output().unwrap();
+    assert!(stderr(&output).contains("capped: -3.000 m/s +0.000 rad/s -> -0.500 m/s"), "{}", stderr(&output));
+}
+
+#[test]
+fn serial_frames_byte_for_byte_on_a_real_pseudo_terminal() {
+    let robot = FakeRobot::start(healthy());
+    let output = tracerctl()
+        .args(["--serial", &robot.path, "drive", "--linear", "0.3", "--angular", "-0.2", "--for", "1500ms"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    std::thread::sleep(Duration::from_millis(50));
+    let frames = robot.frames();
+    assert!(frames.len() >= 60, "about 50 frames a second for 1.5 s, got {}", frames.len());
+    for (_, frame) in &frames {
+        let bytes = frame.to_bytes();
+        // 5A A5 0A 55 01, mode 02 (serial), no fault clear, reserved bytes zero, checksum = sum of 0..12.
+        assert_eq!(&bytes[..5], &[0x5A, 0xA5, 0x0A, 0x55, 0x01]);
+        assert_eq!((bytes[5], bytes[6], bytes[9], bytes[10]), (0x02, 0x00, 0x00, 0x00));
+        let sum = bytes[..12].iter().fold(0u8, |sum, b| sum.wrapping_add(*b));
+        assert_eq!(bytes[12], sum);
+    }
+    // Frame ids roll by one.
+    for pair in frames.windows(2) {
+        assert_eq!(pair[1].1.frame_id, pair[0].1.frame_id.wrapping_add(1));
+    }
+    // Ramped up to 0.3 m/s = 20 % and -0.2 rad/s = -25 % (of 0.7853), then down to zero at the end.
+    let speeds: Vec<(i8, i8)> = frames.iter().filter_map(|(_, f)| percent(f)).collect();
+    assert!(speeds.contains(&(20, -25)), "{speeds:?}");
+    assert!(speeds.windows(2).all(|w| (w[1].0 - w[0].0).abs() <= 1), "ramped, 0.5 m/s² = 0.67 % per frame");
+    assert_eq!(&speeds[speeds.len() - 3..], &[(0, 0); 3]);
+}
+
+#[test]
+fn refuses_to_start_on_estop_or_silence_and_says_why() {
+    let robot = FakeRobot::start(SystemState { vehicle_state: VEHICLE_ESTOP, ..healthy() });
+    let output = tracerctl()
+        .args(["--serial", &robot.path, "drive", "--linear", "0.2", "--for", "1s"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(4));
+    assert!(stderr(&output).contains("not driving: the E-stop is pressed"), "{}", stderr(&output));
+    assert!(robot.frames().iter().all(|(_, f)| percent(f).is_none_or(|p| p == (0, 0))), "nothing that moves");
+
+    let silent = FakeRobot::start(healthy());
+    // A second pseudo-terminal nobody answers on: open it, but talk to nobody.
+    let (_master, slave) = serialport::TTYPort::pair().unwrap();
+    let path = serialport::SerialPort::name(&slave).unwrap();
+    drop(slave);
+    let output =
+        tracerctl().args(["--serial", &path, "drive", "--linear", "0.2", "--for", "1s"]).output().unwrap();
+    assert_eq!(output.status.code(), Some(4));
+    assert!(stderr(&output).contains("nothing received on"), "{}", stderr(&output));
+    drop(silent);
+}
+
+/// The zero-velocity frame must reach the robot within 50 ms of the signal.
+#[cfg(unix)]
+#[test]
+fn every_termination_signal_stops_the_robot_within_50_ms() {
+    for (signal, status) in [(libc::SIGINT, 130), (libc::SIGTERM, 143), (libc::SIGHUP, 129)] {
+        let robot = FakeRobot::start(healthy());
+        let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["--serial", &robot.path, "drive", "--linear", "0.3"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        // Wait until it drives at full speed.
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while !robot.frames().iter().any(|(_, f)| percent(f) == Some((20, 0))) {
+            assert!(Instant::now() < deadline, "never reached 20 %");
+            std::thread::sleep(Duration::from_millis(10));
+        }
+        let sent = Instant::now();
+        unsafe { libc::kill(child.id() as i32, signal) };
+        let exit = child.wait().unwrap();
+        std::thread::sleep(Duration::from_millis(30));
+        assert_eq!(exit.code(), Some(status), "exit status after signal {signal}");
+        let frames = robot.frames();
+        let first_zero = frames
+            .iter()
+            .find(|(at, f)| *at >= sent && percent(f) == Some((0, 0)))
+            .map(|(at, _)| at.duration_since(sent))
+            .expect("a zero-velocity frame after the signal");
+        assert!(first_zero < Duration::from_millis(50), "signal {signal}: zero after {first_zero:?}");
+        let last = frames.iter().rev().find_map(|(_, f)| percent(f));
+        assert_eq!(last, Some((0, 0)), "signal {signal}: nothing moves after the stop");
+    }
+}

@@ -1,0 +1,926 @@
+#!/bin/sh
+# The SocketCAN scenario for tracerctl, run by busybox sh inside the test VM (tests/vm/run.sh builds the VM).
+# vcan0 and vcan1 are up when it starts. Every check prints one line
+#     CHECK <name>: PASS|FAIL <evidence>
+# followed, on failure, by evidence lines starting with "  | " (the relevant candump -L lines, stderr, ...).
+# The last line is "SCENARIO PASS" or "SCENARIO FAIL (n failed)".
+#
+# Timing is judged only from candump's kernel timestamps, with margins wide enough for TCG emulation.
+# Sleeps only give things time to happen; no verdict depends on how long a sleep took.
+#
+# CHECKS (environment, comma-separated) selects checks by name; empty = all.
+# Frames with identifiers 0x7F0-0x7F3 are the scenario's own markers: 7F0 capture start/end, 7F1 the moment
+# a signal is sent, 7F2 the moment the signalled process had exited.
+
+T=tracerctl
+W=/tmp/scn
+mkdir -p $W
+N_PASS=0
+N_FAIL=0
+FAILED=""
+CHECKS=${CHECKS:-}
+
+# ------------------------------------------------------------------------------------------- framework
+
+uptime_s() { cut -d' ' -f1 /proc/uptime; }
+
+# want NAME: is this check selected?
+want() {
+    [ -z "$CHECKS" ] && return 0
+    case ",$CHECKS," in *",$1,"*) return 0 ;; esac
+    return 1
+}
+
+# wants PREFIX...: is any check with one of these name prefixes selected? (decides whether a shared setup runs)
+wants() {
+    [ -z "$CHECKS" ] && return 0
+    for p in "$@"; do
+        case ",$CHECKS" in *",$p"*) return 0 ;; esac
+    done
+    return 1
+}
+
+EV=$W/evidence
+# ev TEXT...: add an evidence line; ev_file FILE [MAX]: add a file's lines (head and tail if long)
+ev() { echo "$*" >>$EV; }
+ev_file() {
+    f=$1
+    max=${2:-24}
+    [ -s "$f" ] || { echo "($f is empty or missing)" >>$EV; return; }
+    n=$(wc -l <"$f")
+    if [ "$n" -le "$max" ]; then
+        cat "$f" >>$EV
+    else
+        half=$((max / 2))
+        head -n $half "$f" >>$EV
+        echo "... ($((n - max)) more lines) ..." >>$EV
+        tail -n $half "$f" >>$EV
+    fi
+}
+
+VERDICT=""
+pass() { VERDICT="PASS $*"; }
+fail() { VERDICT="FAIL $*"; }
+
+# check NAME: run the function ck_NAME if the check is selected, print its verdict and, on failure, evidence
+check() {
+    want "$1" || return 0
+    : >$EV
+    VERDICT=""
+    t0=$(uptime_s)
+    "ck_$1"
+    [ -n "$VERDICT" ] || VERDICT="FAIL the check reached no verdict"
+    echo "CHECK $1: $VERDICT [at ${t0}s, took $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}')s]"
+    case $VERDICT in
+        PASS*) N_PASS=$((N_PASS + 1)) ;;
+        *)
+            N_FAIL=$((N_FAIL + 1))
+            FAILED="$FAILED $1"
+            sed 's/^/  | /' $EV
+            ;;
+    esac
+    reap_strays
+}
+
+# ------------------------------------------------------------------------------------------- candump helpers
+
+# receivers IFACE: number of CAN_RAW receive filters bound to IFACE (a socket appears here once bound)
+receivers() { grep -cE "^ +$1 " /proc/net/can/rcvlist_all /proc/net/can/rcvlist_fil 2>/dev/null | awk -F: '{s += $NF} END {print s + 0}'; }
+
+# cap_start FILE IFACE: candump -L IFACE > FILE in the background, returns once candump sees frames
+CAP_PID=""
+CAP_FILE=""
+CAP_IFACE=""
+cap_start() {
+    CAP_FILE=$1
+    CAP_IFACE=$2
+    candump -L "$CAP_IFACE" >"$CAP_FILE" 2>"$CAP_FILE.err" &
+    CAP_PID=$!
+    i=0
+    while [ $i -lt 100 ]; do
+        cansend "$CAP_IFACE" 7F0#5A
+        grep -q " 7F0#5A\$" "$CAP_FILE" && return 0
+        usleep 50000
+        i=$((i + 1))
+    done
+    echo "WARN: candump on $CAP_IFACE did not start" >&2
+    return 1
+}
+# cap_stop: send an end marker, wait until candump has logged it (so it has everything before it), stop candump
+cap_stop() {
+    [ -n "$CAP_PID" ] || return 0
+    cansend "$CAP_IFACE" 7F0#E0
+    i=0
+    while [ $i -lt 100 ] && ! grep -q " 7F0#E0\$" "$CAP_FILE"; do
+        usleep 50000
+        i=$((i + 1))
+    done
+    kill -INT $CAP_PID 2>/dev/null
+    wait $CAP_PID 2>/dev/null
+    CAP_PID=""
+}
+
+# frames FILE [ID...]: "t_us ID DATA" per candump -L line (t_us: microseconds since the first line's second),
+# only the given identifiers (all but the scenario's 7F0-7F3 markers if none given)
+frames() {
+    f=$1
+    shift
+    awk -v ids="$*" '
+        BEGIN { n = split(ids, a, " "); for (i = 1; i <= n; i++) want[a[i]] = 1 }
+        /^\([0-9]+\.[0-9]+\) / {
+            ts = substr($1, 2, length($1) - 2)
+            split(ts, b, ".")
+            if (base == "") base = b[1]
+            us = b[2]
+            while (length(us) < 6) us = us "0"
+            t = (b[1] - base) * 1000000 + substr(us, 1, 6)
+            k = index($3, "#")
+            id = substr($3, 1, k - 1)
+            if (n == 0) { if (id !~ /^7F[0-3]$/) print t, id, substr($3, k + 1) }
+            else if (id in want) print t, id, substr($3, k + 1)
+        }' "$f"
+}
+
+# lines FILE ID...: the raw candump lines with these identifiers
+lines() {
+    f=$1
+    shift
+    ids=$(echo "$*" | tr ' ' '|')
+    grep -E " ($ids)#" "$f"
+}
+
+
+# The witness: an independent sender (cangen, 0x7F3 every 10 ms) running during timing captures. When the whole VM
+# stalls (the host deschedules QEMU: seen under heavy host load), the witness falls silent too; a gap in a
+# periodic frame that the witness shares is the VM's, not the program's, and is reported but not held against it.
+WIT_PID=""
+witness_start() { cangen vcan0 -I 7F3 -L 0 -g 10 >/dev/null 2>&1 & WIT_PID=$!; }
+witness_stop() { stop "$WIT_PID"; WIT_PID=""; }
+
+# cadence FILE.f ID LO HI MAXGAP: judge the period of ID in FILE.f ("t_us ID DATA" lines, witness 7F3 included):
+# median within [LO, HI] ms, no gap over MAXGAP ms (except VM-wide stalls the witness shares), >= 8 gaps.
+# Prints "ok ..." or "BAD ..." and a summary.
+cadence() {
+    med=$(awk -v id="$2" '$2 == id {if (n++) printf "%.3f\n", ($1 - p) / 1000; p = $1}' "$1" | sort -n | awk '
+        {g[NR] = $1} END {if (NR == 0) print -1; else print (NR % 2) ? g[(NR + 1) / 2] : (g[NR / 2] + g[NR / 2 + 1]) / 2}')
+    awk -v id="$2" -v lo="$3" -v hi="$4" -v lim="$5" -v med="$med" '
+        $2 == "7F3" {w[++nw] = $1; next}
+        $2 == id {t[++n] = $1}
+        END {
+            j = 1; mx = 0; mn = -1; stalls = 0; list = ""
+            for (i = 2; i <= n; i++) {
+                g = (t[i] - t[i - 1]) / 1000
+                if (mn < 0 || g < mn) mn = g
+                excused = 0
+                if (g > lim && nw > 0) {
+                    # the longest silence of the witness between the two frames
+                    while (j <= nw && w[j] <= t[i - 1]) j++
+                    prev = t[i - 1]; sil = 0
+                    for (k = j; k <= nw && w[k] < t[i]; k++) {if (w[k] - prev > sil) sil = w[k] - prev; prev = w[k]}
+                    if (t[i] - prev > sil) sil = t[i] - prev
+                    if (sil / 1000 >= g - 40) {excused = 1; stalls++; list = list sprintf(" %.0f", g)}
+                }
+                if (!excused && g > mx) mx = g
+            }
+            ng = n > 0 ? n - 1 : 0
+            extra = stalls ? sprintf(" (+%d VM-wide stall(s) shared by the witness, ms:%s)", stalls, list) : ""
+            ok = (ng >= 8 && med >= lo && med <= hi && mx < lim)
+            printf "%s 0x%s n=%d median=%.1fms min=%.1fms max=%.1fms%s", ok ? "ok" : "BAD", id, n, med, mn, mx, extra
+            if (!ok) printf " (want median %s-%s ms, max < %s ms, >= 9 frames)", lo, hi, lim
+            print ""
+        }' "$1"
+}
+
+# gap_context FILE.f ID: the frames (witness included) around the largest gap of ID, times in ms from the first
+gap_context() {
+    awk -v id="$2" '{a[NR] = $0; t[NR] = $1} $2 == id {if (p) {g = $1 - t[p]; if (g > mx) {mx = g; at = p; to = NR}} p = NR}
+        END {
+            if (!at) exit
+            printf "largest gap of 0x%s: %.1f ms; frames around it (ms since the capture start, ID, data):\n", id, mx / 1000
+            for (i = at - 4; i <= to + 4; i++) if (i in a) {split(a[i], f, " "); printf "%10.1f %s#%s\n", f[1] / 1000, f[2], f[3]}
+        }' "$1" >$W/gapctx
+    ev_file $W/gapctx 40
+}
+
+# within X LO HI: LO <= X <= HI (decimals)
+within() { awk -v x="$1" -v lo="$2" -v hi="$3" 'BEGIN {exit !(x >= lo && x <= hi)}'; }
+below() { awk -v x="$1" -v hi="$2" 'BEGIN {exit !(x < hi)}'; }
+
+# v111 DATA: "linear_mm_s angular_mrad_s" of a 0x111 payload (int16 big-endian each)
+v111() {
+    echo "$1" | awk '
+        function h(s,   i, v) {v = 0; for (i = 1; i <= length(s); i++) v = v * 16 + index("0123456789ABCDEF", substr(s, i, 1)) - 1; return v}
+        function s16(v) {return v >= 32768 ? v - 65536 : v}
+        {print s16(h(substr($1, 1, 4))), s16(h(substr($1, 5, 4)))}'
+}
+
+# ------------------------------------------------------------------------------------------- process helpers
+
+# fg_run PIDFILE OUT ERR CMD...: run CMD in the foreground, so it starts with default signal dispositions
+# (background jobs of a non-interactive shell start with SIGINT ignored), writing its pid to PIDFILE first.
+fg_run() {
+    pf=$1
+    out=$2
+    err=$3
+    shift 3
+    rm -f "$pf"
+    sh -c 'echo $$ >"$0"; exec "$@"' "$pf" "$@" >"$out" 2>"$err"
+}
+
+# wait_pidfile FILE: wait (up to 10 s) for a pid file, print the pid
+wait_pidfile() {
+    i=0
+    while [ ! -s "$1" ] && [ $i -lt 200 ]; do usleep 50000; i=$((i + 1)); done
+    cat "$1" 2>/dev/null
+}
+
+# alive PID
+alive() { [ -n "$1" ] && kill -0 "$1" 2>/dev/null; }
+
+# wait_gone PID SECS: wait until PID has exited; 1 if it is still running after SECS
+wait_gone() {
+    i=0
+    while alive "$1"; do
+        [ $i -ge $(($2 * 20)) ] && return 1
+        usleep 50000
+        i=$((i + 1))
+    done
+    return 0
+}
+
+# wait_grep FILE REGEX SECS [PID]: wait until FILE has a line matching REGEX; 1 on timeout or if PID died
+wait_grep() {
+    i=0
+    while ! grep -qE "$2" "$1" 2>/dev/null; do
+        [ $i -ge $(($3 * 20)) ] && return 1
+        [ -n "$4" ] && ! alive "$4" && { grep -qE "$2" "$1" 2>/dev/null; return; }
+        usleep 50000
+        i=$((i + 1))
+    done
+    return 0
+}
+
+# reap_strays: kill tracerctl/can-utils processes a check left behind (not the simulator or its children),
+# so that one misbehaving command cannot disturb the checks after it
+reap_strays() {
+    for p in $(pidof tracerctl cangen cansend canplayer 2>/dev/null); do
+        [ "$p" = "$SIM_PID" ] && continue
+        pp=$(awk '/^PPid:/ {print $2}' /proc/$p/status 2>/dev/null)
+        [ -n "$SIM_PID" ] && [ "$pp" = "$SIM_PID" ] && continue
+        echo "NOTE: killing a process left behind: $p $(tr '\0' ' ' </proc/$p/cmdline 2>/dev/null)"
+        kill -KILL $p 2>/dev/null
+    done
+}
+
+# stop PID: SIGTERM, then SIGKILL after 5 s
+stop() {
+    alive "$1" || { wait "$1" 2>/dev/null; return 0; }
+    kill -TERM "$1" 2>/dev/null
+    wait_gone "$1" 5 || kill -KILL "$1" 2>/dev/null
+    wait "$1" 2>/dev/null
+}
+
+# the virtual TRACER
+SIM_PID=""
+sim_start() {
+    $T --iface vcan0 sim >$W/sim.out 2>$W/sim.err &
+    SIM_PID=$!
+    cap_start $W/sim_probe.log vcan0
+    if wait_grep $W/sim_probe.log ' 211#' 15 $SIM_PID; then SIM_UP=1; else SIM_UP=0; fi
+    cap_stop
+    [ $SIM_UP = 1 ] || { alive $SIM_PID || wait $SIM_PID; }
+}
+sim_stop() {
+    stop "$SIM_PID"
+    SIM_PID=""
+}
+# ev_sim: evidence about the simulator when it is not running
+ev_sim() {
+    [ "$SIM_UP" = 1 ] && return
+    ev "the simulator ('$T --iface vcan0 sim') sent no 0x211 within 15 s; its stderr:"
+    ev_file $W/sim.err 6
+}
+
+# run_cmd NAME CMD...: run a short tracerctl command (30 s limit) with a capture of vcan0 around it
+# sets RC; files $W/NAME.log (capture), .out, .err
+run_cmd() {
+    name=$1
+    shift
+    cap_start $W/$name.log vcan0
+    timeout 30 "$@" >$W/$name.out 2>$W/$name.err
+    RC=$?
+    cap_stop
+}
+
+# ev_cmd NAME CMD: evidence for a command run by run_cmd
+ev_cmd() {
+    ev "\$ $2   (exit status $RC)"
+    [ -s $W/$1.err ] && { ev "stderr:"; ev_file $W/$1.err 8; }
+    [ -s $W/$1.out ] && { ev "stdout:"; ev_file $W/$1.out 8; }
+}
+
+# ------------------------------------------------------------------------------------------- checks
+
+# --- infrastructure: can-utils alone
+ck_smoke_cansend() {
+    cap_start $W/smoke.log vcan0
+    cansend vcan0 421#01
+    cap_stop
+    if grep -qE '^\([0-9]{10}\.[0-9]{6}\) vcan0 421#01$' $W/smoke.log; then
+        pass "candump -L vcan0 logged: $(grep ' 421#' $W/smoke.log)"
+    else
+        fail "cansend vcan0 421#01 was not logged by candump -L vcan0"
+        ev_file $W/smoke.log
+        ev_file $W/smoke.log.err
+    fi
+}
+
+# --- decode reads a real candump -L capture
+ck_decode_captured() {
+    cap_start $W/dec.log vcan0
+    cansend vcan0 211#00000103000000B1
+    cap_stop
+    lines $W/dec.log 211 >$W/dec211.log
+    timeout 30 $T decode --format json $W/dec211.log >$W/dec.out 2>$W/dec.err
+    rc=$?
+    j=$(cat $W/dec.out)
+    case $j in
+        *'"iface":"vcan0"'*'"id":"0x211"'*'"msg":"system_state"'*'"battery_voltage":25.9'*'"count":177'*)
+            case $j in
+                '{"ts":null'*) fail "the timestamp of the captured frame was lost: $j" ;;
+                *) [ $rc = 0 ] && pass "$(cat $W/dec211.log) -> $j" || fail "exit status $rc: $j" ;;
+            esac
+            ;;
+        *) fail "tracerctl decode --format json did not decode the captured 0x211 (exit status $rc)" ;;
+    esac
+    case $VERDICT in FAIL*) ev "capture:"; ev_file $W/dec211.log; ev "stdout:"; ev_file $W/dec.out; ev "stderr:"; ev_file $W/dec.err ;; esac
+}
+
+# --- error messages from a real kernel with CAN
+ck_error_no_such_iface() {
+    timeout 15 $T --iface nosuch0 monitor >$W/nosuch.out 2>$W/nosuch.err
+    rc=$?
+    msg=$(head -c 600 $W/nosuch.err | tr '\n' ' ')
+    if [ $rc = 0 ] || [ $rc = 143 ] || [ $rc = 124 ]; then
+        fail "exit status $rc (expected a failure, promptly): $msg"
+    elif ! grep -q nosuch0 $W/nosuch.err; then
+        fail "exit status $rc but the message does not name the interface: $msg"
+    elif ! grep -qiE 'does not exist|doesn.t exist|no such (device|interface|network)|not found|unknown interface' $W/nosuch.err; then
+        fail "exit status $rc but the message does not say the interface does not exist: $msg"
+    else
+        pass "exit status $rc: $msg"
+    fi
+    case $VERDICT in FAIL*) ev "stdout:"; ev_file $W/nosuch.out 6 ;; esac
+}
+
+ck_error_iface_down() {
+    ip link set vcan1 down
+    timeout 15 $T --iface vcan1 monitor >$W/down.out 2>$W/down.err
+    rc=$?
+    ip link set vcan1 up
+    msg=$(head -c 600 $W/down.err | tr '\n' ' ')
+    if [ $rc = 0 ] || [ $rc = 143 ] || [ $rc = 124 ]; then
+        fail "exit status $rc (expected a prompt failure; 143 = still running after 15 s): $msg"
+    elif ! grep -qi 'down' $W/down.err; then
+        fail "exit status $rc but the message does not say the interface is down: $msg"
+    elif ! grep -qE 'ip link set (dev )?vcan1 up|ip link set (dev )?vcan1 .*up' $W/down.err; then
+        fail "exit status $rc but the message does not give the fix 'ip link set vcan1 up': $msg"
+    else
+        pass "exit status $rc: $msg"
+    fi
+    case $VERDICT in FAIL*) ev "stdout:"; ev_file $W/down.out 6 ;; esac
+}
+
+# --- monitor decodes live frames (no simulator: frames come from cansend)
+MON_DONE=0
+setup_monitor_json() {
+    [ $MON_DONE = 1 ] && return
+    MON_DONE=1
+    cap_start $W/monj.log vcan0
+    timeout 30 $T --iface vcan0 monitor --format json --duration 2s >$W/monj.out 2>$W/monj.err &
+    mp=$!
+    i=0
+    while alive $mp && [ $i -lt 60 ]; do
+        cansend vcan0 211#00000103000000B1
+        cansend vcan0 221#01F4000000000001
+        usleep 100000
+        i=$((i + 1))
+    done
+    wait $mp
+    MON_RC=$?
+    MON_SENT=$i
+    cap_stop
+}
+
+ck_monitor_json_values() {
+    setup_monitor_json
+    l211=$(grep '"id":"0x211"' $W/monj.out | head -1)
+    l221=$(grep '"id":"0x221"' $W/monj.out | head -1)
+    case $l211 in *'"iface":"vcan0"'*'"msg":"system_state"'*'"battery_voltage":25.9'*) ok211=1 ;; *) ok211=0 ;; esac
+    case $l221 in *'"msg":"motion_state"'*'"linear_velocity":0.5'*) ok221=1 ;; *) ok221=0 ;; esac
+    if [ $ok211 = 1 ] && [ $ok221 = 1 ]; then
+        pass "$(grep -c . $W/monj.out) JSON lines; $l211"
+    else
+        fail "no JSON line with battery_voltage 25.9 (0x211) and linear_velocity 0.5 (0x221) (exit status $MON_RC)"
+        ev "\$ $T --iface vcan0 monitor --format json --duration 2s   (cansend 211#00000103000000B1 and 221#01F4000000000001 every 100 ms)"
+        ev "stdout:"; ev_file $W/monj.out 10
+        ev "stderr:"; ev_file $W/monj.err 10
+        ev "candump -L vcan0 (211, 221):"; lines $W/monj.log 211 221 >$W/monj.f; ev_file $W/monj.f 6
+    fi
+}
+
+ck_monitor_duration() {
+    setup_monitor_json
+    # the monitor ran while the loop sent $MON_SENT pairs, 100 ms apart (plus the cansend time)
+    f=$(frames $W/monj.log 211)
+    n=$(echo "$f" | grep -c .)
+    span=$(echo "$f" | awk 'NR == 1 {a = $1} {b = $1} END {printf "%.2f", (b - a) / 1e6}')
+    if [ "$MON_RC" = 0 ] && [ "$MON_SENT" -lt 60 ] && within "$span" 1.5 10; then
+        pass "monitor --duration 2s exited 0 by itself; cansend ran ${span}s meanwhile ($n frames of 0x211)"
+    else
+        if [ "$MON_SENT" -ge 60 ]; then
+            fail "monitor --duration 2s was still running after 60 rounds of cansend (${span}s by candump's clock); exit status $MON_RC"
+        else
+            fail "monitor --duration 2s: exit status $MON_RC after ${span}s of traffic by candump's clock (want exit 0 after about 2 s)"
+        fi
+        ev "stderr:"; ev_file $W/monj.err 10
+    fi
+}
+
+# --- one-shot commands: exact frames
+# cmd_check NAME REGEX DESCRIPTION CMD...: CMD must exit 0, send >= 1 frame, every frame it sends matching REGEX
+SIM_IDS='211|221|231|241|251|252|261|262|311'
+cmd_check() {
+    name=$1
+    re=$2
+    desc=$3
+    shift 3
+    run_cmd $name "$@"
+    frames $W/$name.log | awk -v s="^($SIM_IDS)\$" '$2 !~ s {print $2 "#" $3}' >$W/$name.sent
+    n=$(grep -c . $W/$name.sent)
+    bad=$(grep -cvE "$re" $W/$name.sent)
+    if [ $RC = 0 ] && [ $n -ge 1 ] && [ $bad = 0 ]; then
+        pass "sent $n frame(s), all $desc: $(sort $W/$name.sent | uniq -c | head -3 | tr -s ' ' | tr '\n' ';')"
+    else
+        fail "expected only $desc; exit status $RC, $n frame(s) sent, $bad not matching"
+        ev_cmd $name "$*"
+        ev "frames it sent (candump -L vcan0, simulator traffic left out):"
+        ev_file $W/$name.sent 12
+        ev_sim
+    fi
+}
+
+CMDS_SIM=0
+cmds_sim() { [ $CMDS_SIM = 1 ] && return; CMDS_SIM=1; sim_start; }
+
+ck_mode_can() { cmds_sim; cmd_check mode_can '^421#01$' '421#01 (DLC 1)' $T --iface vcan0 mode can; }
+ck_mode_standby() { cmds_sim; cmd_check mode_standby '^421#00$' '421#00 (DLC 1)' $T --iface vcan0 mode standby; }
+ck_lights_custom() {
+    cmds_sim
+    cmd_check lights_custom '^121#01031E00000000[0-9A-F]{2}$' '121#01031E00000000xx' $T --iface vcan0 lights --front custom --brightness 30
+}
+ck_lights_release() { cmds_sim; cmd_check lights_release '^121#00000000000000[0-9A-F]{2}$' '121#00000000000000xx' $T --iface vcan0 lights --release; }
+ck_clear_errors_all() { cmds_sim; cmd_check clear_errors_all '^441#00$' '441#00' $T --iface vcan0 clear-errors; }
+ck_clear_errors_motor1() { cmds_sim; cmd_check clear_errors_motor1 '^441#01$' '441#01' $T --iface vcan0 clear-errors motor1; }
+ck_clear_errors_motor2() { cmds_sim; cmd_check clear_errors_motor2 '^441#02$' '441#02' $T --iface vcan0 clear-errors motor2; }
+
+# --- the simulator
+SIMC_DONE=0
+setup_sim_checks() {
+    [ $SIMC_DONE = 1 ] && return
+    SIMC_DONE=1
+    cap_start $W/sim.log vcan0
+    witness_start
+    $T --iface vcan0 sim >$W/simc.out 2>$W/simc.err &
+    sp=$!
+    # let it run ~2 s in standby (sleeps only pace the scenario; the verdicts use candump's stamps)
+    wait_grep $W/sim.log ' 211#' 15 $sp
+    sleep 2
+    cansend vcan0 421#01
+    usleep 700000
+    cap_stop
+    witness_stop
+    frames $W/sim.log 211 221 231 251 252 261 262 311 421 7F3 >$W/sim.f
+    SIMC_ALIVE=0
+    alive $sp && SIMC_ALIVE=1
+    stop $sp
+}
+
+ev_simc() {
+    [ "$SIMC_ALIVE" = 1 ] || { ev "the simulator was not running at the end; stderr:"; ev_file $W/simc.err 8; }
+}
+
+ck_sim_standby_then_can() {
+    setup_sim_checks
+    # byte 1 of every 0x211 before the 421#01 command, and of those after it
+    awk '$2 == "211" || $2 == "421"' $W/sim.f >$W/simm.f
+    nb=$(awk '$2 == "421" {exit} $2 == "211"' $W/simm.f | grep -c .)
+    nb00=$(awk '$2 == "421" {exit} $2 == "211" && substr($3, 3, 2) == "00"' $W/simm.f | grep -c .)
+    t421=$(awk '$2 == "421" {print $1; exit}' $W/simm.f)
+    after=$(awk -v t="$t421" '$2 == "211" && t != "" && $1 > t {printf "%d %s\n", ($1 - t) / 1000, substr($3, 3, 2)}' $W/simm.f)
+    first01=$(echo "$after" | awk '$2 == "01" {print $1; exit}')
+    last=$(echo "$after" | tail -n 1 | awk '{print $2}')
+    if [ "$nb" = 0 ]; then
+        fail "no 0x211 before the 421#01 command"
+    elif [ "$nb00" != "$nb" ]; then
+        fail "only $nb00 of the $nb 0x211 before 421#01 have byte 1 = 00 (standby)"
+    elif [ -z "$t421" ]; then
+        fail "the 421#01 sent by cansend is missing from the capture"
+    elif [ -z "$first01" ]; then
+        fail "0x211 byte 1 never became 01 (CAN mode) after 421#01"
+    elif [ "$last" != "01" ]; then
+        fail "0x211 byte 1 became 01 ${first01} ms after 421#01 but the last 0x211 has $last"
+    elif [ "$first01" -gt 500 ]; then
+        fail "0x211 byte 1 became 01 only ${first01} ms after 421#01 (limit 500 ms)"
+    else
+        pass "all $nb 0x211 before 421#01 in standby (byte 1 = 00); byte 1 = 01 (CAN) ${first01} ms after it and to the end"
+    fi
+    case $VERDICT in FAIL*)
+        ev_simc
+        lines $W/sim.log 211 421 >$W/simm.l
+        ev "candump -L vcan0 (211, 421):"; ev_file $W/simm.l 16 ;;
+    esac
+}
+
+ck_sim_period_20ms() {
+    setup_sim_checks
+    r=""
+    for id in 211 221 231 251 252 311; do r="$r$(cadence $W/sim.f $id 15 25 100); "; done
+    case $r in
+        *BAD*) fail "$r" ;;
+        *) pass "$r" ;;
+    esac
+    case $VERDICT in FAIL*)
+        ev_simc
+        for id in 211 221 231 251 252 311; do case $(cadence $W/sim.f $id 15 25 100) in BAD*) gap_context $W/sim.f $id ;; esac; done
+        ev "candump -L vcan0 (211, 221, 231, 251, 252, 311):"
+        lines $W/sim.log 211 221 231 251 252 311 >$W/simp.l
+        ev_file $W/simp.l 12 ;;
+    esac
+}
+
+ck_sim_period_100ms() {
+    setup_sim_checks
+    r=""
+    for id in 261 262; do r="$r$(cadence $W/sim.f $id 80 120 300); "; done
+    case $r in
+        *BAD*) fail "$r" ;;
+        *) pass "$r" ;;
+    esac
+    case $VERDICT in FAIL*)
+        ev_simc
+        for id in 261 262; do case $(cadence $W/sim.f $id 80 120 300) in BAD*) gap_context $W/sim.f $id ;; esac; done
+        ev "candump -L vcan0 (261, 262):"
+        lines $W/sim.log 261 262 >$W/simp2.l
+        ev_file $W/simp2.l 12 ;;
+    esac
+}
+
+# --- drive --for 2s
+DRIVE_DONE=0
+setup_drive() {
+    [ $DRIVE_DONE = 1 ] && return
+    DRIVE_DONE=1
+    sim_start
+    witness_start
+    run_cmd drive $T --iface vcan0 drive --linear 0.3 --angular 0 --for 2s
+    DRIVE_RC=$RC
+    witness_stop
+    sim_stop
+    frames $W/drive.log 111 421 >$W/drive.f
+    frames $W/drive.log 111 211 7F3 >$W/drivew.f
+    awk '$2 == "111"' $W/drive.f >$W/drive111.f
+    lines $W/drive.log 111 421 >$W/drive.l
+}
+
+ev_drive() {
+    RC=$DRIVE_RC
+    ev_cmd drive "$T --iface vcan0 drive --linear 0.3 --angular 0 --for 2s"
+    ev_sim
+    ev "candump -L vcan0 (111, 421):"
+    ev_file $W/drive.l 20
+}
+
+ck_drive_mode_first() {
+    setup_drive
+    first421=$(awk '$2 == "421" && $3 == "01" {print NR; exit}' $W/drive.f)
+    first111=$(awk '$2 == "111" {print NR; exit}' $W/drive.f)
+    if [ -z "$first421" ]; then
+        fail "no 421#01 was sent"
+    elif [ -z "$first111" ]; then
+        fail "no 0x111 was sent"
+    elif [ "$first421" -gt "$first111" ]; then
+        fail "the first 0x111 came before the first 421#01"
+    else
+        pass "421#01 precedes the first 0x111: $(head -n 3 $W/drive.l | tr '\n' ' ')"
+    fi
+    case $VERDICT in FAIL*) ev_drive ;; esac
+}
+
+ck_drive_period() {
+    setup_drive
+    r=$(cadence $W/drivew.f 111 15 25 100)
+    case $r in
+        ok*) pass "$r" ;;
+        *)
+            fail "$r"
+            gap_context $W/drivew.f 111
+            ev_drive
+            ;;
+    esac
+}
+
+ck_drive_speed() {
+    setup_drive
+    awk '{print $3}' $W/drive111.f | sort | uniq -c | sort -rn >$W/drive.hist
+    nz=$(awk 'substr($3, 1, 4) != "0000"' $W/drive111.f | grep -c .)
+    top=$(grep -c ' 012C000000000000$' $W/drive111.f)
+    firstnz=$(awk 'substr($3, 1, 4) != "0000" {print $3; exit}' $W/drive111.f)
+    badang=$(awk 'substr($3, 5) != "000000000000"' $W/drive111.f | grep -c .)
+    # frames from the first non-zero one to the first at full speed (the ramp)
+    ramp=$(awk 'substr($3, 1, 4) != "0000" && s == "" {s = NR} $3 == "012C000000000000" {print NR - s; exit}' $W/drive111.f)
+    if [ "$nz" -ge 1 ] && [ "$top" -ge 1 ] && [ "$badang" = 0 ]; then
+        pass "$nz frames with non-zero linear velocity, $top at 0x012C (300 mm/s); first non-zero $firstnz ($(v111 "$firstnz" | awk '{print $1}') mm/s), $ramp frames to full speed"
+    else
+        fail "$nz non-zero 0x111, $top at 111#012C000000000000, $badang with non-zero angular/reserved bytes"
+        ev "0x111 payloads (count, data):"
+        ev_file $W/drive.hist 12
+        ev_drive
+    fi
+}
+
+ck_drive_stops_at_zero() {
+    setup_drive
+    last=$(tail -n 1 $W/drive111.f | awk '{print $3}')
+    # trailing run of zero-velocity frames
+    zeros=$(awk '{z = (substr($3, 1, 8) == "00000000") ? z + 1 : 0} END {print z + 0}' $W/drive111.f)
+    span=$(awk 'NR == 1 {a = $1} {b = $1} END {printf "%.2f", (b - a) / 1e6}' $W/drive111.f)
+    if [ "$DRIVE_RC" != 0 ]; then
+        fail "exit status $DRIVE_RC"
+        ev_drive
+    elif [ "$last" != "0000000000000000" ]; then
+        fail "the last 0x111 is 111#$last, not 111#0000000000000000"
+        ev_drive
+    elif ! within "$span" 1.5 6; then
+        fail "0x111 frames span ${span} s by candump's clock (want about 2 s: 1.5-6)"
+        ev_drive
+    else
+        pass "exit 0; last 0x111 is 111#$last ($zeros zero frames at the end); 0x111 span ${span} s"
+    fi
+}
+
+# --- signals: drive without --for, interrupted
+# a candump line of a 0x111 with non-zero linear velocity
+MOVING=' 111#([1-9A-F][0-9A-F]{3}|0[1-9A-F][0-9A-F]{2}|00[1-9A-F][0-9A-F]|000[1-9A-F])' 
+# sig_run SIG CODE: drive --linear 0.2 in the foreground; a helper marks the moment on the bus (7F1#CODE)
+# and sends SIG about 1 s after the first non-zero 0x111
+sig_run() {
+    sig=$1
+    code=$2
+    log=$W/sig_$sig.log
+    cap_start $log vcan0
+    rm -f $W/sig_$sig.note
+    (
+        pid=$(wait_pidfile $W/sig_$sig.pid)
+        if ! wait_grep $log "$MOVING" 15 $pid; then
+            echo "no non-zero 0x111 within 15 s; sent SIG$sig anyway;" >>$W/sig_$sig.note
+        fi
+        sleep 1
+        cansend vcan0 7F1#$code
+        kill -$sig $pid 2>/dev/null || echo "the process had already exited before SIG$sig" >>$W/sig_$sig.note
+        if ! wait_gone "$pid" 10; then
+            echo "still running 10 s after SIG$sig: killed with SIGKILL" >>$W/sig_$sig.note
+            kill -KILL $pid
+        fi
+    ) &
+    helper=$!
+    fg_run $W/sig_$sig.pid $W/sig_$sig.out $W/sig_$sig.err $T --iface vcan0 drive --linear 0.2
+    SIG_RC=$?
+    cansend vcan0 7F2#$code
+    wait $helper
+    cap_stop
+}
+
+SIGS_SIM=0
+sig_check() {
+    sig=$1
+    code=$2
+    [ $SIGS_SIM = 1 ] || { SIGS_SIM=1; sim_start; }
+    sig_run $sig $code
+    log=$W/sig_$sig.log
+    frames $log 111 7F1 7F2 >$W/sig_$sig.f
+    # t of the signal marker, then the 0x111 after it
+    after=$(awk '$2 == "7F1" {m = $1; next} m != "" && $2 == "111" {printf "%d %s\n", ($1 - m) / 1000, $3}' $W/sig_$sig.f)
+    nbefore=$(awk '$2 == "7F1" {exit} $2 == "111" && substr($3, 1, 8) != "00000000"' $W/sig_$sig.f | grep -c .)
+    firstzero=$(echo "$after" | awk '$2 == "0000000000000000" {print $1; exit}')
+    # the last 0x111 before the exit marker (sent when the process had exited), and any after it
+    last=$(awk '$2 == "7F2" {exit} $2 == "111" {l = $3} END {print l}' $W/sig_$sig.f)
+    afterexit=$(awk '$2 == "7F2" {e = 1; next} e && $2 == "111"' $W/sig_$sig.f | grep -c .)
+    marker=$(grep -c ' 7F1#' $log)
+    note=$(cat $W/sig_$sig.note 2>/dev/null | tr '\n' ' ')
+    if [ -n "$note" ]; then
+        fail "$note(exit status $SIG_RC)"
+    elif [ "$marker" = 0 ]; then
+        fail "the signal marker 7F1#$code is missing from the capture"
+    elif [ "$nbefore" = 0 ]; then
+        fail "no 0x111 with non-zero velocity before SIG$sig (exit status $SIG_RC)"
+    elif [ -z "$firstzero" ]; then
+        fail "no zero-velocity 0x111 after SIG$sig (exit status $SIG_RC)"
+    elif [ "$last" != "0000000000000000" ]; then
+        fail "the last 0x111 before exit is 111#$last, not zero (exit status $SIG_RC)"
+    elif [ "$afterexit" != 0 ]; then
+        fail "$afterexit frames of 0x111 appeared after the process had exited (exit status $SIG_RC)"
+    else
+        pass "exit status $SIG_RC; $nbefore moving 0x111 before SIG$sig; first 111#0000000000000000 ${firstzero} ms after the signal; $(echo "$after" | grep -c .) 0x111 after it, the last zero"
+    fi
+    case $VERDICT in FAIL*)
+        RC=$SIG_RC
+        ev_cmd sig_$sig "$T --iface vcan0 drive --linear 0.2   (then SIG$sig)"
+        ev_sim
+        ev "candump -L vcan0 (111, signal marker 7F1, exit marker 7F2):"
+        lines $log 111 7F1 7F2 >$W/sig_$sig.l
+        ev_file $W/sig_$sig.l 20 ;;
+    esac
+}
+ck_drive_sigint() { sig_check INT 02; }
+ck_drive_sigterm() { sig_check TERM 0F; }
+ck_drive_sighup() { sig_check HUP 01; }
+
+# --- monitor --log, replayed with canplayer
+MLOG_DONE=0
+setup_monitor_log() {
+    [ $MLOG_DONE = 1 ] && return
+    MLOG_DONE=1
+    rm -f /tmp/m.log
+    sim_start
+    run_cmd mlog $T --iface vcan0 monitor --log /tmp/m.log --duration 2s
+    MLOG_RC=$RC
+    sim_stop
+    # ID#DATA sequences: the bus (candump) and the monitor's log
+    awk '/^\(/ {print $3}' $W/mlog.log | grep -v '^7F[0-3]#' >$W/mlog.bus
+    awk '/^\(/ {print $3}' /tmp/m.log 2>/dev/null | grep -v '^7F[0-3]#' >$W/mlog.mon
+}
+
+ck_monitor_log_format() {
+    setup_monitor_log
+    n=$(grep -c . /tmp/m.log 2>/dev/null)
+    bad=$(grep -cvE '^\([0-9]{10}\.[0-9]{6}\) vcan0 [0-9A-F]{3}#([0-9A-F]{2}){0,8}$' /tmp/m.log 2>/dev/null)
+    if [ "$MLOG_RC" = 0 ] && [ "${n:-0}" -ge 50 ] && [ "$bad" = 0 ]; then
+        pass "exit 0; /tmp/m.log has $n lines, all candump -L lines: $(head -n 1 /tmp/m.log)"
+    else
+        fail "exit status $MLOG_RC; /tmp/m.log has ${n:-0} lines (want >= 50), ${bad:-?} not in candump -L format"
+        ev_cmd mlog "$T --iface vcan0 monitor --log /tmp/m.log --duration 2s"
+        ev_sim
+        ev "/tmp/m.log:"; ev_file /tmp/m.log 10
+        ev "lines not in candump -L format:"; grep -vE '^\([0-9]{10}\.[0-9]{6}\) vcan0 [0-9A-F]{3}#([0-9A-F]{2}){0,8}$' /tmp/m.log >$W/mlog.bad 2>/dev/null; ev_file $W/mlog.bad 6
+    fi
+}
+
+ck_monitor_log_matches_bus() {
+    setup_monitor_log
+    n=$(grep -c . $W/mlog.mon)
+    found=""
+    if [ "$n" -gt 0 ]; then
+        first=$(head -n 1 $W/mlog.mon)
+        for pos in $(grep -nxF "$first" $W/mlog.bus | cut -d: -f1); do
+            tail -n +$pos $W/mlog.bus | head -n $n | cmp -s - $W/mlog.mon && { found=$pos; break; }
+        done
+    fi
+    if [ -n "$found" ]; then
+        pass "the $n frames of /tmp/m.log are exactly frames $found-$((found + n - 1)) of $(grep -c . $W/mlog.bus) on the bus (candump), in order"
+    else
+        fail "the $n frames of /tmp/m.log are not a contiguous run of the $(grep -c . $W/mlog.bus) frames candump saw"
+        ev "first line of m.log: $(head -n 1 $W/mlog.mon); found on the bus at lines: $(grep -nxF "$(head -n 1 $W/mlog.mon)" $W/mlog.bus | cut -d: -f1 | head -5 | tr '\n' ' ')"
+        ev "/tmp/m.log:"; ev_file /tmp/m.log 10
+        ev "candump -L vcan0:"; ev_file $W/mlog.log 10
+    fi
+}
+
+ck_monitor_log_replay() {
+    setup_monitor_log
+    cap_start $W/replay.log vcan1
+    timeout 60 canplayer -I /tmp/m.log vcan1=vcan0 >$W/replay.out 2>&1
+    prc=$?
+    cap_stop
+    awk '/^\(/ {print $3}' $W/replay.log | grep -v '^7F[0-3]#' >$W/replay.seq
+    n=$(grep -c . $W/mlog.mon)
+    if [ "$n" -gt 0 ] && [ $prc = 0 ] && cmp -s $W/replay.seq $W/mlog.mon; then
+        pass "canplayer -I /tmp/m.log vcan1=vcan0 reproduced all $n frames on vcan1 (same ID#DATA sequence)"
+    else
+        fail "canplayer exit status $prc; replay on vcan1 has $(grep -c . $W/replay.seq) frames, m.log has $n; the sequences differ"
+        ev "canplayer output:"; ev_file $W/replay.out 6
+        diff $W/mlog.mon $W/replay.seq >$W/replay.diff 2>&1
+        ev "diff m.log replay:"; ev_file $W/replay.diff 16
+    fi
+}
+
+# --- flood: monitor loses no frame
+# The kernel's socket buffer is raised for this check (net.core.rmem_default) so that candump, the reference,
+# loses nothing under TCG: the check is about tracerctl's own read loop, decoder, output and clean exit.
+FLOOD_N=20000
+ck_flood_no_loss() {
+    old_def=$(cat /proc/sys/net/core/rmem_default)
+    old_max=$(cat /proc/sys/net/core/rmem_max)
+    echo 67108864 >/proc/sys/net/core/rmem_max
+    echo 67108864 >/proc/sys/net/core/rmem_default
+    cap_start $W/flood_ref.log vcan0
+    r0=$(receivers vcan0)
+    (
+        pid=$(wait_pidfile $W/flood.pid)
+        # wait until the monitor's socket is bound (one more CAN_RAW receiver on vcan0)
+        i=0
+        while [ "$(receivers vcan0)" -le "$r0" ] && alive $pid && [ $i -lt 300 ]; do usleep 50000; i=$((i + 1)); done
+        [ "$(receivers vcan0)" -gt "$r0" ] || echo "the monitor never bound a socket on vcan0" >>$W/flood.note
+        cangen vcan0 -g 0 -n $FLOOD_N -I 211 -L 8 -D i
+        cansend vcan0 7F0#EF
+        # wait until the monitor's output stops growing for 1 s (it has caught up), at most 120 s, then SIGINT
+        prev=-1
+        i=0
+        while alive $pid && [ $i -lt 120 ]; do
+            s=$(wc -c <$W/flood.out)
+            [ "$s" = "$prev" ] && break
+            prev=$s
+            sleep 1
+            i=$((i + 1))
+        done
+        kill -INT $pid 2>/dev/null || echo "the monitor exited before SIGINT" >>$W/flood.note
+        if ! wait_gone $pid 20; then
+            echo "still running 20 s after SIGINT: killed" >>$W/flood.note
+            kill -KILL $pid
+        fi
+    ) &
+    helper=$!
+    rm -f $W/flood.note
+    fg_run $W/flood.pid $W/flood.out $W/flood.err $T --iface vcan0 monitor --format json
+    rc=$?
+    wait $helper
+    cap_stop
+    echo "$old_max" >/proc/sys/net/core/rmem_max
+    echo "$old_def" >/proc/sys/net/core/rmem_default
+    ref=$(grep -c ' 211#' $W/flood_ref.log)
+    drops=$(grep -c DROPCOUNT $W/flood_ref.log)
+    got=$(grep -c '"id":"0x211"' $W/flood.out)
+    note=$(cat $W/flood.note 2>/dev/null | tr '\n' ' ')
+    if [ -n "$note" ]; then
+        fail "$note(exit status $rc; monitor saw $got, candump $ref of $FLOOD_N)"
+    elif [ "$ref" != $FLOOD_N ]; then
+        fail "the reference candump saw $ref of $FLOOD_N frames: cannot judge (monitor saw $got)"
+    elif [ "$got" != "$ref" ]; then
+        fail "monitor printed $got JSON lines for 0x211, candump saw $ref (exit status $rc after SIGINT)"
+    else
+        pass "cangen -g 0 -n $FLOOD_N: monitor printed $got JSON lines for 0x211, candump saw $ref; exit status $rc after SIGINT; stderr: $(tail -n 3 $W/flood.err | tr '\n' ' ' | head -c 200)"
+    fi
+    case $VERDICT in FAIL*)
+        ev "monitor stderr:"; ev_file $W/flood.err 10
+        ev "monitor stdout:"; ev_file $W/flood.out 6
+        ev "candump -L vcan0 (reference):"; ev_file $W/flood_ref.log 6 ;;
+    esac
+}
+
+# ------------------------------------------------------------------------------------------- run
+
+echo "SCENARIO START at uptime $(uptime_s)s; tracerctl: $($T --version 2>&1 | head -n 1)"
+
+check smoke_cansend
+check decode_captured
+check error_no_such_iface
+check error_iface_down
+check monitor_json_values
+check monitor_duration
+
+check mode_can
+check mode_standby
+check lights_custom
+check lights_release
+check clear_errors_all
+check clear_errors_motor1
+check clear_errors_motor2
+[ -n "$SIM_PID" ] && sim_stop
+
+check sim_standby_then_can
+check sim_period_20ms
+check sim_period_100ms
+
+check drive_mode_first
+check drive_period
+check drive_speed
+check drive_stops_at_zero
+
+check drive_sigint
+check drive_sigterm
+check drive_sighup
+[ -n "$SIM_PID" ] && sim_stop
+
+check monitor_log_format
+check monitor_log_matches_bus
+check monitor_log_replay
+
+check flood_no_loss
+
+echo "SCENARIO END at uptime $(uptime_s)s: $N_PASS passed, $N_FAIL failed"
+if [ $N_FAIL = 0 ] && [ $N_PASS -gt 0 ]; then
+    echo "SCENARIO PASS"
+else
+    [ $N_FAIL = 0 ] && echo "no check was selected (CHECKS=$CHECKS)"
+    echo "SCENARIO FAIL ($N_FAIL failed:$FAILED)"
+fi
