@@ -47,8 +47,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no name")?;
         // Close our handle on the terminal side so the host can open it (it is opened exclusively).
         drop(slave);
-        writeln!(stdout, "PTY {path}")?;
-        writeln!(stdout, "connect with: tracerctl --serial {path} monitor")?;
+        write!(stdout, "PTY {path}\nconnect with: tracerctl --serial {path} monitor\n")?;
         stdout.flush()?;
         link::serial::from_port(Box::new(master), &path, true)?
     } else {
@@ -84,6 +83,9 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
     let mut last_report = String::new();
     let mut stderr = std::io::stderr().lock();
     while signal.received().is_none() && args.duration.is_none_or(|d| started.elapsed() < d) {
+        if running.has_ended() {
+            break;
+        }
         while let Ok(line) = inbox.try_recv() {
             let line = line.trim();
             if line.is_empty() {
@@ -104,7 +106,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
-    running.stop();
+    running.stop().context("the simulator stopped")?;
     Ok(SUCCESS)
 }
 

@@ -122,7 +122,7 @@ fn open_error(name: &str, error: serialport::Error) -> anyhow::Error {
     use serialport::ErrorKind;
     match error.kind() {
         ErrorKind::NoDevice | ErrorKind::Io(io::ErrorKind::NotFound) => anyhow::anyhow!(
-            "serial port {name} does not exist: plug in the adapter and look for it with \
+            "serial port {name} does not exist ({error}): plug in the adapter and look for it with \
              `ls /dev/ttyUSB* /dev/ttyACM*` and `dmesg | tail`"
         ),
         ErrorKind::Io(io::ErrorKind::PermissionDenied) => anyhow::anyhow!(

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 
 use super::{Chassis, FaultKind, SimConfig, SimState};
-use crate::link::{Codec, Link};
+use crate::link::{Codec, Link, LinkKind};
 use crate::protocol::ProtocolHint;
 
 /// How often the loop wakes when nothing arrives: fine enough for 20 ms feedback periods.
@@ -22,7 +22,7 @@ pub struct Running {
     stop: Arc<AtomicBool>,
     injections: Sender<FaultKind>,
     state: Arc<Mutex<SimState>>,
-    thread: Option<JoinHandle<()>>,
+    thread: Option<JoinHandle<io::Result<()>>>,
 }
 
 impl Running {
@@ -36,22 +36,29 @@ impl Running {
         self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).clone()
     }
 
-    /// Stops the simulator and waits for its thread.
-    pub fn stop(mut self) {
-        self.shutdown();
+    /// True when the simulator thread has ended (stopped, or failed: see [`Running::stop`]).
+    pub fn has_ended(&self) -> bool {
+        self.thread.as_ref().is_none_or(|thread| thread.is_finished())
     }
 
-    fn shutdown(&mut self) {
+    /// Stops the simulator and waits for its thread; the error that ended it early, if any.
+    pub fn stop(mut self) -> io::Result<()> {
+        self.shutdown()
+    }
+
+    fn shutdown(&mut self) -> io::Result<()> {
         self.stop.store(true, Ordering::SeqCst);
-        if let Some(thread) = self.thread.take() {
-            let _ = thread.join();
+        match self.thread.take().map(JoinHandle::join) {
+            Some(Ok(result)) => result,
+            Some(Err(_)) => Err(io::Error::other("the simulator thread panicked")),
+            None => Ok(()),
         }
     }
 }
 
 impl Drop for Running {
     fn drop(&mut self) {
-        self.shutdown();
+        let _ = self.shutdown();
     }
 }
 
@@ -64,9 +71,7 @@ pub fn start(config: SimConfig, link: Link) -> anyhow::Result<Running> {
         let (stop, state) = (Arc::clone(&stop), Arc::clone(&state));
         std::thread::Builder::new()
             .name("tracerctl-sim".into())
-            .spawn(move || {
-                let _ = run(config, link, &stop, &inbox, &state);
-            })
+            .spawn(move || run(config, link, &stop, &inbox, &state))
             .context("cannot start the simulator thread")?
     };
     Ok(Running { stop, injections, state, thread: Some(thread) })
@@ -82,6 +87,9 @@ pub fn run(
 ) -> io::Result<()> {
     let mut chassis = Chassis::new(config);
     let mut codec = Codec::new(link.wire);
+    // Only the in-process link has a host that can go away for good; a pseudo-terminal or a bus with no
+    // one listening just loses the frames, as a real robot's would.
+    let in_process = link.kind == LinkKind::Sim;
     let start = Instant::now();
     let mut feedback = Vec::new();
     while !stop.load(Ordering::SeqCst) {
@@ -110,7 +118,8 @@ pub fn run(
                 // Nobody is listening on a pseudo-terminal or the bus is busy: a robot drops it too.
                 Err(error) if matches!(error.kind(), io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock) => {
                 }
-                Err(error) if error.kind() == io::ErrorKind::BrokenPipe => return Ok(()),
+                Err(error) if error.kind() == io::ErrorKind::BrokenPipe && in_process => return Ok(()),
+                Err(error) if error.kind() == io::ErrorKind::BrokenPipe => {}
                 Err(error) => return Err(error),
             }
         }

@@ -8,5 +8,6 @@ mod monitor;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;
+mod sim_command;
 mod util;
 mod variants;

@@ -1,0 +1,90 @@
+//! `tracerctl sim --pty` as a separate process: another tracerctl drives it over the pseudo-terminal, and a
+//! fault injected on the simulator's standard input reaches the driver.
+
+use std::io::{BufRead, BufReader, Write};
+use std::process::{Child, Command, Stdio};
+use std::time::Duration;
+
+use crate::util::{stderr, tracerctl};
+
+struct Simulator {
+    child: Child,
+    path: String,
+    /// Kept open: the simulator may still write to it.
+    _stdout: BufReader<std::process::ChildStdout>,
+}
+
+impl Simulator {
+    fn start(extra: &[&str]) -> Self {
+        let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["sim", "--pty", "--duration", "20s"])
+            .args(extra)
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut stdout = BufReader::new(child.stdout.take().unwrap());
+        let mut first = String::new();
+        stdout.read_line(&mut first).unwrap();
+        let path = first.strip_prefix("PTY ").expect("`PTY <path>` first").trim().to_string();
+        Self { child, path, _stdout: stdout }
+    }
+
+    fn inject(&mut self, line: &str) {
+        writeln!(self.child.stdin.as_mut().unwrap(), "{line}").unwrap();
+    }
+}
+
+impl Drop for Simulator {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn a_second_process_drives_the_simulator_over_the_pseudo_terminal() {
+    let sim = Simulator::start(&[]);
+    let output = tracerctl()
+        .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "2s"])
+        .output()
+        .unwrap();
+    let report = stderr(&output);
+    assert_eq!(output.status.code(), Some(0), "{report}");
+    let fastest = report
+        .lines()
+        .filter_map(|line| line.split("measured ").nth(1)?.split(' ').next()?.parse::<f64>().ok())
+        .fold(0.0, f64::max);
+    assert!((0.15..=0.21).contains(&fastest), "the simulator reports the speed it was driven at: {report}");
+}
+
+#[test]
+fn an_estop_injected_at_run_time_stops_the_drive() {
+    let mut sim = Simulator::start(&[]);
+    let driver = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "10s"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1500));
+    sim.inject("estop");
+    let output = driver.wait_with_output().unwrap();
+    let report = stderr(&output);
+    assert_eq!(output.status.code(), Some(4), "{report}");
+    assert!(report.contains("the E-stop was pressed"), "{report}");
+}
+
+#[test]
+fn faults_from_the_command_line_are_reported_to_the_host() {
+    let sim = Simulator::start(&["--fault", "estop@0s"]);
+    let output = tracerctl()
+        .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "1s"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(4));
+    assert!(stderr(&output).contains("not driving: the E-stop is pressed"), "{}", stderr(&output));
+    let bad = tracerctl().args(["sim", "--pty", "--fault", "warp-drive@1s"]).output().unwrap();
+    assert_eq!(bad.status.code(), Some(1));
+    assert!(stderr(&bad).contains("estop"), "the error lists the known faults: {}", stderr(&bad));
+}
