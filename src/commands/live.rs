@@ -19,7 +19,12 @@ pub const STATUS_WAIT: Duration = Duration::from_secs(1);
 pub fn open(cli: &Cli, sends: bool) -> Result<Session> {
     let choice = LinkChoice::from_args(&cli.link)?;
     if sends && matches!(choice, LinkChoice::Replay { .. }) {
-        anyhow::bail!("--replay is read-only: this command sends frames and needs a live link (--iface, --serial or --sim)");
+        return Err(crate::exit::Failure {
+            code: crate::exit::USAGE,
+            message: "--replay is read-only: this command sends frames and needs a live link (--iface, --serial or --sim)"
+                .to_string(),
+        }
+        .into());
     }
     let session = Session::open(&choice, cli.protocol.into(), None)?;
     debug_assert!(session.kind != LinkKind::Replay || !sends);

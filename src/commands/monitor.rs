@@ -152,14 +152,16 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
         }
         return Err(error);
     }
+    // The totals below include drops and checksum errors not yet reported as warnings.
     let stats = rx.stats();
-    monitor.tick(Instant::now(), stats);
-    monitor.print_warnings();
     let (status, why) = match &end {
         End::Duration => (SUCCESS, "duration reached".to_string()),
         End::Eof => (SUCCESS, "end of the source".to_string()),
         End::Signal => (flag.exit_status().unwrap_or(exit::SIGNAL_BASE), flag.name().to_string()),
-        End::LinkError(error) => (FAILURE, format!("the link {} failed: {error}", link.name)),
+        End::LinkError(error) => {
+            eprintln!("tracerctl: the link {} failed: {error}", link.name);
+            (FAILURE, "link failed".to_string())
+        }
     };
     eprint!("{}", monitor.summary(elapsed, stats, &why));
     Ok(status)
@@ -184,7 +186,7 @@ pub struct Options {
     /// Wall-clock seconds per second of link time (1 live, 1/N for a replay at N times speed); `None` turns
     /// the staleness and silence warnings off (a replay as fast as possible has no timing).
     pub time_scale: Option<f64>,
-    /// Warn when nothing arrives for this long.
+    /// Warn when nothing arrives for this long (zero: never).
     pub silence: Duration,
 }
 
@@ -526,7 +528,9 @@ impl<W: Write> Monitor<W> {
     pub fn tick(&mut self, now: Instant, stats: RxStats) {
         if let Some(scale) = self.options.time_scale {
             let since = self.last_frame.unwrap_or(self.started);
-            if !self.silent && now.duration_since(since) >= self.options.silence.mul_f64(scale) {
+            let silence = self.options.silence;
+            // --silence 0 turns the silence warning off.
+            if !self.silent && !silence.is_zero() && now.duration_since(since) >= silence.mul_f64(scale) {
                 self.silent = true;
                 let silence = human(self.options.silence);
                 self.warnings.push(match self.last_frame {

@@ -111,6 +111,10 @@ pub fn run(
         chassis.step(now);
         feedback.clear();
         chassis.due_feedback(now, &mut feedback);
+        // Publish the state before the frames that report it, so whoever reacts to a frame sees it.
+        if !feedback.is_empty() {
+            *state.lock().unwrap_or_else(|poisoned| poisoned.into_inner()) = chassis.state();
+        }
         for message in &feedback {
             let Ok(frame) = codec.encode(message) else { continue };
             match link.tx.send(&frame) {
@@ -122,9 +126,6 @@ pub fn run(
                 Err(error) if error.kind() == io::ErrorKind::BrokenPipe => {}
                 Err(error) => return Err(error),
             }
-        }
-        if !feedback.is_empty() {
-            *state.lock().unwrap_or_else(|poisoned| poisoned.into_inner()) = chassis.state();
         }
     }
     Ok(())

@@ -1,6 +1,7 @@
 //! `tracerctl monitor` against the in-process simulator, candump replays and a real pseudo-terminal.
 
 use std::io::{BufRead, BufReader, Write};
+use std::os::fd::AsRawFd;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -295,4 +296,36 @@ fn serial_feedback_is_decoded_after_noise_and_a_corrupted_frame() {
     assert_eq!(totals[3], 1, "one serial checksum error");
     assert!(totals[4] >= 4, "skipped bytes: {totals:?}");
     assert_eq!(summary_row(&output, "0xAA01").unwrap().1, 40);
+}
+
+#[test]
+fn a_lost_link_ends_with_status_1_and_the_counts() {
+    let (mut master, slave) = serialport::TTYPort::pair().expect("a pseudo-terminal pair");
+    // The child must not inherit the terminal, or it would never see it close. (Children of tests running
+    // at the same time may still inherit it, for as long as they live: hence the generous time limit.)
+    for fd in [master.as_raw_fd(), slave.as_raw_fd()] {
+        // SAFETY: fcntl on descriptors we own.
+        assert_eq!(unsafe { libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC) }, 0);
+    }
+    let path = slave.name().unwrap();
+    let child = Command::new(env!("CARGO_BIN_EXE_tracerctl"))
+        .args(["--serial", &path, "monitor", "--format", "json", "--duration", "20s"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let state = Message::SystemState(SystemState { battery_decivolts: 259, ..Default::default() });
+    master.write_all(&SerialEncoder::new().encode_next(&state).unwrap()).unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    // The adapter goes away: both ends of the terminal close.
+    drop(slave);
+    drop(master);
+    let started = Instant::now();
+    let output = wait_with_timeout(child, Duration::from_secs(15));
+    assert!(started.elapsed() < Duration::from_secs(10), "ends with the link, not at --duration");
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    let errors = stderr(&output);
+    assert!(errors.contains(&format!("tracerctl: the link {path} failed: ")), "{errors}");
+    assert_eq!(json_lines(&output).len(), 1);
+    assert_eq!(summary_row(&output, "0xAA01").unwrap().1, 1);
 }

@@ -82,7 +82,7 @@ fn commands_that_send_refuse_a_replay() {
     let path = log.path().to_str().unwrap();
     for args in [&["mode", "can"][..], &["clear-errors"], &["lights", "--release"]] {
         let output = tracerctl().args(["--replay", path]).args(args).output().unwrap();
-        assert_eq!(output.status.code(), Some(1), "{args:?}");
+        assert_eq!(output.status.code(), Some(2), "{args:?}");
         assert!(
             stderr(&output).starts_with("tracerctl: --replay is read-only"),
             "{args:?}: {}",

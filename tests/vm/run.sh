@@ -112,30 +112,37 @@ if [ $refresh_kernel -eq 1 ] || [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/versio
             die "apt-get download $1 failed: is a Debian repository with linux-image-amd64 configured?"
     }
     meta_ver=$(apt-cache policy linux-image-amd64 | awk '/Candidate:/ {print $2}')
-    [ -n "$meta_ver" ] && [ "$meta_ver" != "(none)" ] || die "apt-cache knows no linux-image-amd64 (apt sources lack Debian main?)"
-    meta_deb=$(ls "$work/debs"/linux-image-amd64_"${meta_ver//:/%3a}"_amd64.deb 2>/dev/null || true)
-    if [ -z "$meta_deb" ]; then
+    if [ -z "$meta_ver" ] || [ "$meta_ver" = "(none)" ]; then
+        die "apt-cache knows no linux-image-amd64 (are Debian's main sources configured?)"
+    fi
+    # apt-get download names files package_version_arch.deb, with an epoch's ':' written as %3a
+    meta_deb=$work/debs/linux-image-amd64_${meta_ver//:/%3a}_amd64.deb
+    if [ ! -f "$meta_deb" ]; then
         log "apt-get download linux-image-amd64 ($meta_ver)"
         dl "linux-image-amd64=$meta_ver"
-        meta_deb=$(ls "$work/debs"/linux-image-amd64_*"_amd64.deb" | grep -F "_${meta_ver//:/%3a}_" | head -1)
     fi
-    [ -f "$meta_deb" ] || die "linux-image-amd64 $meta_ver was not downloaded"
+    [ -f "$meta_deb" ] || die "apt-get download linux-image-amd64=$meta_ver did not produce $meta_deb"
     # Depends: linux-image-6.1.0-56-amd64 (= 6.1.192-2)
-    dep=$(dpkg-deb -f "$meta_deb" Depends | tr ',' '\n' | sed 's/^ *//' | grep -E '^linux-image-[0-9][^ ]*-amd64( |$)' | head -1)
-    [ -n "$dep" ] || die "cannot find the versioned linux-image-*-amd64 in the Depends of $meta_deb: $(dpkg-deb -f "$meta_deb" Depends)"
+    depends=$(dpkg-deb -f "$meta_deb" Depends)
+    dep=$(printf '%s\n' "$depends" | sed 's/[,|]/\n/g' | sed 's/^ *//' | grep -E '^linux-image-[0-9][^ ]*-amd64( |$)' | head -n 1 || true)
+    [ -n "$dep" ] || die "no versioned linux-image-*-amd64 in the Depends of $(basename "$meta_deb"): $depends"
     kpkg=${dep%% *}
     kver=$(printf '%s' "$dep" | sed -n 's/.*(= *\([^)]*\)).*/\1/p')
-    kdeb=$(ls "$work/debs/${kpkg}_"*_amd64.deb 2>/dev/null | grep -F "_${kver//:/%3a}_" | head -1 || true)
-    if [ -z "$kdeb" ]; then
-        log "apt-get download ${kpkg}${kver:+=$kver}"
-        dl "${kpkg}${kver:+=$kver}"
-        kdeb=$(ls "$work/debs/${kpkg}_"*_amd64.deb | head -1)
+    [ -n "$kver" ] || kver=$(apt-cache policy "$kpkg" | awk '/Candidate:/ {print $2}')
+    if [ -z "$kver" ] || [ "$kver" = "(none)" ]; then
+        die "apt-cache knows no $kpkg (needed by linux-image-amd64 $meta_ver)"
     fi
-    [ -f "$kdeb" ] || die "$kpkg was not downloaded"
+    kdeb=$work/debs/${kpkg}_${kver//:/%3a}_amd64.deb
+    if [ ! -f "$kdeb" ]; then
+        log "apt-get download $kpkg=$kver"
+        dl "$kpkg=$kver"
+    fi
+    [ -f "$kdeb" ] || die "apt-get download $kpkg=$kver did not produce $kdeb"
     log "unpacking $(basename "$kdeb") with dpkg -x"
     dpkg -x "$kdeb" "$work/debs/unpacked" || die "dpkg -x $kdeb failed"
-    vmlinuz=$(ls "$work/debs/unpacked/boot"/vmlinuz-* 2>/dev/null | head -1 || true)
-    [ -n "$vmlinuz" ] || die "no boot/vmlinuz-* in $kdeb"
+    images=("$work/debs/unpacked/boot"/vmlinuz-*)
+    [ -f "${images[0]}" ] || die "no boot/vmlinuz-* in $kdeb"
+    vmlinuz=${images[0]}
     cp "$vmlinuz" "$kdir/vmlinuz"
     # The four modules, decompressed on the host (busybox insmod needs plain .ko)
     for m in can can-raw can-dev vcan; do
@@ -224,6 +231,11 @@ echo "VM: vcan0 and vcan1 up at uptime $(cut -d' ' -f1 /proc/uptime)s"
 export CHECKS FAKE_BUGS
 sh /scenario.sh
 echo "VM: scenario exit status $?"
+# the scenario's files (captures, outputs) go to the host through the second serial port, as a tar.gz
+if [ -e /dev/ttyS1 ] && stty -F /dev/ttyS1 raw -echo 2>/dev/null; then
+    tar -c -C /tmp scn $(cd /tmp && ls m.log 2>/dev/null) | gzip -1 >/dev/ttyS1
+    echo "VM: artifacts sent at uptime $(cut -d' ' -f1 /proc/uptime)s"
+fi
 halt_vm
 EOF
 chmod 755 "$root/init" "$root/scenario.sh"
@@ -233,10 +245,13 @@ log "initramfs: $(du -h "$work/initrd.gz" | cut -f1)"
 
 # ---------------------------------------------------------------- boot
 console=$work/console.log
+rm -f "$work/artifacts.tar.gz"
+rm -rf "$work/artifacts"
 log "booting the VM (TCG, timeout ${vm_timeout}s); console: $console"
 t_vm=$(date +%s.%N)
 set +e
 timeout -k 10 "$vm_timeout" qemu-system-x86_64 -accel tcg -m 512 -smp "$smp" -nographic -no-reboot -nic none \
+    -serial mon:stdio -serial "file:$work/artifacts.tar.gz" \
     -kernel "$kdir/vmlinuz" -initrd "$work/initrd.gz" -append "console=ttyS0 quiet panic=-1" \
     </dev/null 2>&1 | tr -d '\r' | tee "$console"
 qemu_rc=${PIPESTATUS[0]}
@@ -244,6 +259,10 @@ set -e
 vm_secs=$(awk -v a="$t_vm" -v b="$(date +%s.%N)" 'BEGIN {printf "%.1f", b - a}')
 
 # ---------------------------------------------------------------- verdict
+if [ -s "$work/artifacts.tar.gz" ] && mkdir -p "$work/artifacts" &&
+    tar -xzf "$work/artifacts.tar.gz" -C "$work/artifacts" 2>/dev/null; then
+    log "the VM's files (captures, outputs of every check): $work/artifacts/"
+fi
 echo
 echo "================ VM suite summary"
 grep -E '^CHECK [a-z0-9_]+: (PASS|FAIL)' "$console" || true
