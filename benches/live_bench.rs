@@ -214,10 +214,15 @@ fn monitor_flood(frames: usize) {
     unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
     let output = child.wait_with_output().unwrap();
     let report = String::from_utf8_lossy(&output.stderr);
-    let counted =
-        report.lines().find(|l| l.contains("0xAA01")).unwrap_or("(no 0xAA01 line)").trim().to_string();
+    // The exit report's per-ID row: "  0xAA01  system_state  <frames>  <rate>".
+    let counted = report
+        .lines()
+        .find(|l| l.trim_start().starts_with("0xAA01"))
+        .and_then(|l| l.split_whitespace().nth(2))
+        .unwrap_or("(no 0xAA01 row)")
+        .to_string();
     println!(
-        "monitor flood: {sent} frames written in {:.3} s ({:.0} frames/s); monitor's count: {counted}",
+        "monitor flood: {sent} frames written in {:.3} s ({:.0} frames/s); monitor counted {counted}",
         elapsed.as_secs_f64(),
         sent as f64 / elapsed.as_secs_f64()
     );

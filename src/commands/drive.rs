@@ -65,7 +65,11 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
 
     match live::first_status(session) {
         Some((state, wire)) => {
-            writeln!(out, "robot: {}", live::describe(&state, wire))?;
+            let protocol = match wire {
+                Wire::Serial => "RS232".to_string(),
+                _ => crate::commands::monitor::protocol_seen(&session.status().detector),
+            };
+            writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
             if let Some(reason) = live::not_drivable(&state, wire) {
                 if !args.ignore_faults {
                     return Err(Failure::not_done(format!(

@@ -375,6 +375,8 @@ pub struct Monitor<W: Write> {
     unflushed_since: Option<Instant>,
     log: Option<LogFile>,
     detector: ProtocolDetector,
+    /// An RS232 link: no CAN protocol version to report.
+    serial: bool,
     counts: Counts,
     trackers: Vec<Tracker>,
     started: Instant,
@@ -418,6 +420,7 @@ impl<W: Write> Monitor<W> {
             buffer,
             log: None,
             detector: ProtocolDetector::default(),
+            serial,
             counts: Counts::new(),
             trackers: table.iter().map(|&what| Tracker { what, last: None, stale: false }).collect(),
             started,
@@ -628,8 +631,24 @@ impl<W: Write> Monitor<W> {
             "  total: {} frames, {} error frames, {} socket drops, {} serial checksum errors, {} skipped bytes\n",
             self.frames, self.error_frames.total, stats.socket_drops, stats.serial_bad_checksum, stats.serial_skipped_bytes
         ));
+        if !self.serial {
+            text.push_str(&format!("  protocol: {}\n", protocol_seen(&self.detector)));
+        }
         text
     }
+}
+
+/// What the traffic showed about the protocol version, in words (never an error: a mixed or unknown bus
+/// is reported as such).
+pub fn protocol_seen(detector: &ProtocolDetector) -> String {
+    use crate::protocol::detect::Verdict;
+    let verdict = match detector.verdict() {
+        Verdict::Unknown => "not determined (no V1- or V2-only identifiers seen)",
+        Verdict::V1 => "V1",
+        Verdict::V2 => "V2",
+        Verdict::Mixed => "mixed V1 and V2 traffic (two robots, or a mixed capture)",
+    };
+    format!("{verdict}: {} V2-only frames, {} V1-only frames", detector.v2_frames, detector.v1_frames)
 }
 
 /// Notes the arrival of an expected periodic frame; says so when a stale one resumes.

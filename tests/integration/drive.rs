@@ -58,7 +58,8 @@ fn serial_frames_byte_for_byte_on_a_real_pseudo_terminal() {
         assert_eq!(pair[1].1.frame_id, pair[0].1.frame_id.wrapping_add(1));
     }
     // Ramped up to 0.3 m/s = 20 % and -0.2 rad/s = -25 % (of 0.7853), then down to zero at the end.
-    let timed: Vec<(Instant, (i8, i8))> = frames.iter().filter_map(|(at, f)| Some((*at, percent(f)?))).collect();
+    let timed: Vec<(Instant, (i8, i8))> =
+        frames.iter().filter_map(|(at, f)| Some((*at, percent(f)?))).collect();
     let speeds: Vec<(i8, i8)> = timed.iter().map(|(_, speed)| *speed).collect();
     assert!(speeds.contains(&(20, -25)), "{speeds:?}");
     // Ramped at 0.5 m/s² (33 % of full scale per second): a step never exceeds what the time between the

@@ -74,9 +74,8 @@ for pair in qemu-system-x86_64:qemu-system-x86 candump:can-utils cansend:can-uti
     cmd=${pair%%:*}
     command -v "$cmd" >/dev/null 2>&1 || need_pkgs+=("${pair#*:}")
 done
-[ -x /bin/busybox ] && /bin/busybox --list 2>/dev/null | grep -qx sh || need_pkgs+=(busybox-static)
 # a dynamic busybox (package "busybox") would not run in the VM without its libraries: insist on the static one
-if [ -x /bin/busybox ] && LC_ALL=C ldd /bin/busybox 2>&1 | grep -q '=>'; then need_pkgs+=(busybox-static); fi
+if [ ! -x /bin/busybox ] || LC_ALL=C ldd /bin/busybox 2>&1 | grep -q '=>'; then need_pkgs+=(busybox-static); fi
 
 apt_updated=0
 apt_update() {
@@ -169,7 +168,10 @@ log "kernel: $(cat "$kdir/version")"
 if [ -z "$bin" ]; then
     log "cargo build --release --locked"
     (cd "$repo" && cargo build --release --locked) || die "cargo build --release --locked failed"
-    bin=${CARGO_TARGET_DIR:-$repo/target}/release/tracerctl
+    # where cargo put it (CARGO_TARGET_DIR, or build.target-dir in a cargo config)
+    tdir=$(cd "$repo" || exit 0
+        cargo metadata --format-version 1 --no-deps 2>/dev/null | sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p' || true)
+    bin=${tdir:-${CARGO_TARGET_DIR:-$repo/target}}/release/tracerctl
     case $bin in /*) ;; *) bin=$repo/$bin ;; esac
 fi
 [ -x "$bin" ] || die "no tracerctl binary at $bin"

@@ -9,8 +9,9 @@
 # Sleeps only give things time to happen; no verdict depends on how long a sleep took.
 #
 # CHECKS (environment, comma-separated) selects checks by name; empty = all.
-# Frames with identifiers 0x7F0-0x7F3 are the scenario's own markers: 7F0 capture start/end, 7F1 the moment
-# a signal is sent, 7F2 the moment the signalled process had exited.
+# Frames with identifiers 0x7F0-0x7F3 are the scenario's own: 7F0 capture start/end markers, 7F1 the moment
+# a signal is sent, 7F2 the moment the signalled process had exited, 7F3 the timing witness (see cadence).
+# The files of every check are kept in /tmp/scn (run.sh copies them to target/vm/artifacts/).
 
 T=tracerctl
 W=/tmp/scn
@@ -28,15 +29,6 @@ uptime_s() { cut -d' ' -f1 /proc/uptime; }
 want() {
     [ -z "$CHECKS" ] && return 0
     case ",$CHECKS," in *",$1,"*) return 0 ;; esac
-    return 1
-}
-
-# wants PREFIX...: is any check with one of these name prefixes selected? (decides whether a shared setup runs)
-wants() {
-    [ -z "$CHECKS" ] && return 0
-    for p in "$@"; do
-        case ",$CHECKS" in *",$p"*) return 0 ;; esac
-    done
     return 1
 }
 
@@ -133,7 +125,8 @@ frames() {
             if (base == "") base = b[1]
             us = b[2]
             while (length(us) < 6) us = us "0"
-            t = (b[1] - base) * 1000000 + substr(us, 1, 6)
+            # ("1" us) - 1000000, not us + 0: busybox awk reads "030544" as octal (12644)
+            t = (b[1] - base) * 1000000 + (("1" substr(us, 1, 6)) - 1000000)
             k = index($3, "#")
             id = substr($3, 1, k - 1)
             if (n == 0) { if (id !~ /^7F[0-3]$/) print t, id, substr($3, k + 1) }
@@ -833,12 +826,16 @@ ck_flood_no_loss() {
         [ "$(receivers vcan0)" -gt "$r0" ] || echo "the monitor never bound a socket on vcan0" >>$W/flood.note
         cangen vcan0 -g 0 -n $FLOOD_N -I 211 -L 8 -D i
         cansend vcan0 7F0#EF
-        # wait until the monitor's output stops growing for 1 s (it has caught up), at most 120 s, then SIGINT
+        # wait until the monitor has printed the end marker (it has read everything before it) or, if its output
+        # is block-buffered, until the output has not grown for 3 s; at most 120 s; then SIGINT
         prev=-1
+        still=0
         i=0
         while alive $pid && [ $i -lt 120 ]; do
+            tail -c 4096 $W/flood.out | grep -q '"id":"0x7F0","data":"EF"' && break
             s=$(wc -c <$W/flood.out)
-            [ "$s" = "$prev" ] && break
+            if [ "$s" = "$prev" ]; then still=$((still + 1)); else still=0; fi
+            [ $still -ge 3 ] && break
             prev=$s
             sleep 1
             i=$((i + 1))
