@@ -125,6 +125,14 @@ pub struct MotionSender {
     stop_frame: LinkFrame,
 }
 
+/// Set by the panic hook: after a panic on any thread, no sender moves the robot again in this process.
+static PANICKED: AtomicBool = AtomicBool::new(false);
+
+/// True once any thread of this process has panicked.
+pub fn panicked() -> bool {
+    PANICKED.load(Ordering::SeqCst)
+}
+
 /// The frame and link the panic hook uses to stop the robot.
 type Emergency = (Arc<dyn FrameTx>, LinkFrame);
 static EMERGENCY: OnceLock<Mutex<Option<Emergency>>> = OnceLock::new();
@@ -139,6 +147,7 @@ pub fn install_panic_hook() {
     INSTALLED.get_or_init(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
+            PANICKED.store(true, Ordering::SeqCst);
             if let Ok(guard) = emergency().try_lock() {
                 if let Some((tx, frame)) = guard.as_ref() {
                     for _ in 0..STOP_FRAMES {
@@ -263,7 +272,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
         }
     };
     loop {
-        if shared.stop.load(Ordering::SeqCst) {
+        if shared.stop.load(Ordering::SeqCst) || panicked() {
             break;
         }
         let now = Instant::now();
@@ -289,7 +298,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             let behind = now.duration_since(next_tick).as_nanos() / PERIOD.as_nanos() + 1;
             next_tick += PERIOD * behind as u32;
         }
-        while !shared.stop.load(Ordering::SeqCst) {
+        while !shared.stop.load(Ordering::SeqCst) && !panicked() {
             let now = Instant::now();
             if now >= next_tick {
                 break;
@@ -391,6 +400,24 @@ mod tests {
         let speeds: Vec<i16> = frames.try_iter().filter_map(|(_, f)| linear_of(&f)).collect();
         assert!(speeds.contains(&300));
         assert_eq!(speeds.last(), Some(&0));
+    }
+
+    #[test]
+    fn a_panic_on_the_driving_thread_unwinds_into_zeros() {
+        let (sender, frames) = mpsc::channel();
+        let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let limits = Limits { linear_accel: 100.0, ..Limits::default() };
+            let motion = MotionSender::start(tx, Codec::new(Wire::CanV2), limits, PERIOD * 50).unwrap();
+            motion.set_target(0.3, 0.0);
+            std::thread::sleep(Duration::from_millis(80));
+            // Unwinding drops `motion`, which stops the robot. (No panic hook here: `resume_unwind`.)
+            std::panic::resume_unwind(Box::new("simulated bug"));
+        }));
+        assert!(result.is_err());
+        let speeds: Vec<i16> = frames.try_iter().filter_map(|(_, f)| linear_of(&f)).collect();
+        assert!(speeds.contains(&300));
+        assert_eq!(&speeds[speeds.len() - STOP_FRAMES..], &[0; STOP_FRAMES]);
     }
 
     #[test]

@@ -23,6 +23,8 @@ const STATUS_EVERY_TTY: Duration = Duration::from_millis(250);
 const STATUS_EVERY_PIPE: Duration = Duration::from_secs(1);
 /// Re-enable command mode at most this often when the robot reports another mode.
 const MODE_RETRY: Duration = Duration::from_millis(200);
+/// The robot sends feedback every 20 ms; this long without any frame means the link is gone.
+const FEEDBACK_LOST: Duration = Duration::from_secs(1);
 
 /// Why the drive ended.
 #[derive(Debug, PartialEq)]
@@ -109,9 +111,16 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
             break End::TimeUp;
         }
         sender.set_target(target.0, target.1);
+        if crate::control::panicked() {
+            break End::LinkLost("an internal error (a thread panicked); the robot was stopped".to_string());
+        }
         let status = session.status();
         if let Some(error) = status.link_error.clone() {
             break End::LinkLost(error);
+        }
+        // Had feedback, and it stopped: do not keep driving blind.
+        if status.last_frame.is_some_and(|at| at.elapsed() > FEEDBACK_LOST) {
+            break End::LinkLost(format!("no frames from the robot for {} s", FEEDBACK_LOST.as_secs()));
         }
         if let Some((state, wire)) = status.fresh_system(Duration::from_millis(200)) {
             if state.is_estop() && !args.ignore_faults {

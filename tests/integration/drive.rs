@@ -96,6 +96,30 @@ fn refuses_to_start_on_estop_or_silence_and_says_why() {
     drop(silent);
 }
 
+#[test]
+fn stops_when_the_robot_falls_silent() {
+    let robot = FakeRobot::start(healthy());
+    let driver = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["--serial", &robot.path, "drive", "--linear", "0.3", "--for", "20s"])
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(1200));
+    let silent_at = Instant::now();
+    robot.go_silent();
+    let output = driver.wait_with_output().unwrap();
+    let report = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{report}");
+    assert!(report.contains("no frames from the robot for 1 s"), "{report}");
+    std::thread::sleep(Duration::from_millis(30));
+    let frames = robot.frames();
+    let last = frames.iter().rev().find_map(|(_, f)| percent(f));
+    assert_eq!(last, Some((0, 0)), "ends with zeros");
+    let stopped = frames.iter().find(|(at, f)| *at > silent_at && percent(f) == Some((0, 0))).unwrap().0;
+    let after = stopped.duration_since(silent_at);
+    assert!(after < Duration::from_millis(1300), "stopped {after:?} after the feedback stopped");
+}
+
 /// The zero-velocity frame must reach the robot within 50 ms of the signal.
 #[cfg(unix)]
 #[test]

@@ -16,6 +16,7 @@ pub struct FakeRobot {
     pub path: String,
     received: Arc<Mutex<Vec<(Instant, SerialFrame)>>>,
     stop: Arc<AtomicBool>,
+    mute: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
 }
 
@@ -28,15 +29,16 @@ impl FakeRobot {
         master.set_timeout(Duration::from_millis(5)).unwrap();
         let received = Arc::new(Mutex::new(Vec::new()));
         let stop = Arc::new(AtomicBool::new(false));
+        let mute = Arc::new(AtomicBool::new(false));
         let thread = {
-            let (received, stop) = (Arc::clone(&received), Arc::clone(&stop));
+            let (received, stop, mute) = (Arc::clone(&received), Arc::clone(&stop), Arc::clone(&mute));
             std::thread::spawn(move || {
                 let mut encoder = SerialEncoder::new();
                 let mut decoder = StreamDecoder::new();
                 let mut buffer = [0u8; 512];
                 let mut next_status = Instant::now();
                 while !stop.load(Ordering::SeqCst) {
-                    if Instant::now() >= next_status {
+                    if Instant::now() >= next_status && !mute.load(Ordering::SeqCst) {
                         let bytes = encoder.encode_next(&Message::SystemState(status)).unwrap();
                         // Nobody may have the terminal open yet: dropped, as on a real wire.
                         let _ = master.write_all(&bytes);
@@ -53,7 +55,12 @@ impl FakeRobot {
                 }
             })
         };
-        Self { path, received, stop, thread: Some(thread) }
+        Self { path, received, stop, mute, thread: Some(thread) }
+    }
+
+    /// Stops sending status (the robot's feedback disappears); host frames are still recorded.
+    pub fn go_silent(&self) {
+        self.mute.store(true, Ordering::SeqCst);
     }
 
     /// Every host frame so far.
