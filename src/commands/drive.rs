@@ -69,7 +69,7 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
         Some((state, wire)) => {
             let protocol = match wire {
                 Wire::Serial => "RS232".to_string(),
-                _ => crate::commands::monitor::protocol_seen(&session.status().detector),
+                _ => session.status().detector.describe(),
             };
             writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
             if let Some(reason) = live::not_drivable(&state, wire) {

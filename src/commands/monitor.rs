@@ -632,23 +632,10 @@ impl<W: Write> Monitor<W> {
             self.frames, self.error_frames.total, stats.socket_drops, stats.serial_bad_checksum, stats.serial_skipped_bytes
         ));
         if !self.serial {
-            text.push_str(&format!("  protocol: {}\n", protocol_seen(&self.detector)));
+            text.push_str(&format!("  protocol: {}\n", self.detector.describe()));
         }
         text
     }
-}
-
-/// What the traffic showed about the protocol version, in words (never an error: a mixed or unknown bus
-/// is reported as such).
-pub fn protocol_seen(detector: &ProtocolDetector) -> String {
-    use crate::protocol::detect::Verdict;
-    let verdict = match detector.verdict() {
-        Verdict::Unknown => "not determined (no V1- or V2-only identifiers seen)",
-        Verdict::V1 => "V1",
-        Verdict::V2 => "V2",
-        Verdict::Mixed => "mixed V1 and V2 traffic (two robots, or a mixed capture)",
-    };
-    format!("{verdict}: {} V2-only frames, {} V1-only frames", detector.v2_frames, detector.v1_frames)
 }
 
 /// Notes the arrival of an expected periodic frame; says so when a stale one resumes.

@@ -52,6 +52,18 @@ impl ProtocolDetector {
         }
     }
 
+    /// What the traffic showed, in words: never an error, a mixed or unknown bus is said as such.
+    /// `V2 (96 V2-only frames, 0 V1-only frames)`.
+    pub fn describe(&self) -> String {
+        let verdict = match self.verdict() {
+            Verdict::Unknown => "not determined (no version-specific IDs)",
+            Verdict::V1 => "V1",
+            Verdict::V2 => "V2",
+            Verdict::Mixed => "mixed V1 and V2 traffic",
+        };
+        format!("{verdict} ({} V2-only frames, {} V1-only frames)", self.v2_frames, self.v1_frames)
+    }
+
     /// The hint to decode ambiguous frames with (0x151): the bus's version once it is clear.
     pub fn hint(&self) -> ProtocolHint {
         match self.verdict() {
@@ -81,5 +93,6 @@ mod tests {
         detector.observe(&frame(0x131));
         assert_eq!((detector.verdict(), detector.hint()), (Verdict::Mixed, ProtocolHint::Auto));
         assert_eq!((detector.v1_frames, detector.v2_frames), (1, 1));
+        assert_eq!(detector.describe(), "mixed V1 and V2 traffic (1 V2-only frames, 1 V1-only frames)");
     }
 }

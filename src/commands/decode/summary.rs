@@ -9,7 +9,7 @@ use serde_json::{json, Value as Json};
 use super::{totals_line, InputStats};
 use crate::candump::{Timestamp, TimestampKind};
 use crate::output::{Event, FrameRef, Shape};
-use crate::protocol::detect::{ProtocolDetector, Verdict};
+use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ERROR_CLASSES;
 use crate::protocol::faults::{FlagTable, Flags};
 use crate::protocol::message::{control_mode_name, vehicle_state_name, Message, Wire};
@@ -394,7 +394,7 @@ impl Summary {
         if !self.interfaces.is_empty() {
             let _ = writeln!(w, "  interfaces: {}", self.interfaces.join(", "));
         }
-        let _ = writeln!(w, "  protocol: {}", protocol_text(detector));
+        let _ = writeln!(w, "  protocol: {}", detector.describe());
         let _ = writeln!(w, "  time span: {}", self.span_text());
 
         let _ = writeln!(w, "\nFrames per ID");
@@ -616,7 +616,7 @@ impl Summary {
             "rejected": stats.rejected.iter().map(|r| json!({"reason": r.reason, "count": r.count, "first_at": r.first_at})).collect::<Vec<_>>(),
             "invalid_frames": stats.invalid_frames,
             "candump_dropped": stats.candump_dropped,
-            "protocol": protocol_text(detector),
+            "protocol": detector.describe(),
             "interfaces": self.interfaces,
             "first": ts(self.first),
             "last": ts(self.last),
@@ -681,16 +681,6 @@ fn volts(decivolts: i64) -> String {
 
 fn mode_text(wire: Wire, value: u8) -> String {
     control_mode_name(wire, value).map_or_else(|| format!("unknown (0x{value:02X})"), str::to_string)
-}
-
-fn protocol_text(detector: &ProtocolDetector) -> String {
-    let verdict = match detector.verdict() {
-        Verdict::Unknown => "not determined (no version-specific IDs)",
-        Verdict::V1 => "V1",
-        Verdict::V2 => "V2",
-        Verdict::Mixed => "mixed V1 and V2 traffic",
-    };
-    format!("{verdict} ({} V2-only frames, {} V1-only frames)", detector.v2_frames, detector.v1_frames)
 }
 
 fn key_text(key: u64) -> String {
