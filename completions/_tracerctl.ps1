@@ -41,6 +41,8 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('lights', 'lights', [CompletionResultType]::ParameterValue, 'Set the lights (0x121), confirmed from the light state (0x231)')
             [CompletionResult]::new('send-raw', 'send-raw', [CompletionResultType]::ParameterValue, 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)')
+            [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive')
+            [CompletionResult]::new('dash', 'dash', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -208,6 +210,46 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
             break
         }
+        'tracerctl;dashboard' {
+            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed at full scale, m/s (at most 1.5)')
+            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed at full scale, rad/s (at most 0.7853)')
+            [CompletionResult]::new('--accel', '--accel', [CompletionResultType]::ParameterName, 'Linear acceleration of the ramp, m/s²')
+            [CompletionResult]::new('--angular-accel', '--angular-accel', [CompletionResultType]::ParameterName, 'Angular acceleration of the ramp, rad/s²')
+            [CompletionResult]::new('--record', '--record', [CompletionResultType]::ParameterName, 'Write a candump log of the session (frames received and sent) to FILE')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;dash' {
+            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed at full scale, m/s (at most 1.5)')
+            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed at full scale, rad/s (at most 0.7853)')
+            [CompletionResult]::new('--accel', '--accel', [CompletionResultType]::ParameterName, 'Linear acceleration of the ramp, m/s²')
+            [CompletionResult]::new('--angular-accel', '--angular-accel', [CompletionResultType]::ParameterName, 'Angular acceleration of the ramp, rad/s²')
+            [CompletionResult]::new('--record', '--record', [CompletionResultType]::ParameterName, 'Write a candump log of the session (frames received and sent) to FILE')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
         'tracerctl;completions' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
@@ -232,6 +274,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('lights', 'lights', [CompletionResultType]::ParameterValue, 'Set the lights (0x121), confirmed from the light state (0x231)')
             [CompletionResult]::new('send-raw', 'send-raw', [CompletionResultType]::ParameterValue, 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)')
+            [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -258,6 +301,9 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;help;sim' {
+            break
+        }
+        'tracerctl;help;dashboard' {
             break
         }
         'tracerctl;help;completions' {

@@ -22,6 +22,12 @@ _tracerctl() {
             tracerctl,completions)
                 cmd="tracerctl__subcmd__completions"
                 ;;
+            tracerctl,dash)
+                cmd="tracerctl__subcmd__dashboard"
+                ;;
+            tracerctl,dashboard)
+                cmd="tracerctl__subcmd__dashboard"
+                ;;
             tracerctl,decode)
                 cmd="tracerctl__subcmd__decode"
                 ;;
@@ -51,6 +57,9 @@ _tracerctl() {
                 ;;
             tracerctl__subcmd__help,completions)
                 cmd="tracerctl__subcmd__help__subcmd__completions"
+                ;;
+            tracerctl__subcmd__help,dashboard)
+                cmd="tracerctl__subcmd__help__subcmd__dashboard"
                 ;;
             tracerctl__subcmd__help,decode)
                 cmd="tracerctl__subcmd__help__subcmd__decode"
@@ -83,7 +92,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --replay --speed --help --version decode monitor drive mode clear-errors lights send-raw sim completions help"
+            opts="-h -V --protocol --color --iface --serial --baud --sim --replay --speed --help --version decode monitor drive mode clear-errors lights send-raw sim dashboard dash completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -177,6 +186,68 @@ _tracerctl() {
                 return 0
             fi
             case "${prev}" in
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__dashboard)
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --record --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --max-linear)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --max-angular)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --accel)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --angular-accel)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --record)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --protocol)
                     COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
                     return 0
@@ -341,7 +412,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help)
-            opts="decode monitor drive mode clear-errors lights send-raw sim completions help"
+            opts="decode monitor drive mode clear-errors lights send-raw sim dashboard completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -369,6 +440,20 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help__subcmd__completions)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__dashboard)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )

@@ -38,6 +38,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand lights 'Set the lights (0x121), confirmed from the light state (0x231)'
             cand send-raw 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
             cand sim 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
+            cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+            cand dash 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -196,6 +198,44 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand -V 'Print version'
             cand --version 'Print version'
         }
+        &'tracerctl;dashboard'= {
+            cand --max-linear 'Cap on the linear speed at full scale, m/s (at most 1.5)'
+            cand --max-angular 'Cap on the angular speed at full scale, rad/s (at most 0.7853)'
+            cand --accel 'Linear acceleration of the ramp, m/s²'
+            cand --angular-accel 'Angular acceleration of the ramp, rad/s²'
+            cand --record 'Write a candump log of the session (frames received and sent) to FILE'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (colour is never used with NO_COLOR set)'
+            cand --iface 'SocketCAN interface'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)'
+            cand --baud 'Serial baud rate'
+            cand --replay 'Play a candump log back as a read-only source (monitor, dashboard)'
+            cand --speed 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)'
+            cand --sim 'Talk to an in-process virtual TRACER instead of a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'tracerctl;dash'= {
+            cand --max-linear 'Cap on the linear speed at full scale, m/s (at most 1.5)'
+            cand --max-angular 'Cap on the angular speed at full scale, rad/s (at most 0.7853)'
+            cand --accel 'Linear acceleration of the ramp, m/s²'
+            cand --angular-accel 'Angular acceleration of the ramp, rad/s²'
+            cand --record 'Write a candump log of the session (frames received and sent) to FILE'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (colour is never used with NO_COLOR set)'
+            cand --iface 'SocketCAN interface'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)'
+            cand --baud 'Serial baud rate'
+            cand --replay 'Play a candump log back as a read-only source (monitor, dashboard)'
+            cand --speed 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)'
+            cand --sim 'Talk to an in-process virtual TRACER instead of a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
         &'tracerctl;completions'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (colour is never used with NO_COLOR set)'
@@ -219,6 +259,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand lights 'Set the lights (0x121), confirmed from the light state (0x231)'
             cand send-raw 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
             cand sim 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
+            cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -237,6 +278,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help;send-raw'= {
         }
         &'tracerctl;help;sim'= {
+        }
+        &'tracerctl;help;dashboard'= {
         }
         &'tracerctl;help;completions'= {
         }

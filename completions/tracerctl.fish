@@ -46,6 +46,8 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
@@ -211,6 +213,44 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serv
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-linear -d 'Cap on the linear speed at full scale, m/s (at most 1.5)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-angular -d 'Cap on the angular speed at full scale, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear -d 'Cap on the linear speed at full scale, m/s (at most 1.5)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-angular -d 'Cap on the angular speed at full scale, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -225,13 +265,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l spee
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -54,6 +54,9 @@ pub enum Command {
     SendRaw(SendRawArgs),
     /// Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)
     Sim(SimArgs),
+    /// Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive
+    #[command(visible_alias = "dash", after_help = DASHBOARD_AFTER_HELP)]
+    Dashboard(DashboardArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
 }
@@ -255,6 +258,39 @@ pub struct SendRawArgs {
     /// Compute the checksum of RS232 frames instead of requiring it
     #[arg(long)]
     pub fix_checksum: bool,
+}
+
+const DASHBOARD_AFTER_HELP: &str = "\
+Keys: arrows drive (up/down linear, left/right angular, combined), Space stops at once, + and - change the
+speed scale, l cycles the lights, c clears faults (asks first), m enables command mode, ? shows help,
+q, Esc or Ctrl-C stop the robot and quit.
+
+A key counts as held until the terminal reports its release (kitty keyboard protocol: kitty, foot,
+WezTerm, alacritty, Ghostty, iTerm2) or, in other terminals and in tmux, until no auto-repeat arrives
+before a deadline learned from the key stream. The mode in use is on screen. If input or drawing stalls,
+the robot is commanded to zero within 250 ms; every exit sends zero-velocity frames.";
+
+#[derive(Debug, Args)]
+pub struct DashboardArgs {
+    /// Cap on the linear speed at full scale, m/s (at most 1.5)
+    #[arg(long, default_value_t = 0.5, value_name = "M/S")]
+    pub max_linear: f64,
+
+    /// Cap on the angular speed at full scale, rad/s (at most 0.7853)
+    #[arg(long, default_value_t = 0.5, value_name = "RAD/S")]
+    pub max_angular: f64,
+
+    /// Linear acceleration of the ramp, m/s²
+    #[arg(long, default_value_t = 0.5, value_name = "M/S2")]
+    pub accel: f64,
+
+    /// Angular acceleration of the ramp, rad/s²
+    #[arg(long, default_value_t = 1.0, value_name = "RAD/S2")]
+    pub angular_accel: f64,
+
+    /// Write a candump log of the session (frames received and sent) to FILE
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -100,6 +100,8 @@ struct Shared {
     stop: AtomicBool,
     /// Set by whoever sees the robot in another control mode: send the mode-enable frame next tick.
     enable_mode: AtomicBool,
+    /// A new target that should not wait for the next tick (a key press): send now, restart the grid.
+    kicked: AtomicBool,
     last_error: Mutex<Option<String>>,
 }
 
@@ -141,20 +143,25 @@ fn emergency() -> &'static Mutex<Option<Emergency>> {
     EMERGENCY.get_or_init(|| Mutex::new(None))
 }
 
+/// Sends zero-velocity frames on the link of the running sender, if any (used by panic hooks).
+pub fn emergency_stop() {
+    PANICKED.store(true, Ordering::SeqCst);
+    if let Ok(guard) = emergency().try_lock() {
+        if let Some((tx, frame)) = guard.as_ref() {
+            for _ in 0..STOP_FRAMES {
+                let _ = tx.send(frame);
+            }
+        }
+    }
+}
+
 /// Installs (once) a panic hook that sends zero-velocity frames before the usual panic report.
 pub fn install_panic_hook() {
     static INSTALLED: OnceLock<()> = OnceLock::new();
     INSTALLED.get_or_init(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
-            PANICKED.store(true, Ordering::SeqCst);
-            if let Ok(guard) = emergency().try_lock() {
-                if let Some((tx, frame)) = guard.as_ref() {
-                    for _ in 0..STOP_FRAMES {
-                        let _ = tx.send(frame);
-                    }
-                }
-            }
+            emergency_stop();
             previous(info);
         }));
     });
@@ -172,6 +179,7 @@ impl MotionSender {
             stats: Mutex::new(SenderStats::default()),
             stop: AtomicBool::new(false),
             enable_mode: AtomicBool::new(true),
+            kicked: AtomicBool::new(false),
             last_error: Mutex::new(None),
         });
         let thread = {
@@ -194,6 +202,16 @@ impl MotionSender {
     pub fn set_target(&self, linear: f64, angular: f64) {
         *self.shared.target.lock().unwrap_or_else(|p| p.into_inner()) =
             Target { linear, angular, set_at: Instant::now() };
+    }
+
+    /// Sets the target and sends it now rather than at the next tick (for a key press: the first changed
+    /// frame leaves within a millisecond; the 20 ms grid restarts from it).
+    pub fn set_target_now(&self, linear: f64, angular: f64) {
+        self.set_target(linear, angular);
+        self.shared.kicked.store(true, Ordering::SeqCst);
+        if let Some(thread) = &self.thread {
+            thread.thread().unpark();
+        }
     }
 
     /// Asks for the mode-enable frame (0x421 = CAN on V2) before the next motion frame.
@@ -303,6 +321,10 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             if now >= next_tick {
                 break;
             }
+            if shared.kicked.swap(false, Ordering::SeqCst) {
+                next_tick = now;
+                break;
+            }
             std::thread::park_timeout(next_tick - now);
         }
     }
@@ -400,6 +422,26 @@ mod tests {
         let speeds: Vec<i16> = frames.try_iter().filter_map(|(_, f)| linear_of(&f)).collect();
         assert!(speeds.contains(&300));
         assert_eq!(speeds.last(), Some(&0));
+    }
+
+    #[test]
+    fn a_kick_sends_the_new_target_at_once() {
+        let (sender, frames) = mpsc::channel();
+        let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
+        let limits = Limits { linear_accel: 100.0, ..Limits::default() };
+        let motion =
+            MotionSender::start(tx, Codec::new(Wire::CanV2), limits, Duration::from_secs(5)).unwrap();
+        std::thread::sleep(Duration::from_millis(45));
+        let pressed = Instant::now();
+        motion.set_target_now(0.2, 0.0);
+        std::thread::sleep(Duration::from_millis(30));
+        drop(motion);
+        let first_moving = frames
+            .try_iter()
+            .find(|(_, f)| linear_of(f).is_some_and(|speed| speed != 0))
+            .map(|(at, _)| at.duration_since(pressed))
+            .unwrap();
+        assert!(first_moving < Duration::from_millis(5), "{first_moving:?}");
     }
 
     #[test]

@@ -14,4 +14,5 @@ pub mod protocol;
 pub mod session;
 pub mod signals;
 
+pub mod dashboard;
 pub mod sim;

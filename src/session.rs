@@ -15,6 +15,9 @@ use crate::protocol::message::{
 };
 use crate::protocol::{Decoded, Message, ProtocolHint, Wire};
 
+/// How many distinct identifiers `RobotStatus::id_counts` keeps.
+pub const MAX_COUNTED_IDS: usize = 64;
+
 /// The latest of everything the robot reported.
 #[derive(Clone, Debug, Default)]
 pub struct RobotStatus {
@@ -28,6 +31,9 @@ pub struct RobotStatus {
     pub odometry: Option<Odometry>,
     pub detector: ProtocolDetector,
     pub frames: u64,
+    /// Frames per identifier: CAN standard IDs as-is, extended ones with bit 31 set, RS232 frames as
+    /// type << 8 | command. At most [`MAX_COUNTED_IDS`] identifiers; the rest are only in `frames`.
+    pub id_counts: Vec<(u32, u64)>,
     pub last_frame: Option<Instant>,
     pub rx: RxStats,
     /// Set when the link failed or ended; the reader has stopped.
@@ -35,6 +41,20 @@ pub struct RobotStatus {
 }
 
 impl RobotStatus {
+    fn count(&mut self, frame: &LinkFrame) {
+        let key = match frame {
+            LinkFrame::Can(frame) if frame.is_extended() => frame.id() | 0x8000_0000,
+            LinkFrame::Can(frame) => frame.id(),
+            LinkFrame::Serial(frame) => u32::from(frame.id()),
+        };
+        if let Some((_, count)) = self.id_counts.iter_mut().find(|(id, _)| *id == key) {
+            *count += 1;
+        } else if self.id_counts.len() < MAX_COUNTED_IDS {
+            self.id_counts.push((key, 1));
+            self.id_counts.sort_unstable_by_key(|(id, _)| *id);
+        }
+    }
+
     fn apply(&mut self, now: Instant, decoded: &Decoded) {
         match decoded.message {
             Message::SystemState(state) => self.system = Some((now, state, decoded.wire)),
@@ -81,6 +101,17 @@ pub struct Session {
 impl Session {
     /// Opens the chosen link and starts reading. With `--sim`, starts a virtual TRACER first.
     pub fn open(choice: &LinkChoice, hint: ProtocolHint, sim: Option<crate::sim::SimConfig>) -> Result<Self> {
+        Self::open_recording(choice, hint, sim, None)
+    }
+
+    /// As [`Session::open`], also writing every frame received and sent to `record` (candump -L lines; RS232
+    /// frames in hex), flushed per line.
+    pub fn open_recording(
+        choice: &LinkChoice,
+        hint: ProtocolHint,
+        sim: Option<crate::sim::SimConfig>,
+        record: Option<&std::path::Path>,
+    ) -> Result<Self> {
         let wire_for_can = match hint {
             ProtocolHint::V1 => Wire::CanV1,
             _ => Wire::CanV2,
@@ -92,19 +123,35 @@ impl Session {
             changed: Condvar::new(),
             stop: AtomicBool::new(false),
         });
+        let recorder = match record {
+            Some(path) => Some(Arc::new(Mutex::new(crate::commands::monitor::LogFile::create(path)?))),
+            None => None,
+        };
+        // candump lines allow interface names of up to 15 characters.
+        let record_name: String = link.name.chars().take(15).collect();
+        let tx: Arc<dyn FrameTx> = match &recorder {
+            Some(recorder) => Arc::new(RecordingTx {
+                inner: link.tx,
+                recorder: Arc::clone(recorder),
+                name: record_name.clone(),
+            }),
+            None => link.tx,
+        };
         let reader = {
             let shared = Arc::clone(&shared);
             let rx = link.rx;
             let codec = Codec::new(wire);
             std::thread::Builder::new()
                 .name("tracerctl-reader".into())
-                .spawn(move || read_loop(rx, codec, hint, &shared))
+                .spawn(move || {
+                    read_loop(rx, codec, hint, &shared, recorder.as_deref().map(|r| (r, record_name)))
+                })
                 .context("cannot start the reader thread")?
         };
         Ok(Self {
             name: link.name,
             kind: link.kind,
-            tx: link.tx,
+            tx,
             codec: Mutex::new(Codec::new(wire)),
             hint,
             shared,
@@ -228,15 +275,44 @@ fn open_socketcan(_iface: &str) -> Result<link::Link> {
     anyhow::bail!("SocketCAN exists only on Linux: use --serial PORT or --sim")
 }
 
-fn read_loop(mut rx: Box<dyn FrameRx>, codec: Codec, hint: ProtocolHint, shared: &Shared) {
+type Recorder = Mutex<crate::commands::monitor::LogFile>;
+
+/// Sends, and records what was sent.
+struct RecordingTx {
+    inner: Arc<dyn FrameTx>,
+    recorder: Arc<Recorder>,
+    name: String,
+}
+
+impl FrameTx for RecordingTx {
+    fn send(&self, frame: &LinkFrame) -> std::io::Result<()> {
+        self.inner.send(frame)?;
+        let received = link::Received { ts: link::now_timestamp(), frame: *frame };
+        // A full disk must not stop the robot from being commanded (or stopped): recording is best effort.
+        let _ = self.recorder.lock().unwrap_or_else(|p| p.into_inner()).write(&received, &self.name);
+        Ok(())
+    }
+}
+
+fn read_loop(
+    mut rx: Box<dyn FrameRx>,
+    codec: Codec,
+    hint: ProtocolHint,
+    shared: &Shared,
+    recorder: Option<(&Recorder, String)>,
+) {
     while !shared.stop.load(Ordering::SeqCst) {
         let received = rx.recv(Duration::from_millis(20));
         let mut status = shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         status.rx = rx.stats();
         match received {
             Ok(Some(received)) => {
+                if let Some((recorder, name)) = &recorder {
+                    let _ = recorder.lock().unwrap_or_else(|p| p.into_inner()).write(&received, name);
+                }
                 let now = Instant::now();
                 status.frames += 1;
+                status.count(&received.frame);
                 status.last_frame = Some(now);
                 if let LinkFrame::Can(frame) = &received.frame {
                     status.detector.observe(frame);

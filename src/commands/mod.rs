@@ -2,6 +2,7 @@
 
 pub mod clear_errors;
 pub mod completions;
+pub mod dashboard;
 pub mod decode;
 pub mod drive;
 pub mod lights;
@@ -25,5 +26,6 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         Command::Lights(ref args) => lights::run(&cli, args),
         Command::SendRaw(ref args) => send_raw::run(&cli, args),
         Command::Sim(ref args) => sim::run(&cli, args),
+        Command::Dashboard(ref args) => dashboard::run(&cli, args),
     }
 }

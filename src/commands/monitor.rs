@@ -204,7 +204,8 @@ impl LogFile {
         Ok(Self { file, path: path.to_path_buf(), line: Vec::with_capacity(256) })
     }
 
-    fn write(&mut self, received: &Received, iface: &str) -> Result<()> {
+    /// Appends one frame (a candump -L line, or an RS232 frame in hex) and writes it at once.
+    pub fn write(&mut self, received: &Received, iface: &str) -> Result<()> {
         self.line.clear();
         push_raw_line(&mut self.line, received, iface);
         self.file

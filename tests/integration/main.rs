@@ -1,5 +1,6 @@
 //! One integration-test binary (as ripgrep does): every test runs the real `tracerctl`.
 
+mod dashboard;
 mod decode;
 mod docs;
 mod drive;
