@@ -211,8 +211,8 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;dashboard' {
-            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed at full scale, m/s (at most 1.5)')
-            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed at full scale, rad/s (at most 0.7853)')
+            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed, m/s (at most 1.5)')
+            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed, rad/s (at most 0.7853)')
             [CompletionResult]::new('--accel', '--accel', [CompletionResultType]::ParameterName, 'Linear acceleration of the ramp, m/s²')
             [CompletionResult]::new('--angular-accel', '--angular-accel', [CompletionResultType]::ParameterName, 'Angular acceleration of the ramp, rad/s²')
             [CompletionResult]::new('--record', '--record', [CompletionResultType]::ParameterName, 'Write a candump log of the session (frames received and sent) to FILE')
@@ -231,8 +231,8 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;dash' {
-            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed at full scale, m/s (at most 1.5)')
-            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed at full scale, rad/s (at most 0.7853)')
+            [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed, m/s (at most 1.5)')
+            [CompletionResult]::new('--max-angular', '--max-angular', [CompletionResultType]::ParameterName, 'Cap on the angular speed, rad/s (at most 0.7853)')
             [CompletionResult]::new('--accel', '--accel', [CompletionResultType]::ParameterName, 'Linear acceleration of the ramp, m/s²')
             [CompletionResult]::new('--angular-accel', '--angular-accel', [CompletionResultType]::ParameterName, 'Angular acceleration of the ramp, rad/s²')
             [CompletionResult]::new('--record', '--record', [CompletionResultType]::ParameterName, 'Write a candump log of the session (frames received and sent) to FILE')

@@ -199,8 +199,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --version 'Print version'
         }
         &'tracerctl;dashboard'= {
-            cand --max-linear 'Cap on the linear speed at full scale, m/s (at most 1.5)'
-            cand --max-angular 'Cap on the angular speed at full scale, rad/s (at most 0.7853)'
+            cand --max-linear 'Cap on the linear speed, m/s (at most 1.5)'
+            cand --max-angular 'Cap on the angular speed, rad/s (at most 0.7853)'
             cand --accel 'Linear acceleration of the ramp, m/s²'
             cand --angular-accel 'Angular acceleration of the ramp, rad/s²'
             cand --record 'Write a candump log of the session (frames received and sent) to FILE'
@@ -218,8 +218,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --version 'Print version'
         }
         &'tracerctl;dash'= {
-            cand --max-linear 'Cap on the linear speed at full scale, m/s (at most 1.5)'
-            cand --max-angular 'Cap on the angular speed at full scale, rad/s (at most 0.7853)'
+            cand --max-linear 'Cap on the linear speed, m/s (at most 1.5)'
+            cand --max-angular 'Cap on the angular speed, rad/s (at most 0.7853)'
             cand --accel 'Linear acceleration of the ramp, m/s²'
             cand --angular-accel 'Angular acceleration of the ramp, rad/s²'
             cand --record 'Write a candump log of the session (frames received and sent) to FILE'

@@ -213,8 +213,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serv
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-linear -d 'Cap on the linear speed at full scale, m/s (at most 1.5)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-angular -d 'Cap on the angular speed at full scale, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-linear -d 'Cap on the linear speed, m/s (at most 1.5)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
@@ -232,8 +232,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear -d 'Cap on the linear speed at full scale, m/s (at most 1.5)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-angular -d 'Cap on the angular speed at full scale, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear -d 'Cap on the linear speed, m/s (at most 1.5)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F

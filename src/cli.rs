@@ -149,6 +149,17 @@ pub struct DriveArgs {
     #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
     pub duration: Option<std::time::Duration>,
 
+    #[command(flatten)]
+    pub limits: MotionLimitArgs,
+
+    /// Start even with the E-stop pressed or a latched fault (the robot may still refuse)
+    #[arg(long)]
+    pub ignore_faults: bool,
+}
+
+/// Caps and ramps of the commands that move the robot (drive, dashboard).
+#[derive(Debug, Args)]
+pub struct MotionLimitArgs {
     /// Cap on the linear speed, m/s (at most 1.5)
     #[arg(long, default_value_t = 0.5, value_name = "M/S")]
     pub max_linear: f64,
@@ -164,10 +175,19 @@ pub struct DriveArgs {
     /// Angular acceleration of the ramp, rad/s²
     #[arg(long, default_value_t = 1.0, value_name = "RAD/S2")]
     pub angular_accel: f64,
+}
 
-    /// Start even with the E-stop pressed or a latched fault (the robot may still refuse)
-    #[arg(long)]
-    pub ignore_faults: bool,
+impl MotionLimitArgs {
+    /// The validated limits (caps clamped to the protocol's).
+    pub fn limits(&self) -> anyhow::Result<crate::control::Limits> {
+        crate::control::Limits {
+            max_linear: self.max_linear,
+            max_angular: self.max_angular,
+            linear_accel: self.accel,
+            angular_accel: self.angular_accel,
+        }
+        .validated()
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -272,21 +292,8 @@ the robot is commanded to zero within 250 ms; every exit sends zero-velocity fra
 
 #[derive(Debug, Args)]
 pub struct DashboardArgs {
-    /// Cap on the linear speed at full scale, m/s (at most 1.5)
-    #[arg(long, default_value_t = 0.5, value_name = "M/S")]
-    pub max_linear: f64,
-
-    /// Cap on the angular speed at full scale, rad/s (at most 0.7853)
-    #[arg(long, default_value_t = 0.5, value_name = "RAD/S")]
-    pub max_angular: f64,
-
-    /// Linear acceleration of the ramp, m/s²
-    #[arg(long, default_value_t = 0.5, value_name = "M/S2")]
-    pub accel: f64,
-
-    /// Angular acceleration of the ramp, rad/s²
-    #[arg(long, default_value_t = 1.0, value_name = "RAD/S2")]
-    pub angular_accel: f64,
+    #[command(flatten)]
+    pub limits: MotionLimitArgs,
 
     /// Write a candump log of the session (frames received and sent) to FILE
     #[arg(long, value_name = "FILE")]

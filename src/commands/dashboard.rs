@@ -49,13 +49,7 @@ pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
         }
         .into());
     }
-    let limits = Limits {
-        max_linear: args.max_linear,
-        max_angular: args.max_angular,
-        linear_accel: args.accel,
-        angular_accel: args.angular_accel,
-    }
-    .validated()?;
+    let limits = args.limits.limits()?;
     let choice = LinkChoice::from_args(&cli.link)?;
     let session = Session::open_recording(&choice, cli.protocol.into(), None, args.record.as_deref())?;
     let color = cli.color.enabled(true);

@@ -36,13 +36,7 @@ enum End {
 }
 
 pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
-    let limits = Limits {
-        max_linear: args.max_linear,
-        max_angular: args.max_angular,
-        linear_accel: args.accel,
-        angular_accel: args.angular_accel,
-    }
-    .validated()?;
+    let limits = args.limits.limits()?;
     anyhow::ensure!(
         args.linear.is_finite() && args.angular.is_finite(),
         "--linear and --angular must be numbers"
