@@ -8,6 +8,9 @@
 //! 2. monitor at normal traffic: the robot's 4 feedback frames every 20 ms; CPU share of one core.
 //! 3. monitor under a flood: frames written as fast as the terminal takes them; frames counted by the
 //!    monitor versus frames sent (none may be lost).
+//! 4. dashboard: on a pseudo-terminal this program owns (it types the arrow keys and drains the screen),
+//!    against the robot on a second one: CPU share with 50 Hz feedback, bytes drawn per second, and the
+//!    time from an arrow-key byte to the first motion frame that changed.
 
 use std::io::{Read, Write};
 use std::process::{Command, Stdio};
@@ -66,7 +69,8 @@ fn feedback(encoder: &mut SerialEncoder) -> Vec<u8> {
 
 /// Reads host frames on a thread of its own (blocking reads), so arrival times are not delayed by the
 /// feedback writer.
-fn record_motion_frames(mut reader: Box<dyn SerialPort>) -> std::sync::mpsc::Receiver<Instant> {
+/// (arrival, linear percent) of every motion frame.
+fn record_motion_frames(mut reader: Box<dyn SerialPort>) -> std::sync::mpsc::Receiver<(Instant, i8)> {
     let (sender, arrivals) = std::sync::mpsc::channel();
     reader.set_timeout(Duration::from_millis(500)).unwrap();
     std::thread::spawn(move || {
@@ -80,7 +84,7 @@ fn record_motion_frames(mut reader: Box<dyn SerialPort>) -> std::sync::mpsc::Rec
                     decoder.feed(&buffer[..read], |event| {
                         if let StreamEvent::Frame { frame, .. } = event {
                             if frame.frame_type == 0x55 && frame.command == 0x01 {
-                                stop |= sender.send(now).is_err();
+                                stop |= sender.send((now, frame.payload[2] as i8)).is_err();
                             }
                         }
                     });
@@ -126,7 +130,7 @@ fn drive(seconds: u64) {
         }
         std::thread::sleep(next_feedback.saturating_duration_since(Instant::now()));
     }
-    let arrivals: Vec<Instant> = arrivals_rx.try_iter().collect();
+    let arrivals: Vec<Instant> = arrivals_rx.try_iter().map(|(at, _)| at).collect();
     // Skip the first second (start-up, ramp) and the stop frames at the end.
     let steady: Vec<Instant> =
         arrivals.iter().copied().filter(|t| t.duration_since(start) > Duration::from_secs(1)).collect();
@@ -228,9 +232,86 @@ fn monitor_flood(frames: usize) {
     );
 }
 
+fn dashboard(seconds: u64) {
+    let (mut robot, robot_path) = pty();
+    let (terminal, terminal_path) = pty();
+    let arrivals_rx = record_motion_frames(robot.try_clone().unwrap());
+    let slave = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
+    let mut child = Command::new(binary())
+        .args(["--serial", &robot_path, "dashboard"])
+        .env("TERM", "xterm-256color")
+        .stdin(slave())
+        .stdout(slave())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    // Drain what the dashboard draws (a terminal that is not read would block it), counting bytes.
+    let drawn = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
+    let mut screen = terminal.try_clone().unwrap();
+    {
+        let drawn = std::sync::Arc::clone(&drawn);
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 65536];
+            screen.set_timeout(Duration::from_millis(200)).unwrap();
+            loop {
+                match screen.read(&mut buffer) {
+                    Ok(read) => drop(drawn.fetch_add(read as u64, std::sync::atomic::Ordering::Relaxed)),
+                    Err(error) if error.kind() == std::io::ErrorKind::TimedOut => {}
+                    Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => return,
+                    Err(_) => return,
+                }
+            }
+        });
+    }
+    let mut keys = terminal;
+    let mut encoder = SerialEncoder::new();
+    let mut next_feedback = Instant::now();
+    let mut feed_until = |until: Instant, robot: &mut serialport::TTYPort| {
+        while Instant::now() < until {
+            let _ = robot.write_all(&feedback(&mut encoder));
+            next_feedback += Duration::from_millis(20);
+            std::thread::sleep(next_feedback.saturating_duration_since(Instant::now()));
+        }
+    };
+    // Start-up (the terminal is asked whether it reports key releases; this one never answers: 2 s).
+    feed_until(Instant::now() + Duration::from_secs(4), &mut robot);
+    let (cpu0, drawn0, t0) =
+        (cpu_seconds(child.id()), drawn.load(std::sync::atomic::Ordering::Relaxed), Instant::now());
+    feed_until(Instant::now() + Duration::from_secs(seconds), &mut robot);
+    let elapsed = t0.elapsed().as_secs_f64();
+    let cpu = (cpu_seconds(child.id()) - cpu0) / elapsed * 100.0;
+    let drawn_per_s = (drawn.load(std::sync::atomic::Ordering::Relaxed) - drawn0) as f64 / elapsed;
+    let _: Vec<(Instant, i8)> = arrivals_rx.try_iter().collect();
+
+    // Key to frame: one Up (legacy terminals send ESC [ A), then let it expire and the ramp settle.
+    let mut latencies = Vec::new();
+    for _ in 0..15 {
+        let pressed = Instant::now();
+        keys.write_all(b"\x1b[A").unwrap();
+        feed_until(pressed + Duration::from_millis(2500), &mut robot);
+        let first = arrivals_rx.try_iter().find(|(at, speed)| *at >= pressed && *speed != 0);
+        if let Some((at, _)) = first {
+            latencies.push(at.duration_since(pressed).as_secs_f64() * 1000.0);
+        }
+    }
+    keys.write_all(b"q").unwrap();
+    feed_until(Instant::now() + Duration::from_millis(500), &mut robot);
+    let _ = child.kill();
+    let _ = child.wait();
+    latencies.sort_by(f64::total_cmp);
+    println!(
+        "dashboard: CPU {cpu:.2} % of one core with 50 Hz feedback ({drawn_per_s:.0} bytes drawn per second); \
+         key to first changed motion frame over {} presses: p50 {:.2} ms, max {:.2} ms",
+        latencies.len(),
+        percentile(&latencies, 0.5),
+        latencies.last().copied().unwrap_or(f64::NAN)
+    );
+}
+
 fn main() {
     let seconds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(10);
     drive(seconds);
     monitor_normal(seconds);
     monitor_flood(200_000);
+    dashboard(seconds);
 }

@@ -300,7 +300,10 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
         if stale && (target.linear != 0.0 || target.angular != 0.0) {
             shared.stats.lock().unwrap_or_else(|p| p.into_inner()).watchdog_trips += 1;
         }
-        current = ramp_step(current, wanted, &limits, now.duration_since(last_tick).min(PERIOD * 5));
+        // At least one period's step: a frame sent early for a key press must already move (it restarts the
+        // grid, so the ramp gains at most one step per press).
+        current =
+            ramp_step(current, wanted, &limits, now.duration_since(last_tick).clamp(PERIOD, PERIOD * 5));
         last_tick = now;
         if shared.enable_mode.swap(false, Ordering::SeqCst) {
             record(tx.send(&codec.enable_command_mode()), true);
@@ -441,7 +444,10 @@ mod tests {
             .find(|(_, f)| linear_of(f).is_some_and(|speed| speed != 0))
             .map(|(at, _)| at.duration_since(pressed))
             .unwrap();
-        assert!(first_moving < Duration::from_millis(5), "{first_moving:?}");
+        assert!(
+            first_moving < Duration::from_millis(5),
+            "the first frame after the press already moves: {first_moving:?}"
+        );
     }
 
     #[test]
