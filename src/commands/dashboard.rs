@@ -206,7 +206,7 @@ fn drive_loop(mut screen: Screen, session: &Session, limits: Limits, color: bool
                     };
                     let (delay, interval) = teleop.learned();
                     format!(
-                        "key release: auto-repeat timeout (learned delay {}, interval {})",
+                        "key release: auto-repeat timeout (repeat delay {}, interval {})",
                         learned(delay),
                         learned(interval)
                     )
