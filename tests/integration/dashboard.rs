@@ -143,3 +143,48 @@ fn refuses_without_a_terminal() {
     assert_eq!(output.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&output.stderr).contains("the dashboard needs a terminal"));
 }
+
+/// Starts a dashboard in tmux, drives for a moment, and ends it with `finish`; returns the commands recorded.
+fn drive_then(name: &str, finish: impl FnOnce(&Session, &Path)) -> Vec<i16> {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("session.log");
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    let command = format!("{} --sim dashboard --record {}; sleep 30", binary.display(), log.display());
+    let session = Session::start(&format!("{name}-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up, "{screen}");
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_millis(1500) {
+        session.keys(&["Up"]);
+        std::thread::sleep(Duration::from_millis(33));
+    }
+    // Still held: the last commands move the robot.
+    assert!(commanded(&log).last().is_some_and(|mm| *mm > 0), "driving before the exit");
+    finish(&session, &log);
+    std::thread::sleep(Duration::from_millis(500));
+    commanded(&log)
+}
+
+#[test]
+fn ssh_drop_sigterm_and_ctrl_c_all_leave_zero_velocity_on_the_bus() {
+    // The terminal goes away, as when SSH drops: tmux hangs up on the process (SIGHUP).
+    let speeds = drive_then("tracerctl-hup", |session, _| {
+        let _ = Command::new("tmux").args(["kill-session", "-t", &session.name]).output();
+    });
+    assert_eq!(speeds.last(), Some(&0), "SIGHUP: {speeds:?}");
+
+    let speeds = drive_then("tracerctl-term", |_, log| {
+        let pattern = format!("dashboard --record {}", log.display());
+        let status = Command::new("pkill").args(["-TERM", "-f", &pattern]).status().unwrap();
+        assert!(status.success(), "the dashboard process was found");
+    });
+    assert_eq!(speeds.last(), Some(&0), "SIGTERM: {speeds:?}");
+
+    let speeds = drive_then("tracerctl-ctrlc", |session, _| {
+        session.keys(&["C-c"]);
+        let (ended, screen) =
+            session.wait_for(Duration::from_secs(5), |s| s.contains("quit: the robot was stopped"));
+        assert!(ended, "Ctrl-C quits:\n{screen}");
+    });
+    assert_eq!(speeds.last(), Some(&0), "Ctrl-C: {speeds:?}");
+}
