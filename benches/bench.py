@@ -73,7 +73,7 @@ def main():
             dst.write(src.readline())
     seconds, rss = best_of([BIN, "decode", "--no-progress", "-f", "text", slice_path])
     out.append(row("tracerctl", "text", slice_lines, seconds, rss))
-    dbc = os.path.join(ROOT, "benches", "tracer-bench.dbc")
+    dbc = os.path.join(ROOT, "docs", "tracer.dbc")
     try:
         import cantools  # noqa: F401
         seconds, rss = best_of([sys.executable, "-m", "cantools", "decode", "--single-line", dbc], 1, slice_path)
