@@ -52,6 +52,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
             [CompletionResult]::new('--id', '--id', [CompletionResultType]::ParameterName, 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)')
             [CompletionResult]::new('--msg', '--msg', [CompletionResultType]::ParameterName, 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame')
+            [CompletionResult]::new('--plot', '--plot', [CompletionResultType]::ParameterName, 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')

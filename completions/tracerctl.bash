@@ -284,7 +284,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -s -h -V --format --summary --strict --id --msg --delta-stamps --no-progress --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-f -s -h -V --format --summary --strict --id --msg --delta-stamps --no-progress --plot --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -303,6 +303,10 @@ _tracerctl() {
                     return 0
                     ;;
                 --msg)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --plot)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

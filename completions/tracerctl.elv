@@ -48,6 +48,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'Output format'
             cand --id 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)'
             cand --msg 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame'
+            cand --plot 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (colour is never used with NO_COLOR set)'
             cand --iface 'SocketCAN interface'

@@ -55,6 +55,7 @@ json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l plot -d 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"

@@ -102,6 +102,10 @@ pub struct DecodeArgs {
     /// Never show a progress bar (it is shown only on a terminal, for large files)
     #[arg(long)]
     pub no_progress: bool,
+
+    /// Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file
+    #[arg(long, value_name = "FILE.svg")]
+    pub plot: Option<PathBuf>,
 }
 
 #[derive(Debug, Args)]

@@ -6,6 +6,7 @@ mod docs;
 mod drive;
 mod generated;
 mod monitor;
+mod plot;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;

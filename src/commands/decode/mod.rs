@@ -2,6 +2,7 @@
 //!
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
+mod plot;
 mod serial_input;
 pub mod summary;
 
@@ -49,6 +50,7 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
         strict: args.strict,
         delta_stamps: args.delta_stamps,
         progress: !args.no_progress && io::stderr().is_terminal(),
+        plot: args.plot.as_ref().map(|_| Box::default()),
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
@@ -129,6 +131,8 @@ pub struct Decoder {
     strict: bool,
     delta_stamps: bool,
     progress: bool,
+    /// `--plot`: fed every event that passes the filter, written at the end.
+    plot: Option<Box<plot::Plot>>,
 }
 
 impl Decoder {
@@ -275,6 +279,9 @@ impl Decoder {
             }
             Sink::Summary(summary) => summary.event(event),
         }
+        if let Some(plot) = &mut self.plot {
+            plot.event(event);
+        }
         Ok(())
     }
 
@@ -327,6 +334,9 @@ impl Decoder {
                 out.write_all(report.as_bytes())?;
                 out.flush()?;
             }
+        }
+        if let (Some(plot), Some(path)) = (&self.plot, &args.plot) {
+            plot.write(path)?;
         }
         Ok(SUCCESS)
     }
