@@ -2,6 +2,7 @@
 //! codec for sending. Every live command (monitor aside, which reads frames itself) is built on it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -95,6 +96,7 @@ pub struct Session {
     hint: ProtocolHint,
     shared: Arc<Shared>,
     reader: Option<JoinHandle<()>>,
+    recorder: Option<Recorder>,
     simulator: Option<crate::sim::serve::Running>,
 }
 
@@ -123,29 +125,26 @@ impl Session {
             changed: Condvar::new(),
             stop: AtomicBool::new(false),
         });
-        let recorder = match record {
-            Some(path) => Some(Arc::new(Mutex::new(crate::commands::monitor::LogFile::create(path)?))),
-            None => None,
-        };
         // candump lines allow interface names of up to 15 characters.
         let record_name: String = link.name.chars().take(15).collect();
+        let recorder = match record {
+            Some(path) => {
+                Some(Recorder::start(crate::commands::monitor::LogFile::create(path)?, record_name)?)
+            }
+            None => None,
+        };
         let tx: Arc<dyn FrameTx> = match &recorder {
-            Some(recorder) => Arc::new(RecordingTx {
-                inner: link.tx,
-                recorder: Arc::clone(recorder),
-                name: record_name.clone(),
-            }),
+            Some(recorder) => Arc::new(RecordingTx { inner: link.tx, queue: recorder.queue() }),
             None => link.tx,
         };
+        let record_queue = recorder.as_ref().map(Recorder::queue);
         let reader = {
             let shared = Arc::clone(&shared);
             let rx = link.rx;
             let codec = Codec::new(wire);
             std::thread::Builder::new()
                 .name("tracerctl-reader".into())
-                .spawn(move || {
-                    read_loop(rx, codec, hint, &shared, recorder.as_deref().map(|r| (r, record_name)))
-                })
+                .spawn(move || read_loop(rx, codec, hint, &shared, record_queue))
                 .context("cannot start the reader thread")?
         };
         Ok(Self {
@@ -156,6 +155,7 @@ impl Session {
             hint,
             shared,
             reader: Some(reader),
+            recorder,
             simulator,
         })
     }
@@ -240,6 +240,10 @@ impl Drop for Session {
         if let Some(reader) = self.reader.take() {
             let _ = reader.join();
         }
+        // After the reader: everything received and sent is queued; write it all before going.
+        if let Some(recorder) = self.recorder.as_mut() {
+            recorder.close();
+        }
     }
 }
 
@@ -275,21 +279,55 @@ fn open_socketcan(_iface: &str) -> Result<link::Link> {
     anyhow::bail!("SocketCAN exists only on Linux: use --serial PORT or --sim")
 }
 
-type Recorder = Mutex<crate::commands::monitor::LogFile>;
+enum Record {
+    Frame(link::Received),
+    Close,
+}
 
-/// Sends, and records what was sent.
+/// Writes `--record` on a thread of its own: neither the 50 Hz sender nor the reader ever waits for the disk.
+struct Recorder {
+    queue: mpsc::Sender<Record>,
+    writer: Option<JoinHandle<()>>,
+}
+
+impl Recorder {
+    fn start(mut file: crate::commands::monitor::LogFile, name: String) -> Result<Self> {
+        let (queue, inbox) = mpsc::channel();
+        let writer = std::thread::Builder::new()
+            .name("tracerctl-record".into())
+            .spawn(move || {
+                while let Ok(Record::Frame(received)) = inbox.recv() {
+                    // Best effort: a full disk must not stop the robot from being commanded (or stopped).
+                    let _ = file.write(&received, &name);
+                }
+            })
+            .context("cannot start the recording thread")?;
+        Ok(Self { queue, writer: Some(writer) })
+    }
+
+    fn queue(&self) -> mpsc::Sender<Record> {
+        self.queue.clone()
+    }
+
+    /// Writes what is queued, then stops the writer.
+    fn close(&mut self) {
+        let _ = self.queue.send(Record::Close);
+        if let Some(writer) = self.writer.take() {
+            let _ = writer.join();
+        }
+    }
+}
+
+/// Sends, and queues what was sent for the recording.
 struct RecordingTx {
     inner: Arc<dyn FrameTx>,
-    recorder: Arc<Recorder>,
-    name: String,
+    queue: mpsc::Sender<Record>,
 }
 
 impl FrameTx for RecordingTx {
     fn send(&self, frame: &LinkFrame) -> std::io::Result<()> {
         self.inner.send(frame)?;
-        let received = link::Received { ts: link::now_timestamp(), frame: *frame };
-        // A full disk must not stop the robot from being commanded (or stopped): recording is best effort.
-        let _ = self.recorder.lock().unwrap_or_else(|p| p.into_inner()).write(&received, &self.name);
+        let _ = self.queue.send(Record::Frame(link::Received { ts: link::now_timestamp(), frame: *frame }));
         Ok(())
     }
 }
@@ -299,7 +337,7 @@ fn read_loop(
     codec: Codec,
     hint: ProtocolHint,
     shared: &Shared,
-    recorder: Option<(&Recorder, String)>,
+    record: Option<mpsc::Sender<Record>>,
 ) {
     while !shared.stop.load(Ordering::SeqCst) {
         let received = rx.recv(Duration::from_millis(20));
@@ -307,8 +345,8 @@ fn read_loop(
         status.rx = rx.stats();
         match received {
             Ok(Some(received)) => {
-                if let Some((recorder, name)) = &recorder {
-                    let _ = recorder.lock().unwrap_or_else(|p| p.into_inner()).write(&received, name);
+                if let Some(record) = &record {
+                    let _ = record.send(Record::Frame(received));
                 }
                 let now = Instant::now();
                 status.frames += 1;
