@@ -5,6 +5,7 @@
 
 use super::frame::CanFrame;
 use super::message::*;
+use super::payload::{self, Layout};
 
 // CAN protocol V2 identifiers.
 pub const ID_MOTION_COMMAND: u32 = 0x111;
@@ -123,21 +124,13 @@ pub fn decode(frame: &CanFrame, hint: ProtocolHint) -> Result<Option<Decoded>, D
                 angular_mrad_s: be16s(data, 2),
             }))
         }
-        ID_LIGHT_COMMAND | ID_LIGHT_STATE => {
-            need(if id == ID_LIGHT_COMMAND { "light_command" } else { "light_state" }, 8)?;
-            let lights = Lights {
-                enable: data[0],
-                front_mode: data[1],
-                front_brightness: data[2],
-                rear_mode: data[3],
-                rear_brightness: data[4],
-                count: data[7],
-            };
-            v2(if id == ID_LIGHT_COMMAND {
-                Message::LightCommand(lights)
-            } else {
-                Message::LightState(lights)
-            })
+        ID_LIGHT_COMMAND => {
+            need("light_command", 8)?;
+            v2(payload::decode(Layout::LightCommand, &head(data), data[7]))
+        }
+        ID_LIGHT_STATE => {
+            need("light_state", 8)?;
+            v2(payload::decode(Layout::LightState, &head(data), data[7]))
         }
         ID_CONTROL_MODE => {
             need("control_mode_command", 1)?;
@@ -150,15 +143,12 @@ pub fn decode(frame: &CanFrame, hint: ProtocolHint) -> Result<Option<Decoded>, D
         ID_VERSION_REQUEST => v2(Message::VersionRequest),
         ID_SYSTEM_STATE => {
             need("system_state", 8)?;
-            v2(Message::SystemState(system_state(data, data[7])))
+            v2(payload::decode(Layout::SystemState, &head(data), data[7]))
         }
         ID_MOTION_STATE => {
             need("motion_state", 4)?;
-            v2(Message::MotionState(MotionState {
-                linear_mm_s: be16s(data, 0),
-                angular_mrad_s: be16s(data, 2),
-                count: 0,
-            }))
+            // V2 carries no count here (bytes 4-7 are reserved).
+            v2(payload::decode(Layout::MotionState, &head(&data[..4]), 0))
         }
         ID_RC_STATE => {
             need("rc_state", 8)?;
@@ -208,16 +198,6 @@ pub fn decode(frame: &CanFrame, hint: ProtocolHint) -> Result<Option<Decoded>, D
     }
 }
 
-fn system_state(data: &[u8], count: u8) -> SystemState {
-    SystemState {
-        vehicle_state: data[0],
-        control_mode: data[1],
-        battery_decivolts: be16(data, 2),
-        fault_code: be16(data, 4),
-        count,
-    }
-}
-
 fn decode_0x151(data: &[u8], hint: ProtocolHint) -> Result<Option<Decoded>, DecodeError> {
     if data.len() < 8 {
         return Err(DecodeError::TooShort {
@@ -236,7 +216,7 @@ fn decode_0x151(data: &[u8], hint: ProtocolHint) -> Result<Option<Decoded>, Deco
     if as_v1 {
         return decode_v1(ID_V1_SYSTEM_STATE, data);
     }
-    let message = Message::SystemState(system_state(data, data[7]));
+    let message = payload::decode(Layout::SystemState, &head(data), data[7]);
     Ok(Some(Decoded { wire: Wire::CanV2, message }))
 }
 
@@ -256,40 +236,15 @@ fn decode_v1(id: u32, data: &[u8]) -> Result<Option<Decoded>, DecodeError> {
     if computed != data[7] {
         return Err(DecodeError::BadChecksum { id, computed, found: data[7] });
     }
-    let count = data[6];
-    let lights = || Lights {
-        enable: data[0],
-        front_mode: data[1],
-        front_brightness: data[2],
-        rear_mode: data[3],
-        rear_brightness: data[4],
-        count,
+    let layout = match id {
+        ID_V1_MOTION_COMMAND => Layout::MotionCommand,
+        ID_V1_MOTION_STATE => Layout::MotionState,
+        ID_V1_LIGHT_COMMAND => Layout::LightCommand,
+        ID_V1_LIGHT_STATE => Layout::LightState,
+        ID_V1_SYSTEM_STATE => Layout::SystemState,
+        _ => Layout::MotorDriver((id - 0x200) as u8),
     };
-    let message = match id {
-        ID_V1_MOTION_COMMAND => Message::PercentMotionCommand(PercentMotionCommand {
-            control_mode: data[0],
-            fault_clear: data[1],
-            linear_percent: data[2] as i8,
-            angular_percent: data[3] as i8,
-            lateral_percent: data[4] as i8,
-            count,
-        }),
-        ID_V1_MOTION_STATE => Message::MotionState(MotionState {
-            linear_mm_s: be16s(data, 0),
-            angular_mrad_s: be16s(data, 2),
-            count,
-        }),
-        ID_V1_LIGHT_COMMAND => Message::LightCommand(lights()),
-        ID_V1_LIGHT_STATE => Message::LightState(lights()),
-        ID_V1_SYSTEM_STATE => Message::SystemState(system_state(data, count)),
-        _ => Message::MotorDriverState(MotorDriverState {
-            motor: (id - 0x200) as u8,
-            current_deciamps: be16(data, 0),
-            rpm: be16s(data, 2),
-            driver_temperature: data[4] as i8,
-            count,
-        }),
-    };
+    let message = payload::decode(layout, &head(data), data[6]);
     Ok(Some(Decoded { wire: Wire::CanV1, message }))
 }
 
@@ -303,11 +258,11 @@ pub fn encode_v2(message: &Message) -> Result<CanFrame, EncodeError> {
             (ID_MOTION_COMMAND, 8)
         }
         Message::LightCommand(lights) => {
-            put_lights_v2(&mut data, &lights);
+            data = v2_with_count(message, lights.count);
             (ID_LIGHT_COMMAND, 8)
         }
         Message::LightState(lights) => {
-            put_lights_v2(&mut data, &lights);
+            data = v2_with_count(message, lights.count);
             (ID_LIGHT_STATE, 8)
         }
         Message::ControlModeCommand(mode) => {
@@ -323,13 +278,11 @@ pub fn encode_v2(message: &Message) -> Result<CanFrame, EncodeError> {
             (ID_VERSION_REQUEST, 1)
         }
         Message::SystemState(state) => {
-            put_system_state(&mut data, &state);
-            data[7] = state.count;
+            data = v2_with_count(message, state.count);
             (ID_SYSTEM_STATE, 8)
         }
-        Message::MotionState(state) => {
-            data[0..2].copy_from_slice(&state.linear_mm_s.to_be_bytes());
-            data[2..4].copy_from_slice(&state.angular_mrad_s.to_be_bytes());
+        Message::MotionState(_) => {
+            data = v2_with_count(message, 0);
             (ID_MOTION_STATE, 8)
         }
         Message::RcState(rc) => {
@@ -375,70 +328,34 @@ pub fn encode_v2(message: &Message) -> Result<CanFrame, EncodeError> {
     Ok(CanFrame::new(id, &data[..len]).expect("V2 identifiers are standard and DLC <= 8"))
 }
 
-fn put_lights_v2(data: &mut [u8; 8], lights: &Lights) {
-    data[0] = lights.enable;
-    data[1] = lights.front_mode;
-    data[2] = lights.front_brightness;
-    data[3] = lights.rear_mode;
-    data[4] = lights.rear_brightness;
-    data[7] = lights.count;
+/// The shared payload in bytes 0-5 and V2's count in byte 7 (lights, system state, motion state).
+fn v2_with_count(message: &Message, count: u8) -> [u8; 8] {
+    let (_, bytes, _) = payload::encode(message).expect("a message with the shared layout");
+    [bytes[0], bytes[1], bytes[2], bytes[3], bytes[4], bytes[5], 0, count]
 }
 
-fn put_system_state(data: &mut [u8; 8], state: &SystemState) {
-    data[0] = state.vehicle_state;
-    data[1] = state.control_mode;
-    data[2..4].copy_from_slice(&state.battery_decivolts.to_be_bytes());
-    data[4..6].copy_from_slice(&state.fault_code.to_be_bytes());
+/// The first six bytes (zero-padded).
+fn head(data: &[u8]) -> [u8; 6] {
+    let mut bytes = [0u8; 6];
+    let len = data.len().min(6);
+    bytes[..len].copy_from_slice(&data[..len]);
+    bytes
 }
 
 /// Encodes a message for protocol V1: count in byte 6, checksum in byte 7.
 pub fn encode_v1(message: &Message) -> Result<CanFrame, EncodeError> {
-    let mut data = [0u8; 8];
-    let lights = |data: &mut [u8; 8], l: &Lights| {
-        *data = [l.enable, l.front_mode, l.front_brightness, l.rear_mode, l.rear_brightness, 0, l.count, 0];
+    let Some((layout, bytes, count)) = payload::encode(message) else {
+        return Err(EncodeError { name: message.name(), wire: "CAN V1" });
     };
-    let id = match *message {
-        Message::PercentMotionCommand(cmd) => {
-            data = [
-                cmd.control_mode,
-                cmd.fault_clear,
-                cmd.linear_percent as u8,
-                cmd.angular_percent as u8,
-                cmd.lateral_percent as u8,
-                0,
-                cmd.count,
-                0,
-            ];
-            ID_V1_MOTION_COMMAND
-        }
-        Message::MotionState(state) => {
-            data[0..2].copy_from_slice(&state.linear_mm_s.to_be_bytes());
-            data[2..4].copy_from_slice(&state.angular_mrad_s.to_be_bytes());
-            data[6] = state.count;
-            ID_V1_MOTION_STATE
-        }
-        Message::LightCommand(l) => {
-            lights(&mut data, &l);
-            ID_V1_LIGHT_COMMAND
-        }
-        Message::LightState(l) => {
-            lights(&mut data, &l);
-            ID_V1_LIGHT_STATE
-        }
-        Message::SystemState(state) => {
-            put_system_state(&mut data, &state);
-            data[6] = state.count;
-            ID_V1_SYSTEM_STATE
-        }
-        Message::MotorDriverState(motor) if matches!(motor.motor, 1 | 2) => {
-            data[0..2].copy_from_slice(&motor.current_deciamps.to_be_bytes());
-            data[2..4].copy_from_slice(&motor.rpm.to_be_bytes());
-            data[4] = motor.driver_temperature as u8;
-            data[6] = motor.count;
-            0x200 + u32::from(motor.motor)
-        }
-        _ => return Err(EncodeError { name: message.name(), wire: "CAN V1" }),
+    let id = match layout {
+        Layout::MotionCommand => ID_V1_MOTION_COMMAND,
+        Layout::MotionState => ID_V1_MOTION_STATE,
+        Layout::LightCommand => ID_V1_LIGHT_COMMAND,
+        Layout::LightState => ID_V1_LIGHT_STATE,
+        Layout::SystemState => ID_V1_SYSTEM_STATE,
+        Layout::MotorDriver(motor) => 0x200 + u32::from(motor),
     };
+    let mut data = [bytes[0], bytes[1], bytes[2], bytes[3], bytes[4], bytes[5], count, 0];
     data[7] = v1_checksum(id, &data);
     Ok(CanFrame::new(id, &data).expect("V1 identifiers are standard"))
 }

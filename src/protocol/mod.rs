@@ -7,6 +7,7 @@ pub mod faults;
 pub mod fields;
 pub mod frame;
 pub mod message;
+pub mod payload;
 pub mod serial;
 
 pub use can::{decode, DecodeError, ProtocolHint};

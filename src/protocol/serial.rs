@@ -9,6 +9,7 @@
 
 use super::can::EncodeError;
 use super::message::*;
+use super::payload::{self, Layout};
 
 pub const SOF1: u8 = 0x5A;
 pub const SOF2: u8 = 0xA5;
@@ -137,106 +138,38 @@ impl SerialFrame {
     }
 }
 
-fn be16(data: &[u8; 6], at: usize) -> u16 {
-    u16::from_be_bytes([data[at], data[at + 1]])
-}
-fn be16s(data: &[u8; 6], at: usize) -> i16 {
-    i16::from_be_bytes([data[at], data[at + 1]])
-}
-
 /// Decodes a verified frame. `None` for unknown command ids: callers show those raw, they are not errors.
 /// Reserved payload bytes are ignored; the frame id becomes the message's `count`.
 pub fn decode(frame: &SerialFrame) -> Option<Decoded> {
-    let d = &frame.payload;
-    let count = frame.frame_id;
-    let lights = Lights {
-        enable: d[0],
-        front_mode: d[1],
-        front_brightness: d[2],
-        rear_mode: d[3],
-        rear_brightness: d[4],
-        count,
-    };
-    let message = match (frame.frame_type, frame.command) {
-        (TYPE_FEEDBACK, CMD_SYSTEM_STATUS) => Message::SystemState(SystemState {
-            vehicle_state: d[0],
-            control_mode: d[1],
-            battery_decivolts: be16(d, 2),
-            fault_code: be16(d, 4),
-            count,
-        }),
-        (TYPE_FEEDBACK, CMD_MOTION_STATUS) => {
-            Message::MotionState(MotionState { linear_mm_s: be16s(d, 0), angular_mrad_s: be16s(d, 2), count })
-        }
+    let layout = match (frame.frame_type, frame.command) {
+        (TYPE_FEEDBACK, CMD_SYSTEM_STATUS) => Layout::SystemState,
+        (TYPE_FEEDBACK, CMD_MOTION_STATUS) => Layout::MotionState,
         (TYPE_FEEDBACK, command @ (CMD_MOTOR1_DRIVER | CMD_MOTOR2_DRIVER)) => {
-            Message::MotorDriverState(MotorDriverState {
-                motor: command - CMD_MOTOR1_DRIVER + 1,
-                current_deciamps: be16(d, 0),
-                rpm: be16s(d, 2),
-                driver_temperature: d[4] as i8,
-                count,
-            })
+            Layout::MotorDriver(command - CMD_MOTOR1_DRIVER + 1)
         }
-        (TYPE_FEEDBACK, CMD_LIGHT_STATUS) => Message::LightState(lights),
-        (TYPE_CONTROL, CMD_MOTION_CONTROL) => Message::PercentMotionCommand(PercentMotionCommand {
-            control_mode: d[0],
-            fault_clear: d[1],
-            linear_percent: d[2] as i8,
-            angular_percent: d[3] as i8,
-            lateral_percent: d[4] as i8,
-            count,
-        }),
-        (TYPE_CONTROL, CMD_LIGHT_CONTROL) => Message::LightCommand(lights),
+        (TYPE_FEEDBACK, CMD_LIGHT_STATUS) => Layout::LightState,
+        (TYPE_CONTROL, CMD_MOTION_CONTROL) => Layout::MotionCommand,
+        (TYPE_CONTROL, CMD_LIGHT_CONTROL) => Layout::LightCommand,
         _ => return None,
     };
+    let message = payload::decode(layout, &frame.payload, frame.frame_id);
     Some(Decoded { wire: Wire::Serial, message })
 }
 
 /// Encodes a message for RS232 with `frame_id` in byte 11 (the message's own `count` is not used).
 /// The inverse of `decode`. Messages with no serial form (the V2-only ones) are an error.
 pub fn encode(message: &Message, frame_id: u8) -> Result<SerialFrame, EncodeError> {
-    let lights = |l: &Lights| [l.enable, l.front_mode, l.front_brightness, l.rear_mode, l.rear_brightness, 0];
-    let mut payload = [0u8; 6];
-    let (frame_type, command) = match *message {
-        Message::PercentMotionCommand(cmd) => {
-            payload = [
-                cmd.control_mode,
-                cmd.fault_clear,
-                cmd.linear_percent as u8,
-                cmd.angular_percent as u8,
-                cmd.lateral_percent as u8,
-                0,
-            ];
-            (TYPE_CONTROL, CMD_MOTION_CONTROL)
-        }
-        Message::LightCommand(l) => {
-            payload = lights(&l);
-            (TYPE_CONTROL, CMD_LIGHT_CONTROL)
-        }
-        Message::SystemState(state) => {
-            payload[0] = state.vehicle_state;
-            payload[1] = state.control_mode;
-            payload[2..4].copy_from_slice(&state.battery_decivolts.to_be_bytes());
-            payload[4..6].copy_from_slice(&state.fault_code.to_be_bytes());
-            (TYPE_FEEDBACK, CMD_SYSTEM_STATUS)
-        }
-        Message::MotionState(state) => {
-            payload[0..2].copy_from_slice(&state.linear_mm_s.to_be_bytes());
-            payload[2..4].copy_from_slice(&state.angular_mrad_s.to_be_bytes());
-            (TYPE_FEEDBACK, CMD_MOTION_STATUS)
-        }
+    let Some((layout, payload, _)) = payload::encode(message) else {
+        return Err(EncodeError { name: message.name(), wire: "serial" });
+    };
+    let (frame_type, command) = match layout {
+        Layout::MotionCommand => (TYPE_CONTROL, CMD_MOTION_CONTROL),
+        Layout::LightCommand => (TYPE_CONTROL, CMD_LIGHT_CONTROL),
+        Layout::SystemState => (TYPE_FEEDBACK, CMD_SYSTEM_STATUS),
+        Layout::MotionState => (TYPE_FEEDBACK, CMD_MOTION_STATUS),
         // TRACER has two motors; Scout's 0x05/0x06 for motors 3 and 4 are not TRACER frames.
-        Message::MotorDriverState(motor) if matches!(motor.motor, 1 | 2) => {
-            payload[0..2].copy_from_slice(&motor.current_deciamps.to_be_bytes());
-            payload[2..4].copy_from_slice(&motor.rpm.to_be_bytes());
-            payload[4] = motor.driver_temperature as u8;
-            (TYPE_FEEDBACK, CMD_MOTOR1_DRIVER + motor.motor - 1)
-        }
-        Message::LightState(l) => {
-            payload = lights(&l);
-            (TYPE_FEEDBACK, CMD_LIGHT_STATUS)
-        }
-        _ => return Err(EncodeError { name: message.name(), wire: "serial" }),
+        Layout::MotorDriver(motor) => (TYPE_FEEDBACK, CMD_MOTOR1_DRIVER + motor - 1),
+        Layout::LightState => (TYPE_FEEDBACK, CMD_LIGHT_STATUS),
     };
     Ok(SerialFrame { frame_type, command, payload, frame_id })
 }
