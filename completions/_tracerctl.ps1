@@ -36,6 +36,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('decode', 'decode', [CompletionResultType]::ParameterValue, 'Decode candump logs, single frames or RS232 captures')
             [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the live bus, decoded, with warnings when periodic frames go stale')
             [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)')
+            [CompletionResult]::new('doctor', 'doctor', [CompletionResultType]::ParameterValue, 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)')
             [CompletionResult]::new('mode', 'mode', [CompletionResultType]::ParameterValue, 'Switch the control mode (0x421) and report the mode before and after')
             [CompletionResult]::new('clear-errors', 'clear-errors', [CompletionResultType]::ParameterValue, 'Clear latched faults (0x441) and report which bits cleared and which remain')
             [CompletionResult]::new('lights', 'lights', [CompletionResultType]::ParameterValue, 'Set the lights (0x121), confirmed from the light state (0x231)')
@@ -111,6 +112,25 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
             [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
             [CompletionResult]::new('--ignore-faults', '--ignore-faults', [CompletionResultType]::ParameterName, 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;doctor' {
+            [CompletionResult]::new('--listen', '--listen', [CompletionResultType]::ParameterName, 'How long to listen to the robot')
+            [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (colour is never used with NO_COLOR set)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'SocketCAN interface')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)')
+            [CompletionResult]::new('--probe', '--probe', [CompletionResultType]::ParameterName, 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)')
             [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
@@ -270,6 +290,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('decode', 'decode', [CompletionResultType]::ParameterValue, 'Decode candump logs, single frames or RS232 captures')
             [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the live bus, decoded, with warnings when periodic frames go stale')
             [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)')
+            [CompletionResult]::new('doctor', 'doctor', [CompletionResultType]::ParameterValue, 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)')
             [CompletionResult]::new('mode', 'mode', [CompletionResultType]::ParameterValue, 'Switch the control mode (0x421) and report the mode before and after')
             [CompletionResult]::new('clear-errors', 'clear-errors', [CompletionResultType]::ParameterValue, 'Clear latched faults (0x441) and report which bits cleared and which remain')
             [CompletionResult]::new('lights', 'lights', [CompletionResultType]::ParameterValue, 'Set the lights (0x121), confirmed from the light state (0x231)')
@@ -287,6 +308,9 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;help;drive' {
+            break
+        }
+        'tracerctl;help;doctor' {
             break
         }
         'tracerctl;help;mode' {

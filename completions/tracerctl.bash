@@ -31,6 +31,9 @@ _tracerctl() {
             tracerctl,decode)
                 cmd="tracerctl__subcmd__decode"
                 ;;
+            tracerctl,doctor)
+                cmd="tracerctl__subcmd__doctor"
+                ;;
             tracerctl,drive)
                 cmd="tracerctl__subcmd__drive"
                 ;;
@@ -64,6 +67,9 @@ _tracerctl() {
             tracerctl__subcmd__help,decode)
                 cmd="tracerctl__subcmd__help__subcmd__decode"
                 ;;
+            tracerctl__subcmd__help,doctor)
+                cmd="tracerctl__subcmd__help__subcmd__doctor"
+                ;;
             tracerctl__subcmd__help,drive)
                 cmd="tracerctl__subcmd__help__subcmd__drive"
                 ;;
@@ -92,7 +98,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --replay --speed --help --version decode monitor drive mode clear-errors lights send-raw sim dashboard dash completions help"
+            opts="-h -V --protocol --color --iface --serial --baud --sim --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -345,6 +351,60 @@ _tracerctl() {
             COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
             return 0
             ;;
+        tracerctl__subcmd__doctor)
+            opts="-f -h -V --probe --listen --format --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --listen)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
         tracerctl__subcmd__drive)
             opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --ignore-faults --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
@@ -416,7 +476,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help)
-            opts="decode monitor drive mode clear-errors lights send-raw sim dashboard completions help"
+            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -472,6 +532,20 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help__subcmd__decode)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__doctor)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )

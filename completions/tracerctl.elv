@@ -33,6 +33,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand decode 'Decode candump logs, single frames or RS232 captures'
             cand monitor 'Watch the live bus, decoded, with warnings when periodic frames go stale'
             cand drive 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+            cand doctor 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
             cand mode 'Switch the control mode (0x421) and report the mode before and after'
             cand clear-errors 'Clear latched faults (0x441) and report which bits cleared and which remain'
             cand lights 'Set the lights (0x121), confirmed from the light state (0x231)'
@@ -105,6 +106,24 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --replay 'Play a candump log back as a read-only source (monitor, dashboard)'
             cand --speed 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)'
             cand --ignore-faults 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
+            cand --sim 'Talk to an in-process virtual TRACER instead of a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'tracerctl;doctor'= {
+            cand --listen 'How long to listen to the robot'
+            cand -f 'Output format'
+            cand --format 'Output format'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (colour is never used with NO_COLOR set)'
+            cand --iface 'SocketCAN interface'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)'
+            cand --baud 'Serial baud rate'
+            cand --replay 'Play a candump log back as a read-only source (monitor, dashboard)'
+            cand --speed 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)'
+            cand --probe 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
             cand --sim 'Talk to an in-process virtual TRACER instead of a robot'
             cand -h 'Print help (see more with ''--help'')'
             cand --help 'Print help (see more with ''--help'')'
@@ -255,6 +274,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand decode 'Decode candump logs, single frames or RS232 captures'
             cand monitor 'Watch the live bus, decoded, with warnings when periodic frames go stale'
             cand drive 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+            cand doctor 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
             cand mode 'Switch the control mode (0x421) and report the mode before and after'
             cand clear-errors 'Clear latched faults (0x441) and report which bits cleared and which remain'
             cand lights 'Set the lights (0x121), confirmed from the light state (0x231)'
@@ -269,6 +289,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help;monitor'= {
         }
         &'tracerctl;help;drive'= {
+        }
+        &'tracerctl;help;doctor'= {
         }
         &'tracerctl;help;mode'= {
         }

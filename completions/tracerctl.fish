@@ -41,6 +41,7 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -s V -l version -d 'Pr
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
@@ -119,6 +120,24 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-fau
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Output format' -r -f -a "text\t'One line per check, then the verdict'
+json\t'One JSON object (docs/json.md)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
+always\t''
+never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l probe -d 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l timeout -d 'How long to wait for the robot to confirm' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
@@ -266,14 +285,15 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l spee
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive mode clear-errors lights send-raw sim dashboard completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -44,6 +44,9 @@ pub enum Command {
     Monitor(MonitorArgs),
     /// Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)
     Drive(DriveArgs),
+    /// Why isn't it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)
+    #[command(after_help = DOCTOR_AFTER_HELP)]
+    Doctor(DoctorArgs),
     /// Switch the control mode (0x421) and report the mode before and after
     Mode(ModeArgs),
     /// Clear latched faults (0x441) and report which bits cleared and which remain
@@ -293,6 +296,33 @@ A key counts as held until the terminal reports its release (kitty keyboard prot
 WezTerm, alacritty, Ghostty, iTerm2) or, in other terminals and in tmux, until no auto-repeat arrives
 before a deadline learned from the key stream. The mode in use is on screen. If input or drawing stalls,
 the robot is commanded to zero within 250 ms; every exit sends zero-velocity frames.";
+
+const DOCTOR_AFTER_HELP: &str = "\
+Checks in order: kernel CAN support, the interface (exists, up, 500 kbit/s, error state and counters) or
+the serial port; then, listening to the robot: frames arriving, protocol version (or the RS232 frame
+stream: checksum errors, sync losses), system status rate, other controllers on the bus, control mode
+and RC override, E-stop, faults, battery, motors. Every WARN and FAIL says what to do.
+
+--probe also sends the command-mode command (0x421 = 01; on RS232 and V1 a zero-speed motion command)
+and zero-velocity motion commands for 0.5 s, and checks the robot takes them. It never commands motion,
+and puts back a standby or serial mode it changed.
+
+Exit status: 0 the robot can be driven (no FAIL), 4 it cannot, 2 usage error.";
+
+#[derive(Debug, Args)]
+pub struct DoctorArgs {
+    /// Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)
+    #[arg(long)]
+    pub probe: bool,
+
+    /// How long to listen to the robot
+    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    pub listen: std::time::Duration,
+
+    /// Output format
+    #[arg(long, short = 'f', value_enum, default_value_t = crate::commands::doctor::report::ReportFormat::Text)]
+    pub format: crate::commands::doctor::report::ReportFormat,
+}
 
 #[derive(Debug, Args)]
 pub struct DashboardArgs {

@@ -12,9 +12,9 @@ use anyhow::{Context, Result};
 use crate::link::{self, Codec, FrameRx, FrameTx, LinkChoice, LinkFrame, LinkKind, RxStats};
 use crate::protocol::detect::{ProtocolDetector, Verdict};
 use crate::protocol::message::{
-    Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, SystemState,
+    Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, RcState, SystemState,
 };
-use crate::protocol::{Decoded, Message, ProtocolHint, Wire};
+use crate::protocol::{CanFrame, Decoded, Message, ProtocolHint, Wire};
 
 /// How many distinct identifiers `RobotStatus::id_counts` keeps.
 pub const MAX_COUNTED_IDS: usize = 64;
@@ -24,12 +24,18 @@ pub const MAX_COUNTED_IDS: usize = 64;
 pub struct RobotStatus {
     /// System state and the wire it came on (which decides the fault-bit table).
     pub system: Option<(Instant, SystemState, Wire)>,
+    /// System-state frames received (0x211, 0x151, RS232 system status).
+    pub system_frames: u64,
     pub motion: Option<(Instant, MotionState)>,
     pub lights: Option<(Instant, Lights)>,
     pub motor_high: [Option<MotorHighSpeed>; 2],
     pub motor_driver: [Option<MotorDriverState>; 2],
     pub motor_low: [Option<MotorLowSpeed>; 2],
     pub odometry: Option<Odometry>,
+    /// RC transmitter state (0x241), if the robot sends it.
+    pub rc: Option<(Instant, RcState)>,
+    /// The latest CAN error frame.
+    pub last_error_frame: Option<CanFrame>,
     pub detector: ProtocolDetector,
     pub frames: u64,
     /// Frames per identifier: CAN standard IDs as-is, extended ones with bit 31 set, RS232 frames as
@@ -58,7 +64,10 @@ impl RobotStatus {
 
     fn apply(&mut self, now: Instant, decoded: &Decoded) {
         match decoded.message {
-            Message::SystemState(state) => self.system = Some((now, state, decoded.wire)),
+            Message::SystemState(state) => {
+                self.system = Some((now, state, decoded.wire));
+                self.system_frames += 1;
+            }
             Message::MotionState(state) => self.motion = Some((now, state)),
             Message::LightState(lights) => self.lights = Some((now, lights)),
             Message::MotorHighSpeed(motor) if matches!(motor.motor, 1 | 2) => {
@@ -71,6 +80,7 @@ impl RobotStatus {
                 self.motor_low[usize::from(motor.motor - 1)] = Some(motor)
             }
             Message::Odometry(odometry) => self.odometry = Some(odometry),
+            Message::RcState(rc) => self.rc = Some((now, rc)),
             _ => {}
         }
     }
@@ -158,6 +168,11 @@ impl Session {
             recorder,
             simulator,
         })
+    }
+
+    /// The protocol version the user asked for (`--protocol`).
+    pub fn hint(&self) -> ProtocolHint {
+        self.hint
     }
 
     /// The wire commands are encoded for.
@@ -354,6 +369,9 @@ fn read_loop(
                 status.last_frame = Some(now);
                 if let LinkFrame::Can(frame) = &received.frame {
                     status.detector.observe(frame);
+                    if frame.kind() == crate::protocol::FrameKind::Error {
+                        status.last_error_frame = Some(*frame);
+                    }
                 }
                 let hint = match hint {
                     ProtocolHint::Auto => status.detector.hint(),

@@ -4,6 +4,7 @@ pub mod clear_errors;
 pub mod completions;
 pub mod dashboard;
 pub mod decode;
+pub mod doctor;
 pub mod drive;
 pub mod lights;
 pub mod live;
@@ -21,6 +22,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         Command::Completions(ref args) => completions::run(args),
         Command::Monitor(ref args) => monitor::run(&cli, args),
         Command::Drive(ref args) => drive::run(&cli, args),
+        Command::Doctor(ref args) => doctor::run(&cli, args),
         Command::Mode(ref args) => mode::run(&cli, args),
         Command::ClearErrors(ref args) => clear_errors::run(&cli, args),
         Command::Lights(ref args) => lights::run(&cli, args),

@@ -4,6 +4,8 @@
 //! [`FrameRx`] owned by the one thread that reads. Both work with [`LinkFrame`]s; [`Codec`] turns messages
 //! into the frames of the link's wire and back, so commands never care which link they use.
 
+#[cfg(target_os = "linux")]
+pub mod can_interface;
 pub mod channel;
 pub mod replay;
 pub mod serial;
@@ -47,6 +49,9 @@ pub struct RxStats {
     /// RS232: candidates dropped for a bad checksum, and bytes that were not part of a frame.
     pub serial_bad_checksum: u64,
     pub serial_skipped_bytes: u64,
+    /// RS232: bytes read, and times frame sync was lost after a good frame.
+    pub serial_bytes: u64,
+    pub serial_sync_losses: u64,
 }
 
 /// The sending half. `&self`, so one handle can be shared by several threads.

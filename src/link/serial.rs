@@ -71,7 +71,10 @@ impl FrameRx for SerialRx {
             }
             StreamEvent::BadChecksum { .. } => stats.serial_bad_checksum += 1,
         });
-        self.stats.serial_skipped_bytes = self.decoder.stats().skipped_bytes;
+        let stream = self.decoder.stats();
+        self.stats.serial_skipped_bytes = stream.skipped_bytes;
+        self.stats.serial_bytes = stream.bytes;
+        self.stats.serial_sync_losses = stream.sync_losses;
         Ok(self.ready.pop_front())
     }
 

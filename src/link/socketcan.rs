@@ -4,13 +4,13 @@
 use std::io;
 use std::mem::{size_of, zeroed};
 use std::os::fd::{AsRawFd, RawFd};
-use std::path::Path;
 use std::ptr;
 use std::sync::Arc;
 use std::time::Duration;
 
 use socketcan::{CanSocket, Socket, SocketOptions};
 
+use super::can_interface::{self, Presence};
 use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
 use crate::candump::{Timestamp, TimestampKind};
 use crate::protocol::frame::{EFF_MAX, ERR_FLAG};
@@ -18,8 +18,6 @@ use crate::protocol::{CanFrame, FrameKind, Wire};
 
 const CAN_EFF_FLAG: u32 = 0x8000_0000;
 const CAN_RTR_FLAG: u32 = 0x4000_0000;
-/// `ARPHRD_CAN`, the link type of CAN interfaces in /sys/class/net/*/type.
-const ARPHRD_CAN: u32 = 280;
 /// `SO_RXQ_OVFL`: the kernel reports, with every frame, how many frames this socket has dropped.
 const SO_RXQ_OVFL: libc::c_int = 40;
 
@@ -179,45 +177,16 @@ pub fn explain_io(error: io::Error, iface: &str) -> io::Error {
     io::Error::new(error.kind(), format!("{hint} ({error})"))
 }
 
-fn sys_net(iface: &str, file: &str) -> Option<String> {
-    std::fs::read_to_string(Path::new("/sys/class/net").join(iface).join(file))
-        .ok()
-        .map(|s| s.trim().to_string())
-}
-
 /// Opens `iface`, checking in order: the kernel has CAN, the interface exists, is CAN, and is up.
 pub fn open(iface: &str) -> anyhow::Result<Link> {
-    // SAFETY: a plain socket(2) call; the descriptor is closed right away.
-    let probe = unsafe { libc::socket(libc::PF_CAN, libc::SOCK_RAW, libc::CAN_RAW) };
-    if probe < 0 {
-        let error = io::Error::last_os_error();
-        if error.raw_os_error() == Some(libc::EAFNOSUPPORT) {
-            anyhow::bail!(
-                "this kernel has no SocketCAN support ({error}): load it with `sudo modprobe can can-raw` \
-                 (plus your adapter's driver, e.g. gs_usb or peak_usb), or use --serial PORT or --sim"
-            );
-        }
-        anyhow::bail!("cannot create a CAN socket: {error}");
+    can_interface::kernel_support().map_err(anyhow::Error::msg)?;
+    match can_interface::presence(iface) {
+        Presence::Missing => anyhow::bail!(can_interface::missing_message(iface)),
+        Presence::NotCan => anyhow::bail!(can_interface::not_can_message(iface)),
+        Presence::Can { .. } => {}
     }
-    // SAFETY: `probe` is a descriptor we own.
-    unsafe { libc::close(probe) };
-    if sys_net(iface, "type").is_none() {
-        anyhow::bail!(
-            "CAN interface {iface} does not exist: list interfaces with `ip -br link show type can`; \
-             check the adapter with `dmesg | tail`; to test without hardware: \
-             `sudo ip link add dev vcan0 type vcan && sudo ip link set up vcan0` and --iface vcan0"
-        );
-    }
-    if sys_net(iface, "type").and_then(|t| t.parse::<u32>().ok()) != Some(ARPHRD_CAN) {
-        anyhow::bail!("{iface} is not a CAN interface (see `ip -br link show type can`)");
-    }
-    let flags =
-        sys_net(iface, "flags").and_then(|f| u32::from_str_radix(f.trim_start_matches("0x"), 16).ok());
-    if flags.is_some_and(|flags| flags & 1 == 0) {
-        anyhow::bail!(
-            "CAN interface {iface} is down: bring it up with `sudo ip link set {iface} up type can bitrate 500000` \
-             (a vcan interface: `sudo ip link set up {iface}`)"
-        );
+    if !can_interface::is_up(iface) {
+        anyhow::bail!(can_interface::down_message(iface));
     }
     let socket = CanSocket::open(iface).map_err(|error| match error.kind() {
         io::ErrorKind::PermissionDenied => anyhow::anyhow!(
@@ -272,7 +241,7 @@ mod tests {
         // error names the fix.
         let error = open("tracerctl-no-such0").err().expect("cannot open").to_string();
         assert!(
-            error.contains("modprobe can can-raw") || error.contains("does not exist: list interfaces"),
+            error.contains("modprobe can can-raw") || error.contains("ip -br link show type can"),
             "{error}"
         );
     }

@@ -223,6 +223,9 @@ pub struct StreamStats {
     pub bad_type: u64,
     /// Bytes not part of any delivered frame (noise, rejected candidates, an unfinished frame at the end).
     pub skipped_bytes: u64,
+    /// Times the stream lost frame sync: bytes had to be skipped right after a good frame (noise or a
+    /// corrupted frame). Bytes before the first frame and an unfinished frame at the end are not losses.
+    pub sync_losses: u64,
 }
 
 /// Incremental stream decoder: feed arbitrary chunks, get every valid frame.
@@ -237,6 +240,8 @@ pub struct StreamDecoder {
     window: [u8; FRAME_SIZE],
     len: usize,
     stats: StreamStats,
+    /// The last thing examined was a good frame: skipping bytes now is a loss of sync.
+    in_sync: bool,
 }
 
 impl StreamDecoder {
@@ -251,7 +256,7 @@ impl StreamDecoder {
                 // Nothing pending: jump straight to the next possible start of frame.
                 let junk = bytes.iter().position(|&b| b == SOF1).unwrap_or(bytes.len());
                 self.stats.bytes += junk as u64;
-                self.stats.skipped_bytes += junk as u64;
+                self.skip(junk);
                 bytes = &bytes[junk..];
                 if bytes.is_empty() {
                     break;
@@ -271,6 +276,8 @@ impl StreamDecoder {
     pub fn finish(&mut self) -> StreamStats {
         // The pending candidate can never complete; rescan its bytes as after any failed candidate so
         // rejections inside it are counted too. Fewer than 13 bytes remain, so no event can occur.
+        // A stream cut off mid-frame has not lost sync.
+        self.in_sync = false;
         while self.len > 0 {
             self.drop_front(1);
             self.settle(&mut |_| {});
@@ -300,6 +307,7 @@ impl StreamDecoder {
                         let frame = SerialFrame::from_checked(&self.window);
                         self.len = 0;
                         self.stats.frames += 1;
+                        self.in_sync = true;
                         on_event(StreamEvent::Frame { offset, frame });
                         return;
                     }
@@ -319,6 +327,15 @@ impl StreamDecoder {
     fn drop_front(&mut self, count: usize) {
         self.window.copy_within(count..self.len, 0);
         self.len -= count;
+        self.skip(count);
+    }
+
+    /// Counts skipped bytes; skipping right after a good frame is a loss of sync.
+    fn skip(&mut self, count: usize) {
+        if count > 0 && self.in_sync {
+            self.stats.sync_losses += 1;
+            self.in_sync = false;
+        }
         self.stats.skipped_bytes += count as u64;
     }
 }
@@ -528,6 +545,7 @@ mod tests {
         assert_eq!(stats.frames, 2);
         assert_eq!(stats.bad_checksum, 1);
         assert_eq!(stats.skipped_bytes, 13);
+        assert_eq!(stats.sync_losses, 1);
     }
 
     #[test]
@@ -561,7 +579,9 @@ mod tests {
                 bad_length: 1,
                 bad_type: 1,
                 skipped_bytes: 7,
-                bad_checksum: 0
+                bad_checksum: 0,
+                // The bad-type candidate right after the first frame; the bad length came before any frame.
+                sync_losses: 1,
             }
         );
     }
@@ -580,6 +600,19 @@ mod tests {
         assert_eq!(offsets, [3, 21]);
         assert_eq!(stats.skipped_bytes, 3 + 5 + 2);
         assert_eq!(stats.bytes, 36);
+        // Noise before the first frame is not a loss; the runs after each frame are.
+        assert_eq!(stats.sync_losses, 2);
+    }
+
+    #[test]
+    fn sync_losses_count_runs_of_noise_after_good_frames_not_bytes() {
+        let stream = bytes(&format!("{MANUAL} {MANUAL} 00 11 22 {MANUAL} {MANUAL} 33 {BACK_10} 5A A5"));
+        for chunks in [stream.chunks(1).collect::<Vec<_>>(), vec![stream.as_slice()]] {
+            let (events, stats) = run(chunks);
+            assert_eq!(events.len(), 5);
+            // Two runs of noise (3 bytes, 1 byte); the unfinished frame at the end is not a loss.
+            assert_eq!((stats.sync_losses, stats.skipped_bytes), (2, 3 + 1 + 2));
+        }
     }
 
     #[test]

@@ -382,13 +382,14 @@ impl Summary {
             let _ = writeln!(
                 w,
                 "  serial {name}: {} bytes, {} frames, {} bad checksums, {} bad length bytes, {} bad frame types, \
-                 {} bytes skipped",
+                 {} bytes skipped, {} sync losses",
                 serial.bytes,
                 serial.frames,
                 serial.bad_checksum,
                 serial.bad_length,
                 serial.bad_type,
-                serial.skipped_bytes
+                serial.skipped_bytes,
+                serial.sync_losses
             );
         }
         if !self.interfaces.is_empty() {
@@ -633,7 +634,7 @@ impl Summary {
             "error_frames": ERROR_CLASSES.iter().zip(self.error_classes).filter(|(_, n)| *n > 0).map(|((_, name), n)| json!({"class": name, "frames": n})).collect::<Vec<_>>(),
             "serial": stats.serial.iter().map(|(name, s)| json!({"input": name, "bytes": s.bytes, "frames": s.frames,
                 "bad_checksum": s.bad_checksum, "bad_length": s.bad_length, "bad_type": s.bad_type,
-                "skipped_bytes": s.skipped_bytes})).collect::<Vec<_>>(),
+                "skipped_bytes": s.skipped_bytes, "sync_losses": s.sync_losses})).collect::<Vec<_>>(),
         })
     }
 

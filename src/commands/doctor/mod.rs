@@ -1,0 +1,200 @@
+//! `tracerctl doctor`: why isn't it moving? Checks, in order, everything between this machine and the
+//! wheels, and prints PASS / WARN / FAIL per check with what to do:
+//!
+//! 1. the link: SocketCAN in the kernel, the interface, up, 500 kbit/s, its error state (or the serial
+//!    port and baud rate);
+//! 2. what the robot sends while we listen: frames, protocol version (or the RS232 frame stream), the
+//!    system status rate, other controllers on the bus, control mode and RC override, E-stop, faults,
+//!    battery, motors;
+//! 3. with `--probe`: whether the robot takes a control-mode command and zero-velocity motion commands.
+//!    The probe never commands motion; it puts back a standby or serial mode it changed.
+//!
+//! Exit status 0 when the robot can be driven (no FAIL), 4 when it cannot.
+
+mod link_checks;
+mod probe;
+pub mod report;
+pub mod robot;
+
+use std::io::{IsTerminal, Write};
+use std::time::{Duration, Instant};
+
+use anyhow::Result;
+
+use crate::cli::{Cli, DoctorArgs};
+use crate::exit::{Failure, NOT_DONE, SUCCESS, USAGE};
+use crate::link::{LinkChoice, LinkKind};
+use crate::session::Session;
+use report::{Check, Report};
+
+pub fn run(cli: &Cli, args: &DoctorArgs) -> Result<u8> {
+    let choice = LinkChoice::from_args(&cli.link)?;
+    if args.probe && matches!(choice, LinkChoice::Replay { .. }) {
+        return Err(Failure {
+            code: USAGE,
+            message: "--probe sends commands and needs a live link; --replay is read-only".to_string(),
+        }
+        .into());
+    }
+    let stdout = std::io::stdout();
+    let color = cli.color.enabled(stdout.is_terminal());
+    let mut out = stdout.lock();
+    let mut report = Report::new(&mut out, args.format, color, link_name(&choice));
+    report.heading(&format!(
+        "tracerctl doctor: {}, protocol {}, listening {}{}",
+        describe_link(&choice),
+        format!("{:?}", cli.protocol).to_ascii_lowercase(),
+        humantime::format_duration(args.listen),
+        if args.probe { ", then probing" } else { "" }
+    ))?;
+
+    let opened = match &choice {
+        #[cfg(target_os = "linux")]
+        LinkChoice::SocketCan { iface } => {
+            let (checks, ok) = link_checks::can_interface(iface);
+            add_all(&mut report, checks)?;
+            ok
+        }
+        #[cfg(not(target_os = "linux"))]
+        LinkChoice::SocketCan { .. } => {
+            report.add(Check::fail(
+                "kernel_can",
+                "kernel CAN",
+                "SocketCAN exists only on Linux",
+                "use --serial PORT, or run on Linux",
+            ))?;
+            false
+        }
+        LinkChoice::Serial { path, baud } => {
+            let checks = link_checks::serial_port(path, *baud);
+            let exists = !checks.iter().any(|check| check.outcome == report::Outcome::Fail);
+            add_all(&mut report, checks)?;
+            exists
+        }
+        LinkChoice::Sim => {
+            report.add(Check::pass("link", "link", "in-process virtual TRACER (--sim)"))?;
+            true
+        }
+        LinkChoice::Replay { path, .. } => {
+            report.add(Check::pass("link", "link", format!("replaying {} (read-only)", path.display())))?;
+            true
+        }
+    };
+    let session = if opened {
+        match Session::open(&choice, cli.protocol.into(), None) {
+            Ok(session) => {
+                if let LinkChoice::Serial { path, baud } = &choice {
+                    report.add(Check::pass(
+                        "serial_port",
+                        "serial port",
+                        format!("{} open at {baud} baud, 8N1", path.display()),
+                    ))?;
+                }
+                Some(session)
+            }
+            Err(error) => {
+                let (id, title) = match choice {
+                    LinkChoice::Serial { .. } => ("serial_port", "serial port"),
+                    _ => ("open", "open link"),
+                };
+                report.add(Check::fail(id, title, "cannot open the link", format!("{error:#}")))?;
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let signal = match &session {
+        Some(session) => examine(session, args, &mut report)?,
+        None => {
+            let can = matches!(choice, LinkChoice::SocketCan { .. });
+            add_all(&mut report, robot::skipped("frames", "the link is not usable", can))?;
+            None
+        }
+    };
+    let drivable = report.finish(args.probe && session.is_some())?;
+    Ok(exit_status(drivable, signal))
+}
+
+fn exit_status(drivable: bool, signal: Option<u8>) -> u8 {
+    match (signal, drivable) {
+        (Some(status), _) => status,
+        (None, true) => SUCCESS,
+        (None, false) => NOT_DONE,
+    }
+}
+
+/// Runs the checks of what the robot sends (and the probe) on an open session; prints the report to
+/// `out` and returns the exit status. For tests and for `run`.
+pub fn execute(session: &Session, args: &DoctorArgs, out: &mut impl Write) -> Result<u8> {
+    let mut report = Report::new(out, args.format, false, session.name.clone());
+    let signal = examine(session, args, &mut report)?;
+    let drivable = report.finish(args.probe)?;
+    Ok(exit_status(drivable, signal))
+}
+
+/// Listens for `--listen`, checks what arrived, then probes if asked. The exit status of a termination
+/// signal that interrupted the probe, if one did.
+fn examine<W: Write>(session: &Session, args: &DoctorArgs, report: &mut Report<W>) -> Result<Option<u8>> {
+    let started = Instant::now();
+    // A link that fails ends the listening early; everything else is heard out.
+    session.wait_for(args.listen, |status| status.link_error.as_ref().map(|_| ()));
+    if session.kind != LinkKind::Replay || session.status().link_error.is_none() {
+        session.settle_protocol(Duration::ZERO);
+    }
+    let status = session.status();
+    let seen = robot::Observation {
+        status: &status,
+        listened: started.elapsed(),
+        link: &session.name,
+        kind: session.kind,
+        wire: session.wire(),
+        hint: session.hint(),
+        now: Instant::now(),
+    };
+    let checks = robot::checks(&seen);
+    add_all(report, checks)?;
+    if args.probe {
+        if status.system.is_none() {
+            report.add(Check::skip(
+                "probe_mode",
+                "probe: mode",
+                "no system status to confirm a command with",
+            ))?;
+            report.add(Check::skip("probe_motion", "probe: zero motion", "no system status"))?;
+        } else {
+            // The probe only ever sends zero velocity; a signal ends it early and cleanly.
+            let signals = crate::signals::listen(|_| {})?;
+            for check in probe::run(session, &signals)? {
+                report.add(check)?;
+            }
+            return Ok(signals.exit_status());
+        }
+    }
+    Ok(None)
+}
+
+fn add_all<W: Write>(report: &mut Report<W>, checks: Vec<Check>) -> std::io::Result<()> {
+    for check in checks {
+        report.add(check)?;
+    }
+    Ok(())
+}
+
+fn link_name(choice: &LinkChoice) -> String {
+    match choice {
+        LinkChoice::SocketCan { iface } => iface.clone(),
+        LinkChoice::Serial { path, .. } => path.display().to_string(),
+        LinkChoice::Sim => "sim".to_string(),
+        LinkChoice::Replay { path, .. } => path.display().to_string(),
+    }
+}
+
+fn describe_link(choice: &LinkChoice) -> String {
+    match choice {
+        LinkChoice::SocketCan { iface } => format!("{iface} (SocketCAN)"),
+        LinkChoice::Serial { path, baud } => format!("{} (RS232, {baud} baud)", path.display()),
+        LinkChoice::Sim => "the in-process virtual TRACER".to_string(),
+        LinkChoice::Replay { path, .. } => format!("{} (replay)", path.display()),
+    }
+}

@@ -1,0 +1,229 @@
+//! `doctor --probe`: does the robot take commands? Sends the command-mode command (0x421 = 01 on V2; a
+//! zero-speed motion command on RS232 and V1, which carries the mode), then zero-velocity motion commands
+//! at 50 Hz for half a second, and watches the status. Never commands motion. A standby or serial mode
+//! that the probe changed is put back.
+
+use std::time::{Duration, Instant};
+
+use anyhow::Result;
+
+use super::report::Check;
+use crate::cli::ModeChoice;
+use crate::commands::live;
+use crate::commands::mode::{command_frame, send_until, Attempt};
+use crate::link::LinkKind;
+use crate::protocol::message::{MotionCommand, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
+use crate::protocol::Wire;
+use crate::session::Session;
+use crate::signals::SignalFlag;
+
+/// How long to wait for the mode to switch (the command is sent up to three times).
+const MODE_TIMEOUT: Duration = Duration::from_millis(600);
+const MODE_RESENDS: u32 = 2;
+/// Zero-velocity commands: 25 frames, one every 20 ms.
+const MOTION_FRAMES: u32 = 25;
+const MOTION_PERIOD: Duration = Duration::from_millis(20);
+/// Speeds below these count as standing still.
+const STILL_LINEAR: f64 = 0.01;
+const STILL_ANGULAR: f64 = 0.01;
+
+pub fn run(session: &Session, signals: &SignalFlag) -> Result<Vec<Check>> {
+    let wire = session.wire();
+    let (choice, wanted) = match wire {
+        Wire::CanV2 | Wire::CanV1 => (ModeChoice::Can, MODE_CAN),
+        Wire::Serial => (ModeChoice::Serial, MODE_SERIAL),
+    };
+    let before = session.status().system.map(|(_, state, _)| state.control_mode);
+    let mut checks = vec![probe_mode(session, choice, wanted)?];
+    let mode_ok = checks[0].outcome == super::report::Outcome::Pass;
+    checks.push(probe_motion(session, wanted, mode_ok, signals)?);
+    // 0x421 can put back standby or serial mode on V2; RC mode comes back by itself (it is a switch).
+    if let (Wire::CanV2, Some(mode @ (MODE_STANDBY | MODE_SERIAL))) = (wire, before) {
+        if mode_ok {
+            checks.push(restore(session, mode)?);
+        }
+    }
+    Ok(checks)
+}
+
+fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check> {
+    const ID: &str = "probe_mode";
+    const TITLE: &str = "probe: mode";
+    let wire = session.wire();
+    let sent = match wire {
+        Wire::CanV2 => "0x421 = 01",
+        Wire::CanV1 => "a zero-speed 0x130 (CAN mode)",
+        Wire::Serial => "a zero-speed serial command (serial mode)",
+    };
+    let before = session.status().system.map(|(_, state, wire)| live::mode_name(state.control_mode, wire));
+    let attempt = switch_mode(session, choice, wanted);
+    let attempt = match attempt {
+        Ok(attempt) => attempt,
+        Err(error) => return Ok(Check::fail(ID, TITLE, format!("cannot send {sent}"), format!("{error:#}"))),
+    };
+    let wanted_name = live::mode_name(wanted, wire);
+    if let Some(after) = attempt.found {
+        let from = before.unwrap_or_else(|| "unknown".to_string());
+        return Ok(Check::pass(
+            ID,
+            TITLE,
+            format!("{sent} accepted: {from} -> {wanted_name} in {} ms", after.as_millis()),
+        ));
+    }
+    let status = session.status();
+    let latest = status.system.filter(|(at, ..)| *at > attempt.first_sent);
+    Ok(match latest {
+        Some((_, state, state_wire)) => Check::fail(
+            ID,
+            TITLE,
+            format!(
+                "sent {sent} {} times; the robot stayed in {} mode",
+                attempt.sends,
+                live::mode_name(state.control_mode, state_wire)
+            ),
+            live::why_not_command_mode(&state, state_wire),
+        ),
+        None => Check::fail(
+            ID,
+            TITLE,
+            format!("sent {sent}; no system status came back"),
+            live::no_status_message(session, &status),
+        ),
+    })
+}
+
+fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFlag) -> Result<Check> {
+    const ID: &str = "probe_motion";
+    const TITLE: &str = "probe: zero motion";
+    let bus_before = bus_errors(session);
+    let started = Instant::now();
+    let mut sent = 0;
+    let mut send_error = None;
+    // On an absolute grid, like the drive sender: a slow send does not stretch the period.
+    for index in 0..MOTION_FRAMES {
+        if signals.received().is_some() {
+            break;
+        }
+        let frame = session.codec().motion(MotionCommand::STOP);
+        match session.send(&frame) {
+            Ok(()) => sent += 1,
+            Err(error) => {
+                send_error = Some(format!("{error:#}"));
+                break;
+            }
+        }
+        let next = started + MOTION_PERIOD * (index + 1);
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+    }
+    let what = match session.wire() {
+        Wire::CanV2 => "zero-velocity 0x111",
+        Wire::CanV1 => "zero-velocity 0x130",
+        Wire::Serial => "zero-velocity serial",
+    };
+    let elapsed = started.elapsed().as_secs_f64();
+    if let Some(error) = send_error {
+        return Ok(Check::fail(
+            ID,
+            TITLE,
+            format!("{sent} {what} frames sent, then the link refused one"),
+            error,
+        ));
+    }
+    if let Some(name) = signals.received().map(|_| signals.name()) {
+        return Ok(Check::fail(
+            ID,
+            TITLE,
+            format!("interrupted by {name} after {sent} frames"),
+            "run doctor again",
+        ));
+    }
+    let status = session.status();
+    let mut finding = format!("{sent} {what} frames in {elapsed:.1} s, all sent");
+    let mut problems = Vec::new();
+    match status.system.filter(|(at, ..)| *at > started) {
+        None => problems.push("no system status arrived while sending".to_string()),
+        Some((_, state, state_wire)) => {
+            let mode = live::mode_name(state.control_mode, state_wire);
+            if mode_ok && state.control_mode != wanted {
+                problems.push(format!("the robot left command mode ({mode})"));
+            } else {
+                finding.push_str(&format!("; mode {mode}"));
+            }
+        }
+    }
+    match status.motion.filter(|(at, _)| *at > started) {
+        Some((_, motion)) if motion.linear().abs() < STILL_LINEAR && motion.angular().abs() < STILL_ANGULAR => {
+            finding.push_str(&format!("; the robot reports {:.2} m/s, {:.2} rad/s", motion.linear(), motion.angular()))
+        }
+        Some((_, motion)) => problems.push(format!(
+            "the robot reports motion ({:.2} m/s, {:.2} rad/s) although zero was commanded: another controller?",
+            motion.linear(),
+            motion.angular()
+        )),
+        None => {}
+    }
+    if let (Some(before), Some(after)) = (bus_before, bus_errors(session)) {
+        if after > before {
+            problems.push(format!(
+                "the transmit error counter rose from {before} to {after}: our frames are not acknowledged"
+            ));
+        }
+    }
+    if problems.is_empty() {
+        Ok(Check::pass(ID, TITLE, finding))
+    } else {
+        Ok(Check::fail(
+            ID,
+            TITLE,
+            format!("{finding}; {}", problems.join("; ")),
+            "fix what the earlier checks report; if they all pass, check the wiring and termination",
+        ))
+    }
+}
+
+/// Puts back the mode the robot was in.
+fn restore(session: &Session, mode: u8) -> Result<Check> {
+    const ID: &str = "probe_restore";
+    const TITLE: &str = "probe: restore";
+    let name = live::mode_name(mode, Wire::CanV2);
+    let choice = if mode == MODE_SERIAL { ModeChoice::Serial } else { ModeChoice::Standby };
+    Ok(match switch_mode(session, choice, mode)?.found {
+        Some(_) => Check::pass(ID, TITLE, format!("control mode back to {name}")),
+        None => Check::warn(
+            ID,
+            TITLE,
+            format!("could not put the control mode back to {name}"),
+            format!("`tracerctl mode {name}` if the robot should stay in {name}"),
+        ),
+    })
+}
+
+/// Sends the command for `choice` (up to three times) until the status reports `mode`; found = how long
+/// after the first send the confirming status came.
+fn switch_mode(session: &Session, choice: ModeChoice, mode: u8) -> Result<Attempt<Duration>> {
+    send_until(
+        session,
+        MODE_TIMEOUT,
+        MODE_RESENDS,
+        || command_frame(&mut session.codec(), choice).into_iter().collect(),
+        |status, sent| {
+            status
+                .system
+                .filter(|(at, state, _)| *at > sent && state.control_mode == mode)
+                .map(|(at, ..)| at.saturating_duration_since(sent))
+        },
+    )
+}
+
+/// The interface's transmit error counter (SocketCAN hardware only).
+fn bus_errors(session: &Session) -> Option<u16> {
+    #[cfg(target_os = "linux")]
+    if session.kind == LinkKind::SocketCan {
+        return crate::link::can_interface::bus_details(&session.name)
+            .ok()
+            .and_then(|details| details.error_counters)
+            .map(|(tx, _)| tx);
+    }
+    let _ = session;
+    None
+}

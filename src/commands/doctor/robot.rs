@@ -1,0 +1,539 @@
+//! Checks of what the robot reported while the doctor listened. Pure functions of one snapshot of the
+//! session's status, so every verdict is testable without a robot.
+
+use std::time::{Duration, Instant};
+
+use super::report::{Check, Outcome};
+use crate::commands::live;
+use crate::link::LinkKind;
+use crate::protocol::detect::Verdict;
+use crate::protocol::error_frame::ErrorFrame;
+use crate::protocol::message::{
+    rc_switch_name, SystemState, MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY, VEHICLE_ESTOP,
+    VEHICLE_EXCEPTION,
+};
+use crate::protocol::{ProtocolHint, Severity, Wire};
+use crate::session::RobotStatus;
+
+/// The robot sends its system status every 20 ms.
+const STATUS_PER_SECOND: f64 = 50.0;
+/// Battery thresholds (manual): alarm 22.5 V, protection 22 V, motion cut below 21.5 V.
+const BATTERY_ALARM_V: f64 = 22.5;
+const BATTERY_PROTECTION_V: f64 = 22.0;
+/// Motor driver temperatures (manual, V1 fault table): warning above 55 C, protection above 65 C.
+const DRIVER_WARM_C: i16 = 55;
+const DRIVER_HOT_C: i16 = 65;
+/// Identifiers only a host sends: another node sending them is another controller.
+const COMMAND_IDS: &[(u32, &str)] = &[
+    (0x111, "motion command"),
+    (0x421, "control-mode command"),
+    (0x441, "fault clear"),
+    (0x121, "light command"),
+    (0x130, "V1 motion command"),
+    (0x140, "V1 light command"),
+];
+
+/// What the doctor saw.
+pub struct Observation<'a> {
+    pub status: &'a RobotStatus,
+    /// How long the session has been listening.
+    pub listened: Duration,
+    pub link: &'a str,
+    pub kind: LinkKind,
+    /// The wire commands are encoded for (serial, or CAN V1/V2 as given or detected).
+    pub wire: Wire,
+    /// `--protocol` as given.
+    pub hint: ProtocolHint,
+    pub now: Instant,
+}
+
+impl Observation<'_> {
+    fn seconds(&self) -> String {
+        format!("{:.1} s", self.listened.as_secs_f64())
+    }
+
+    fn system(&self) -> Option<(SystemState, Wire)> {
+        self.status.system.map(|(_, state, wire)| (state, wire))
+    }
+
+    fn is_can(&self) -> bool {
+        self.wire != Wire::Serial
+    }
+}
+
+/// The checks of what the robot sends, in order (the protocol check is CAN's, the frame-stream check
+/// RS232's).
+const CHECKS: &[(&str, &str)] = &[
+    ("frames", "frames arriving"),
+    ("protocol", "protocol"),
+    ("status", "system status"),
+    ("control_mode", "control mode"),
+    ("estop", "E-stop"),
+    ("faults", "faults"),
+    ("battery", "battery"),
+    ("motors", "motors"),
+];
+
+/// The checks from `first` on, skipped for `reason` (no frames, no link).
+pub fn skipped(first: &str, reason: &str, can: bool) -> Vec<Check> {
+    let start = CHECKS.iter().position(|(id, _)| *id == first).unwrap_or(0);
+    CHECKS[start..]
+        .iter()
+        .filter(|(id, _)| can || *id != "protocol")
+        .map(|(id, title)| Check::skip(id, title, reason))
+        .collect()
+}
+
+/// Every check of the robot's reports, in order. Checks that need frames, or a system status, are
+/// skipped with the reason when there is none.
+pub fn checks(seen: &Observation) -> Vec<Check> {
+    let mut checks = vec![frames(seen)];
+    if seen.status.frames == 0 {
+        checks.extend(skipped("protocol", "nothing received", seen.is_can()));
+        return checks;
+    }
+    if seen.is_can() {
+        checks.push(protocol(seen));
+    } else {
+        checks.push(serial_stream(seen));
+    }
+    checks.push(status_rate(seen));
+    if seen.is_can() {
+        checks.push(other_senders(seen));
+    }
+    match seen.system() {
+        Some((state, wire)) => {
+            checks.push(control_mode(seen, &state, wire));
+            checks.push(estop(&state));
+            checks.push(faults(&state, wire));
+            checks.push(battery(&state));
+        }
+        None => {
+            let mut skip = skipped("control_mode", "no system status received", true);
+            skip.pop(); // motors are checked below
+            checks.extend(skip);
+        }
+    }
+    checks.push(motors(seen));
+    checks
+}
+
+pub fn frames(seen: &Observation) -> Check {
+    const ID: &str = "frames";
+    const TITLE: &str = "frames arriving";
+    let status = seen.status;
+    if let Some(error) = &status.link_error {
+        if status.frames == 0 || seen.kind != LinkKind::Replay {
+            return Check::fail(
+                ID,
+                TITLE,
+                format!("the link {} failed: {error}", seen.link),
+                "check the adapter and its cable, then run doctor again",
+            );
+        }
+    }
+    if status.frames == 0 {
+        return match seen.wire {
+            Wire::Serial if status.rx.serial_bytes > 0 => Check::fail(
+                ID,
+                TITLE,
+                format!(
+                    "{} bytes in {} but not one valid frame ({} checksum errors)",
+                    status.rx.serial_bytes,
+                    seen.seconds(),
+                    status.rx.serial_bad_checksum
+                ),
+                "the robot sends 115200 baud 8N1: check --baud, and that this port is the robot's RS232",
+            ),
+            Wire::Serial => Check::fail(
+                ID,
+                TITLE,
+                format!("nothing received on {} in {}", seen.link, seen.seconds()),
+                "switch the robot on; check the port is the robot's, and the crossover: adapter TX to the \
+                 robot's RX, adapter RX to the robot's TX, GND connected",
+            ),
+            _ => Check::fail(
+                ID,
+                TITLE,
+                format!("nothing received on {} in {}", seen.link, seen.seconds()),
+                "switch the robot on; check CAN_H/CAN_L wiring and termination (about 60 ohm between CAN_H and \
+                 CAN_L with power off), the bitrate (500000), and that this interface is the one wired to the robot",
+            ),
+        };
+    }
+    let rate = status.frames as f64 / seen.listened.as_secs_f64().max(1e-3);
+    let finding = format!("{} frames in {} ({rate:.0}/s)", status.frames, seen.seconds());
+    let mut trouble = Vec::new();
+    if status.rx.error_frames > 0 {
+        let last = status
+            .last_error_frame
+            .as_ref()
+            .and_then(ErrorFrame::from_frame)
+            .map(|error| {
+                let names: Vec<&str> = error.class_names().chain(error.controller_names()).collect();
+                format!(" (last: {})", names.join(", "))
+            })
+            .unwrap_or_default();
+        trouble.push(format!("{} CAN error frames{last}", status.rx.error_frames));
+    }
+    if status.rx.socket_drops > 0 {
+        trouble.push(format!("{} frames dropped by the kernel (socket queue full)", status.rx.socket_drops));
+    }
+    if trouble.is_empty() {
+        Check::pass(ID, TITLE, finding)
+    } else {
+        Check::warn(
+            ID,
+            TITLE,
+            format!("{finding}; {}", trouble.join("; ")),
+            "error frames mean bus trouble: check wiring, termination and that every node runs at 500 kbit/s; \
+             drops mean this machine is too busy to read the bus",
+        )
+    }
+}
+
+/// The identifiers seen, most frequent first: `0x211 x50, 0x221 x50`.
+fn id_list(status: &RobotStatus, most: usize) -> String {
+    let mut ids = status.id_counts.clone();
+    ids.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+    let mut list: Vec<String> =
+        ids.iter().take(most).map(|(id, count)| format!("0x{:03X} x{count}", id & 0x1FFF_FFFF)).collect();
+    if ids.len() > most {
+        list.push(format!("and {} more", ids.len() - most));
+    }
+    list.join(", ")
+}
+
+pub fn protocol(seen: &Observation) -> Check {
+    const ID: &str = "protocol";
+    const TITLE: &str = "protocol";
+    let detector = &seen.status.detector;
+    let verdict = detector.verdict();
+    let forced = match (seen.hint, verdict) {
+        (ProtocolHint::V1, Verdict::V2) => Some(("v1", "V2")),
+        (ProtocolHint::V2, Verdict::V1) => Some(("v2", "V1")),
+        _ => None,
+    };
+    if let Some((given, spoken)) = forced {
+        return Check::fail(
+            ID,
+            TITLE,
+            format!("--protocol {given} was given but the robot speaks {spoken} ({})", detector.describe()),
+            format!(
+                "drop --protocol (the version is detected) or give --protocol {}",
+                spoken.to_ascii_lowercase()
+            ),
+        );
+    }
+    match verdict {
+        Verdict::V2 => Check::pass(ID, TITLE, format!("V2 ({} V2-only frames)", detector.v2_frames)),
+        Verdict::V1 => Check::pass(
+            ID,
+            TITLE,
+            format!(
+                "V1 firmware ({} V1-only frames): commands go as 0x130 with checksums; V1 has no 0x421 mode command",
+                detector.v1_frames
+            ),
+        ),
+        Verdict::Mixed => Check::warn(
+            ID,
+            TITLE,
+            detector.describe(),
+            "V1 and V2 identifiers on one bus: two robots, or a second node imitating one; unplug the other node \
+             or give --protocol",
+        ),
+        Verdict::Unknown if seen.status.system.is_some() => {
+            Check::pass(ID, TITLE, "not determined (only identifiers both versions use)")
+        }
+        Verdict::Unknown => Check::fail(
+            ID,
+            TITLE,
+            format!("frames, but none a TRACER sends: {}", id_list(seen.status, 6)),
+            format!("this is not the robot's bus, or the robot is off: check which interface is wired to the robot (--iface; {} here)", seen.link),
+        ),
+    }
+}
+
+pub fn serial_stream(seen: &Observation) -> Check {
+    const ID: &str = "serial_stream";
+    const TITLE: &str = "frame stream";
+    let rx = seen.status.rx;
+    let finding = format!(
+        "{} bytes, {} frames, {} checksum errors, {} sync losses",
+        rx.serial_bytes, rx.frames, rx.serial_bad_checksum, rx.serial_sync_losses
+    );
+    if rx.serial_bad_checksum == 0 && rx.serial_sync_losses == 0 {
+        return Check::pass(ID, TITLE, finding);
+    }
+    Check::warn(
+        ID,
+        TITLE,
+        finding,
+        "bytes are being corrupted or lost: use a shorter cable, connect GND, keep it away from the motor \
+         wires, and check that nothing else reads this port",
+    )
+}
+
+pub fn status_rate(seen: &Observation) -> Check {
+    const ID: &str = "status";
+    const TITLE: &str = "system status";
+    let status = seen.status;
+    let Some((at, ..)) = status.system else {
+        let which = if seen.is_can() { "0x211 (or V1 0x151)" } else { "RS232 system status (AA 01)" };
+        return Check::fail(
+            ID,
+            TITLE,
+            format!("no {which} among {} frames: {}", status.frames, id_list(status, 6)),
+            "the robot reports its state every 20 ms; without it this is not a TRACER, or its firmware speaks \
+             another protocol: check --protocol and the firmware version",
+        );
+    };
+    let age = seen.now.saturating_duration_since(at);
+    let rate = status.system_frames as f64 / seen.listened.as_secs_f64().max(1e-3);
+    let finding = format!(
+        "{} in {} ({rate:.0}/s), last {} ms ago",
+        status.system_frames,
+        seen.seconds(),
+        age.as_millis()
+    );
+    if age > Duration::from_millis(250) && seen.kind != LinkKind::Replay {
+        return Check::fail(
+            ID,
+            TITLE,
+            finding,
+            "the robot stopped reporting: check its power and the link (a loose connector?)",
+        );
+    }
+    // A short listen cannot measure a rate; half the expected rate means frames are being lost.
+    if seen.listened >= Duration::from_millis(500)
+        && rate < STATUS_PER_SECOND / 2.0
+        && seen.kind != LinkKind::Replay
+    {
+        return Check::warn(
+            ID,
+            TITLE,
+            format!("{finding}, expected {STATUS_PER_SECOND:.0}/s"),
+            "frames are being lost: check the bus load and the wiring",
+        );
+    }
+    Check::pass(ID, TITLE, finding)
+}
+
+pub fn other_senders(seen: &Observation) -> Check {
+    let found: Vec<String> = COMMAND_IDS
+        .iter()
+        .filter_map(|(id, name)| {
+            let count = seen.status.id_counts.iter().find(|(seen_id, _)| seen_id == id)?.1;
+            Some(format!("0x{id:03X} {name} x{count}"))
+        })
+        .collect();
+    if found.is_empty() {
+        return Check::pass("other_senders", "other senders", "no other node sends commands");
+    }
+    Check::warn(
+        "other_senders",
+        "other senders",
+        format!("another node sends commands: {}", found.join(", ")),
+        "stop the other controller (a ROS driver, another tracerctl) before driving: two senders fight and \
+         the robot may not stop when you expect",
+    )
+}
+
+pub fn control_mode(seen: &Observation, state: &SystemState, wire: Wire) -> Check {
+    const ID: &str = "control_mode";
+    const TITLE: &str = "control mode";
+    let mode = live::mode_name(state.control_mode, wire);
+    let swb = seen.status.rc.map(|(_, rc)| (rc.switches >> 2) & 0b11);
+    let swb_text = swb.map(|bits| format!(", RC switch SWB {}", rc_switch_name(bits).unwrap_or("unknown")));
+    let finding = format!("{mode}{}", swb_text.unwrap_or_default());
+    let rc_action =
+        "the RC transmitter overrides commands: put switch SWB at the top (command mode), or switch \
+                     the transmitter off";
+    // SWB in the middle is RC mode whatever the status says (0x241, when the robot sends it).
+    if swb == Some(0b01) {
+        return Check::fail(ID, TITLE, finding, rc_action);
+    }
+    match wire {
+        Wire::CanV2 => match state.control_mode {
+            MODE_CAN => Check::pass(ID, TITLE, finding),
+            MODE_RC => Check::fail(ID, TITLE, finding, rc_action),
+            MODE_STANDBY => Check::warn(
+                ID,
+                TITLE,
+                format!("{finding} (the power-on mode: motion commands are ignored)"),
+                "tracerctl drive and dashboard switch to CAN mode themselves; other software must send 0x421 = 01 \
+                 first, and again after every power cycle (`tracerctl mode can`)",
+            ),
+            MODE_SERIAL => Check::warn(
+                ID,
+                TITLE,
+                format!("{finding}: CAN motion commands are ignored"),
+                "is another host driving over RS232? `tracerctl mode can` switches to CAN",
+            ),
+            _ => Check::warn(ID, TITLE, finding, "an unknown mode: check the firmware version"),
+        },
+        Wire::Serial | Wire::CanV1 => {
+            let own = if wire == Wire::Serial { MODE_SERIAL } else { MODE_CAN };
+            if state.control_mode == own {
+                Check::pass(ID, TITLE, finding)
+            } else if state.control_mode == 0 {
+                Check::warn(
+                    ID,
+                    TITLE,
+                    format!("{finding}: idle or RC (this protocol cannot tell them apart)"),
+                    "a motion command selects command mode unless the RC transmitter has control (SWB must be at \
+                     the top); --probe tells which",
+                )
+            } else {
+                Check::warn(
+                    ID,
+                    TITLE,
+                    format!("{finding}: another host may be commanding the robot"),
+                    "a motion command from this link takes over; stop the other host first",
+                )
+            }
+        }
+    }
+}
+
+pub fn estop(state: &SystemState) -> Check {
+    const ID: &str = "estop";
+    const TITLE: &str = "E-stop";
+    match state.vehicle_state {
+        VEHICLE_ESTOP => Check::fail(
+            ID,
+            TITLE,
+            "pressed: the robot will not move",
+            "release the E-stop buttons (turn them clockwise); the robot reports normal within 20 ms",
+        ),
+        VEHICLE_EXCEPTION => Check::fail(
+            ID,
+            TITLE,
+            "not pressed, but the robot reports a system exception",
+            "see the faults check; if no fault is named, power-cycle the robot",
+        ),
+        _ => Check::pass(ID, TITLE, "released; vehicle state normal"),
+    }
+}
+
+pub fn faults(state: &SystemState, wire: Wire) -> Check {
+    const ID: &str = "faults";
+    const TITLE: &str = "faults";
+    let flags = state.faults(wire);
+    if flags.is_empty() {
+        return Check::pass(ID, TITLE, "no fault bits set");
+    }
+    let finding = format!("0x{:04X}: {}", state.fault_code, live::fault_list(state, wire));
+    let blocking: Vec<String> = flags
+        .iter()
+        .filter(|flag| matches!(flag.severity, Severity::Fault | Severity::Protection))
+        .map(|flag| format!("{}: {}", flag.name, flag.action))
+        .collect();
+    if blocking.is_empty() {
+        let actions: Vec<String> =
+            flags.iter().map(|flag| format!("{}: {}", flag.name, flag.action)).collect();
+        return Check::warn(ID, TITLE, finding, actions.join("; "));
+    }
+    Check::fail(
+        ID,
+        TITLE,
+        finding,
+        format!("{}; then `tracerctl clear-errors` for faults that latch", blocking.join("; ")),
+    )
+}
+
+pub fn battery(state: &SystemState) -> Check {
+    const ID: &str = "battery";
+    const TITLE: &str = "battery";
+    let volts = state.battery_voltage();
+    let finding = format!("{volts:.1} V");
+    if volts < BATTERY_PROTECTION_V {
+        Check::fail(
+            ID,
+            TITLE,
+            format!("{finding}: below the {BATTERY_PROTECTION_V} V protection voltage"),
+            "charge or replace the battery: the robot cuts motion below 21.5 V",
+        )
+    } else if volts < BATTERY_ALARM_V {
+        Check::warn(
+            ID,
+            TITLE,
+            format!("{finding}: below the {BATTERY_ALARM_V} V alarm voltage"),
+            "finish the task and charge soon",
+        )
+    } else {
+        Check::pass(ID, TITLE, finding)
+    }
+}
+
+pub fn motors(seen: &Observation) -> Check {
+    const ID: &str = "motors";
+    const TITLE: &str = "motors";
+    let status = seen.status;
+    let mut parts = Vec::new();
+    let mut silent = Vec::new();
+    let mut worst = Outcome::Pass;
+    let mut actions = Vec::new();
+    for index in 0..2 {
+        let motor = index + 1;
+        let (rpm, amps, temperature) = match (status.motor_high[index], status.motor_driver[index]) {
+            (Some(high), _) => (high.rpm, f64::from(high.current_deciamps) / 10.0, None),
+            (None, Some(driver)) => (
+                driver.rpm,
+                f64::from(driver.current_deciamps) / 10.0,
+                Some(i16::from(driver.driver_temperature)),
+            ),
+            (None, None) => {
+                silent.push(motor);
+                continue;
+            }
+        };
+        let low = status.motor_low[index];
+        let temperature = low.map(|low| low.driver_temperature).or(temperature);
+        let mut part = format!("motor {motor} {rpm} rpm {amps:.1} A");
+        if let Some(celsius) = temperature {
+            part.push_str(&format!(", driver {celsius} C"));
+            if celsius > DRIVER_HOT_C {
+                worst = worst.max(Outcome::Fail);
+                actions
+                    .push(format!("motor {motor}'s driver is above {DRIVER_HOT_C} C: stop and let it cool"));
+            } else if celsius > DRIVER_WARM_C {
+                worst = worst.max(Outcome::Warn);
+                actions.push(format!("motor {motor}'s driver is above {DRIVER_WARM_C} C: reduce speed"));
+            }
+        }
+        if let Some(low) = low {
+            for flag in low.driver_faults().iter() {
+                part.push_str(&format!(", {} [{}]", flag.name, flag.severity));
+                worst = worst.max(outcome_of(flag.severity));
+                actions.push(format!("motor {motor} {}: {}", flag.name, flag.action));
+            }
+        }
+        parts.push(part);
+    }
+    let expected =
+        if seen.wire == Wire::CanV2 { "0x251/0x261, 0x252/0x262" } else { "motor driver feedback" };
+    if !silent.is_empty() {
+        let names: Vec<String> = silent.iter().map(|motor| format!("motor {motor}")).collect();
+        parts.push(format!("no feedback from {} ({expected})", names.join(" or ")));
+        worst = worst.max(Outcome::Warn);
+        actions.push(
+            "check the motor driver cables; the faults check names a driver that stopped answering".into(),
+        );
+    }
+    let finding = parts.join("; ");
+    match worst {
+        Outcome::Fail => Check::fail(ID, TITLE, finding, actions.join("; ")),
+        Outcome::Warn => Check::warn(ID, TITLE, finding, actions.join("; ")),
+        Outcome::Pass | Outcome::Skip => Check::pass(ID, TITLE, finding),
+    }
+}
+
+/// Bits that stop the robot fail the check; warnings and bits no document defines deserve a look.
+fn outcome_of(severity: Severity) -> Outcome {
+    match severity {
+        Severity::Fault | Severity::Protection => Outcome::Fail,
+        Severity::Warning | Severity::Unknown => Outcome::Warn,
+        Severity::Info => Outcome::Pass,
+    }
+}
