@@ -124,11 +124,25 @@ impl Session {
         sim: Option<crate::sim::SimConfig>,
         record: Option<&std::path::Path>,
     ) -> Result<Self> {
+        let (link, simulator) = open_link(choice, sim)?;
+        Self::start(link, simulator, hint, record)
+    }
+
+    /// A session on a link that is already open (an in-process channel in tests, say).
+    pub fn from_link(link: link::Link, hint: ProtocolHint) -> Result<Self> {
+        Self::start(link, None, hint, None)
+    }
+
+    fn start(
+        link: link::Link,
+        simulator: Option<crate::sim::serve::Running>,
+        hint: ProtocolHint,
+        record: Option<&std::path::Path>,
+    ) -> Result<Self> {
         let wire_for_can = match hint {
             ProtocolHint::V1 => Wire::CanV1,
             _ => Wire::CanV2,
         };
-        let (link, simulator) = open_link(choice, sim)?;
         let wire = if link.wire == Wire::Serial { Wire::Serial } else { wire_for_can };
         let shared = Arc::new(Shared {
             status: Mutex::new(RobotStatus::default()),

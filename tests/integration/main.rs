@@ -3,6 +3,7 @@
 mod dashboard;
 mod decode;
 mod docs;
+mod doctor;
 mod drive;
 mod generated;
 mod monitor;

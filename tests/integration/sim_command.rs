@@ -7,15 +7,15 @@ use std::time::Duration;
 
 use crate::util::{stderr, tracerctl};
 
-struct Simulator {
+pub struct Simulator {
     child: Child,
-    path: String,
+    pub path: String,
     /// Kept open: the simulator may still write to it.
     _stdout: BufReader<std::process::ChildStdout>,
 }
 
 impl Simulator {
-    fn start(extra: &[&str]) -> Self {
+    pub fn start(extra: &[&str]) -> Self {
         let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
             .args(["sim", "--pty", "--duration", "20s"])
             .args(extra)

@@ -174,3 +174,76 @@ pub fn serial_port(path: &Path, baud: u32) -> Vec<Check> {
     }
     checks
 }
+
+#[cfg(all(test, target_os = "linux"))]
+mod tests {
+    use super::*;
+    use crate::commands::doctor::report::Outcome;
+    use crate::link::can_interface::{BusDetails, BusState, Counters};
+
+    #[test]
+    fn bitrate_500k_passes_another_fails_with_the_command_and_virtual_has_none() {
+        let check = bitrate("can0", true, Some(500_000), Some(0.875));
+        assert_eq!(
+            (check.outcome, check.finding.as_str()),
+            (Outcome::Pass, "500000 bit/s, sample point 87.5 %")
+        );
+        let check = bitrate("can0", true, Some(250_000), None);
+        assert_eq!(check.outcome, Outcome::Fail);
+        assert_eq!(check.finding, "250000 bit/s, but the robot uses 500000");
+        assert_eq!(
+            check.action.unwrap(),
+            "set it: `sudo ip link set can0 down && sudo ip link set can0 up type can bitrate 500000`"
+        );
+        assert_eq!(bitrate("vcan0", false, None, None).outcome, Outcome::Pass);
+        assert_eq!(bitrate("can0", true, None, None).outcome, Outcome::Warn);
+    }
+
+    fn details(state: BusState, counters: (u16, u16), restart_ms: u32) -> BusDetails {
+        BusDetails {
+            bitrate: Some(500_000),
+            sample_point: None,
+            state: Some(state),
+            error_counters: Some(counters),
+            restart_ms: Some(restart_ms),
+        }
+    }
+
+    #[test]
+    fn error_states_with_counters() {
+        let counters = Counters { rx_errors: 3, tx_errors: 140, ..Counters::default() };
+        let check = bus_state("can0", &details(BusState::ErrorActive, (0, 0), 0), Counters::default());
+        assert_eq!(check.outcome, Outcome::Pass);
+        assert_eq!(
+            check.finding,
+            "error-active, error counters tx 0 rx 0; since up: 0 rx errors, 0 tx errors, 0 rx dropped, 0 rx overruns"
+        );
+        let check = bus_state("can0", &details(BusState::ErrorPassive, (136, 0), 0), counters);
+        assert_eq!(check.outcome, Outcome::Warn);
+        assert!(check
+            .finding
+            .starts_with("error-passive, error counters tx 136 rx 0; since up: 3 rx errors, 140 tx"));
+        assert!(check.action.unwrap().contains("not acknowledged"));
+        let check = bus_state("can0", &details(BusState::BusOff, (256, 0), 0), counters);
+        assert_eq!(check.outcome, Outcome::Fail);
+        assert!(check.action.unwrap().contains("`sudo ip link set can0 type can restart`"));
+        let check = bus_state("can0", &details(BusState::BusOff, (256, 0), 100), counters);
+        assert!(check.action.unwrap().ends_with("it restarts by itself after 100 ms"));
+        let check = bus_state("can0", &details(BusState::Stopped, (0, 0), 0), counters);
+        assert_eq!(check.outcome, Outcome::Fail);
+        let check = bus_state("vcan0", &BusDetails::default(), Counters::default());
+        assert_eq!(check.outcome, Outcome::Pass);
+        assert!(check.finding.starts_with("not reported (virtual interface)"));
+    }
+
+    #[test]
+    fn a_serial_port_that_does_not_exist_fails_and_a_wrong_baud_warns() {
+        let checks = serial_port(Path::new("/dev/tracerctl-none"), 115_200);
+        assert_eq!(checks.len(), 1);
+        assert_eq!(checks[0].outcome, Outcome::Fail);
+        let checks = serial_port(Path::new("/dev/null"), 9600);
+        assert_eq!(checks.len(), 1);
+        assert_eq!((checks[0].id, checks[0].outcome), ("baud", Outcome::Warn));
+        assert!(serial_port(Path::new("/dev/null"), 115_200).is_empty());
+    }
+}

@@ -105,7 +105,7 @@ pub fn checks(seen: &Observation) -> Vec<Check> {
         Some((state, wire)) => {
             checks.push(control_mode(seen, &state, wire));
             checks.push(estop(&state));
-            checks.push(faults(&state, wire));
+            checks.push(faults(seen, &state, wire));
             checks.push(battery(&state));
         }
         None => {
@@ -406,40 +406,55 @@ pub fn estop(state: &SystemState) -> Check {
             "pressed: the robot will not move",
             "release the E-stop buttons (turn them clockwise); the robot reports normal within 20 ms",
         ),
-        VEHICLE_EXCEPTION => Check::fail(
-            ID,
-            TITLE,
-            "not pressed, but the robot reports a system exception",
-            "see the faults check; if no fault is named, power-cycle the robot",
-        ),
+        VEHICLE_EXCEPTION => {
+            Check::pass(ID, TITLE, "released (the robot reports a system exception: see faults)")
+        }
         _ => Check::pass(ID, TITLE, "released; vehicle state normal"),
     }
 }
 
-pub fn faults(state: &SystemState, wire: Wire) -> Check {
+/// The fault bits of the system status and, on V2, of both motor drivers (0x261/0x262: latched driver
+/// protections show there), plus a system exception no bit explains. Info bits (a driver disabled in
+/// standby) are states, not faults.
+pub fn faults(seen: &Observation, state: &SystemState, wire: Wire) -> Check {
     const ID: &str = "faults";
     const TITLE: &str = "faults";
-    let flags = state.faults(wire);
-    if flags.is_empty() {
+    let mut named = Vec::new();
+    let mut worst = Outcome::Pass;
+    let mut actions = Vec::new();
+    let system = state.faults(wire).iter().map(|flag| (String::new(), flag)).collect::<Vec<_>>();
+    let drivers = seen.status.motor_low.iter().flatten().flat_map(|low| {
+        low.driver_faults()
+            .iter()
+            .map(move |flag| (format!("motor {} ", low.motor), flag))
+            .collect::<Vec<_>>()
+    });
+    for (prefix, flag) in system.into_iter().chain(drivers) {
+        if flag.severity == Severity::Info {
+            continue;
+        }
+        named.push(format!("{prefix}{} [{}]", flag.name, flag.severity));
+        actions.push(format!("{prefix}{}: {}", flag.name, flag.action));
+        worst = worst.max(outcome_of(flag.severity));
+    }
+    let exception = state.vehicle_state == VEHICLE_EXCEPTION;
+    if named.is_empty() {
+        if exception {
+            return Check::fail(
+                ID,
+                TITLE,
+                "system exception, but no fault bit says why",
+                "power-cycle the robot; if it persists, note the firmware version and contact AgileX",
+            );
+        }
         return Check::pass(ID, TITLE, "no fault bits set");
     }
-    let finding = format!("0x{:04X}: {}", state.fault_code, live::fault_list(state, wire));
-    let blocking: Vec<String> = flags
-        .iter()
-        .filter(|flag| matches!(flag.severity, Severity::Fault | Severity::Protection))
-        .map(|flag| format!("{}: {}", flag.name, flag.action))
-        .collect();
-    if blocking.is_empty() {
-        let actions: Vec<String> =
-            flags.iter().map(|flag| format!("{}: {}", flag.name, flag.action)).collect();
-        return Check::warn(ID, TITLE, finding, actions.join("; "));
+    let finding = format!("0x{:04X}: {}", state.fault_code, named.join(", "));
+    if exception || worst == Outcome::Fail {
+        actions.push("then `tracerctl clear-errors` for faults that latch".to_string());
+        return Check::fail(ID, TITLE, finding, actions.join("; "));
     }
-    Check::fail(
-        ID,
-        TITLE,
-        finding,
-        format!("{}; then `tracerctl clear-errors` for faults that latch", blocking.join("; ")),
-    )
+    Check::warn(ID, TITLE, finding, actions.join("; "))
 }
 
 pub fn battery(state: &SystemState) -> Check {
@@ -502,13 +517,6 @@ pub fn motors(seen: &Observation) -> Check {
                 actions.push(format!("motor {motor}'s driver is above {DRIVER_WARM_C} C: reduce speed"));
             }
         }
-        if let Some(low) = low {
-            for flag in low.driver_faults().iter() {
-                part.push_str(&format!(", {} [{}]", flag.name, flag.severity));
-                worst = worst.max(outcome_of(flag.severity));
-                actions.push(format!("motor {motor} {}: {}", flag.name, flag.action));
-            }
-        }
         parts.push(part);
     }
     let expected =
@@ -535,5 +543,130 @@ fn outcome_of(severity: Severity) -> Outcome {
         Severity::Fault | Severity::Protection => Outcome::Fail,
         Severity::Warning | Severity::Unknown => Outcome::Warn,
         Severity::Info => Outcome::Pass,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::message::{MotorLowSpeed, RcState};
+
+    fn state(vehicle_state: u8, control_mode: u8, decivolts: u16, fault_code: u16) -> SystemState {
+        SystemState { vehicle_state, control_mode, battery_decivolts: decivolts, fault_code, count: 0 }
+    }
+
+    fn seen(status: &RobotStatus, wire: Wire) -> Observation<'_> {
+        Observation {
+            status,
+            listened: Duration::from_secs(1),
+            link: "can0",
+            kind: LinkKind::SocketCan,
+            wire,
+            hint: ProtocolHint::Auto,
+            now: Instant::now(),
+        }
+    }
+
+    #[test]
+    fn battery_thresholds_follow_the_manual() {
+        let outcome = |decivolts| battery(&state(0, 1, decivolts, 0)).outcome;
+        assert_eq!(outcome(259), Outcome::Pass);
+        assert_eq!(outcome(225), Outcome::Pass);
+        assert_eq!(outcome(224), Outcome::Warn);
+        assert_eq!(outcome(220), Outcome::Warn);
+        assert_eq!(outcome(219), Outcome::Fail);
+    }
+
+    #[test]
+    fn control_modes_on_v2() {
+        let status = RobotStatus::default();
+        let seen = seen(&status, Wire::CanV2);
+        let check = |mode| control_mode(&seen, &state(0, mode, 259, 0), Wire::CanV2);
+        assert_eq!(check(MODE_CAN).outcome, Outcome::Pass);
+        assert_eq!(check(MODE_STANDBY).outcome, Outcome::Warn);
+        assert_eq!(check(MODE_SERIAL).outcome, Outcome::Warn);
+        assert_eq!(check(MODE_RC).outcome, Outcome::Fail);
+        assert_eq!(check(9).outcome, Outcome::Warn);
+    }
+
+    #[test]
+    fn swb_in_the_middle_on_0x241_is_rc_override_whatever_the_mode_byte_says() {
+        // SWA up (0b10), SWB middle (0b01 << 2).
+        let status = RobotStatus {
+            rc: Some((Instant::now(), RcState { switches: 0b0110, ..RcState::default() })),
+            ..RobotStatus::default()
+        };
+        let seen = seen(&status, Wire::CanV2);
+        let check = control_mode(&seen, &state(0, MODE_CAN, 259, 0), Wire::CanV2);
+        assert_eq!(check.outcome, Outcome::Fail);
+        assert_eq!(check.finding, "can, RC switch SWB middle");
+        assert!(check.action.unwrap().contains("SWB at the top"));
+        let mut up = status.clone();
+        up.rc = Some((Instant::now(), RcState { switches: 0b1010, ..RcState::default() }));
+        let seen = Observation { status: &up, ..seen };
+        let check = control_mode(&seen, &state(0, MODE_CAN, 259, 0), Wire::CanV2);
+        assert_eq!((check.outcome, check.finding.as_str()), (Outcome::Pass, "can, RC switch SWB up"));
+    }
+
+    #[test]
+    fn faults_warn_for_warnings_fail_for_faults_and_name_driver_bits() {
+        let status = RobotStatus::default();
+        let seen = seen(&status, Wire::CanV2);
+        let check = faults(&seen, &state(0, 1, 224, 0x0200), Wire::CanV2);
+        assert_eq!(check.outcome, Outcome::Warn);
+        assert_eq!(check.finding, "0x0200: battery_undervoltage_warning [warning]");
+        let check = faults(&seen, &state(2, 1, 219, 0x0100), Wire::CanV2);
+        assert_eq!(check.outcome, Outcome::Fail);
+        assert!(check.action.unwrap().ends_with("then `tracerctl clear-errors` for faults that latch"));
+        let check = faults(&seen, &state(2, 1, 259, 0), Wire::CanV2);
+        assert_eq!(
+            (check.outcome, check.finding.as_str()),
+            (Outcome::Fail, "system exception, but no fault bit says why")
+        );
+
+        let mut status = RobotStatus::default();
+        status.motor_low[1] =
+            Some(MotorLowSpeed { motor: 2, driver_state: 0x04, ..MotorLowSpeed::default() });
+        let seen = Observation { status: &status, ..seen };
+        let check = faults(&seen, &state(0, 1, 259, 0), Wire::CanV2);
+        assert_eq!(check.outcome, Outcome::Warn);
+        assert_eq!(check.finding, "0x0000: motor 2 driver_overcurrent [warning]");
+    }
+
+    #[test]
+    fn hot_drivers_warn_then_fail() {
+        let mut status = RobotStatus::default();
+        for motor in 1..=2u8 {
+            let index = usize::from(motor - 1);
+            status.motor_high[index] =
+                Some(crate::protocol::message::MotorHighSpeed { motor, ..Default::default() });
+            status.motor_low[index] =
+                Some(MotorLowSpeed { motor, driver_temperature: 40, ..MotorLowSpeed::default() });
+        }
+        assert_eq!(motors(&seen(&status, Wire::CanV2)).outcome, Outcome::Pass);
+        status.motor_low[0].as_mut().unwrap().driver_temperature = 60;
+        assert_eq!(motors(&seen(&status, Wire::CanV2)).outcome, Outcome::Warn);
+        status.motor_low[1].as_mut().unwrap().driver_temperature = 70;
+        let check = motors(&seen(&status, Wire::CanV2));
+        assert_eq!(check.outcome, Outcome::Fail);
+        assert!(check.action.unwrap().contains("motor 2's driver is above 65 C"));
+    }
+
+    #[test]
+    fn stale_status_fails_and_a_slow_one_warns() {
+        let mut status = RobotStatus::default();
+        let now = Instant::now();
+        status.system = Some((now - Duration::from_millis(400), state(0, 1, 259, 0), Wire::CanV2));
+        status.system_frames = 50;
+        let mut seen = seen(&status, Wire::CanV2);
+        seen.now = now;
+        assert_eq!(status_rate(&seen).outcome, Outcome::Fail);
+        let mut status = status.clone();
+        status.system = Some((now, state(0, 1, 259, 0), Wire::CanV2));
+        status.system_frames = 10;
+        let seen = Observation { status: &status, ..seen };
+        let check = status_rate(&seen);
+        assert_eq!(check.outcome, Outcome::Warn);
+        assert!(check.finding.ends_with("expected 50/s"), "{}", check.finding);
     }
 }
