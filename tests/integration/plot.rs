@@ -185,3 +185,56 @@ fn plot_of_200k_lines_stays_bounded() {
     assert!(svg.has_text("E-stop") && svg.has_text("E-stop released"));
     assert!(svg.has_text("battery_undervoltage_warning"));
 }
+
+#[test]
+fn crowded_event_labels_never_overlap_and_the_ones_left_out_are_counted() {
+    // 10 s of status every 20 ms with the E-stop toggled every 100 ms: 99 events, far too close for labels.
+    let mut log = String::new();
+    for frame in 0..500u32 {
+        let t = f64::from(frame) * 0.02;
+        let estop = (frame / 5) % 2;
+        log.push_str(&format!("({t:.6}) can0 211#{estop:02X}000103000000{:02X}\n", frame % 256));
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let input = dir.path().join("crowded.log");
+    std::fs::write(&input, log).unwrap();
+    let out = dir.path().join("crowded.svg");
+    let output =
+        tracerctl().arg("decode").arg("--summary").arg("--plot").arg(&out).arg(&input).output().unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let errors = stderr(&output);
+    let left_out: usize = errors
+        .split("--plot: ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|count| count.parse().ok())
+        .unwrap_or_else(|| panic!("a count of labels left out: {errors}"));
+    assert!(errors.contains("event labels left out where events crowd"), "{errors}");
+
+    // Label boxes (x, y, estimated width at 7 px a character) of the marker texts.
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut boxes = Vec::new();
+    for (index, _) in text.match_indices("<text ") {
+        let open_end = index + text[index..].find('>').unwrap();
+        let close = open_end + text[open_end..].find("</text>").unwrap();
+        let label = text[open_end + 1..close].trim();
+        if label == "E-stop" || label == "E-stop released" {
+            let tag = &text[index..open_end];
+            let x: f64 = attribute(tag, "x").parse().unwrap();
+            let y: f64 = attribute(tag, "y").parse().unwrap();
+            boxes.push((x, y, 7.0 * label.len() as f64));
+        }
+    }
+    assert_eq!(boxes.len() + left_out, 99, "every event is labelled or counted as left out");
+    assert!(boxes.len() >= 6, "the lanes are used: {} labels", boxes.len());
+    for (i, a) in boxes.iter().enumerate() {
+        for b in &boxes[i + 1..] {
+            let same_lane = (a.1 - b.1).abs() < 1.0;
+            let overlap = a.0 < b.0 + b.2 && b.0 < a.0 + a.2;
+            assert!(!(same_lane && overlap), "labels overlap: {a:?} {b:?}");
+        }
+    }
+    // Every event still has its line in each of the five panels.
+    let svg = parse(&out);
+    assert_eq!(svg.lines("#DC0000", "2").len() + svg.lines("#009600", "2").len(), 99 * 5);
+}

@@ -260,13 +260,20 @@ impl Plot {
         if self.markers_not_drawn > 0 {
             eprintln!("tracerctl: --plot: {} further event markers were not drawn", self.markers_not_drawn);
         }
-        let svg = self.render().context("cannot draw the plot")?;
+        let (svg, unlabeled) = self.render().context("cannot draw the plot")?;
+        if unlabeled > 0 {
+            eprintln!(
+                "tracerctl: --plot: {unlabeled} event labels left out where events crowd (every event still has \
+                 its line: red E-stop, green E-stop released, orange fault)"
+            );
+        }
         std::fs::write(path, svg).with_context(|| format!("cannot write {}", path.display()))
     }
 
-    /// The SVG document.
-    pub fn render(&self) -> Result<String> {
+    /// The SVG document, and how many event labels found no room.
+    fn render(&self) -> Result<(String, usize)> {
         let mut svg = String::new();
+        let unlabeled;
         {
             let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
             root.fill(&WHITE)?;
@@ -276,7 +283,7 @@ impl Plot {
                 .iter()
                 .map(|&(volts, name)| (vec![(start, volts), (end, volts)], format!("{volts:.1} V {name}")))
                 .collect();
-            self.panel(
+            unlabeled = self.panel(
                 &panels[0],
                 "Battery voltage",
                 "V",
@@ -324,7 +331,7 @@ impl Plot {
             )?;
             root.present()?;
         }
-        Ok(svg)
+        Ok((svg, unlabeled))
     }
 
     /// The time axis: from 0 (the first timestamp) or earlier, should a later input's clock go backwards.
@@ -349,7 +356,7 @@ impl Plot {
     }
 
     /// One panel: the series with a legend, dashed reference lines, and a vertical line per event marker
-    /// (labelled in the top panel only).
+    /// (labelled in the top panel only). Returns how many labels were left out for lack of room.
     fn panel(
         &self,
         area: &DrawingArea<SVGBackend, plotters::coord::Shift>,
@@ -358,7 +365,7 @@ impl Plot {
         series: &[(&Series, &str, RGBColor)],
         references: &[(Vec<(f64, f64)>, String)],
         label_markers: bool,
-    ) -> Result<()> {
+    ) -> Result<usize> {
         let (start, end) = self.time_span();
         let x_range = start..end;
         let mut range =
@@ -372,13 +379,36 @@ impl Plot {
         }
         let (lo, hi) = range.unwrap_or((0.0, 1.0));
         let pad = if hi > lo { (hi - lo) * 0.08 } else { 1.0 };
-        let y_range = (lo - pad)..(hi + pad);
+
+        // Event labels go in lanes at the top of the plot; the data range is pushed down below them.
+        let (width, height) = area.dim_in_pixel();
+        let (plot_left, plot_right) = (MARGIN_PX + Y_LABEL_AREA_PX, width as i32 - MARGIN_PX);
+        let plot_height = (height as i32 - 2 * MARGIN_PX - X_LABEL_AREA_PX - CAPTION_PX).max(1);
+        let lanes = if label_markers {
+            let spans: Vec<(i32, i32)> = self
+                .markers
+                .iter()
+                .map(|marker| {
+                    let share = (marker.t - start) / (end - start);
+                    let x = plot_left + (share * f64::from(plot_right - plot_left)).round() as i32;
+                    (x, x + LABEL_OFFSET_PX + LABEL_CHAR_PX * marker.label.chars().count() as i32)
+                })
+                .collect();
+            label_lanes(&spans, LABEL_LANES)
+        } else {
+            vec![None; self.markers.len()]
+        };
+        let band_px = lanes.iter().flatten().max().map_or(0, |lane| 4 + LABEL_LANE_PX * (*lane as i32 + 1));
+        // The band's share of the height, reserved above the data and its normal padding.
+        let band = f64::from(band_px.min(plot_height * 2 / 3)) / f64::from(plot_height);
+        let top = (hi + pad - (lo - pad) * band) / (1.0 - band);
+        let y_range = (lo - pad)..top;
 
         let mut chart = ChartBuilder::on(area)
             .caption(title, ("sans-serif", 16))
-            .margin(8)
-            .x_label_area_size(28)
-            .y_label_area_size(60)
+            .margin(MARGIN_PX)
+            .x_label_area_size(X_LABEL_AREA_PX)
+            .y_label_area_size(Y_LABEL_AREA_PX)
             .build_cartesian_2d(x_range, y_range.clone())?;
         chart.configure_mesh().x_desc("time (s)").y_desc(unit).light_line_style(WHITE).draw()?;
 
@@ -403,25 +433,29 @@ impl Plot {
                 .label(label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
         }
-        for (index, marker) in self.markers.iter().enumerate() {
-            let color = match marker.kind {
-                MarkerKind::Estop => ESTOP_COLOR,
-                MarkerKind::EstopReleased => ESTOP_RELEASED_COLOR,
-                MarkerKind::Fault => FAULT_COLOR,
-            };
+        let color_of = |marker: &Marker| match marker.kind {
+            MarkerKind::Estop => ESTOP_COLOR,
+            MarkerKind::EstopReleased => ESTOP_RELEASED_COLOR,
+            MarkerKind::Fault => FAULT_COLOR,
+        };
+        for marker in &self.markers {
             let line = PathElement::new(
                 vec![(marker.t, y_range.start), (marker.t, y_range.end)],
-                color.stroke_width(2),
+                color_of(marker).stroke_width(2),
             );
             chart.draw_series(std::iter::once(line))?;
-            if label_markers {
-                let style = ("sans-serif", 12).into_font().color(&color);
-                // Staggered downwards so labels of events close in time do not overlap.
-                let offset = (4, 2 + 14 * (index % 6) as i32);
-                let label = EmptyElement::at((marker.t, y_range.end))
-                    + Text::new(marker.label.clone(), offset, style);
-                chart.draw_series(std::iter::once(label))?;
-            }
+        }
+        // Labels after all lines, on a pale box, so the lines of neighbouring events do not cross them.
+        for (marker, lane) in self.markers.iter().zip(&lanes) {
+            let Some(lane) = lane else { continue };
+            let color = color_of(marker);
+            let style = ("sans-serif", 12).into_font().color(&color);
+            let (x, y) = (LABEL_OFFSET_PX, 2 + LABEL_LANE_PX * *lane as i32);
+            let width = LABEL_CHAR_PX * marker.label.chars().count() as i32;
+            let label = EmptyElement::at((marker.t, y_range.end))
+                + Rectangle::new([(x - 1, y), (x + width, y + LABEL_LANE_PX - 1)], WHITE.mix(0.85).filled())
+                + Text::new(marker.label.clone(), (x, y), style);
+            chart.draw_series(std::iter::once(label))?;
         }
         chart
             .configure_series_labels()
@@ -429,13 +463,57 @@ impl Plot {
             .background_style(WHITE.mix(0.85))
             .border_style(BLACK)
             .draw()?;
-        Ok(())
+        Ok(lanes.iter().filter(|lane| lane.is_none()).count() * usize::from(label_markers))
     }
+}
+
+/// Panel geometry in pixels: margin, axis label areas, and the caption's height (16 px text and its gap).
+const MARGIN_PX: i32 = 8;
+const X_LABEL_AREA_PX: i32 = 28;
+const Y_LABEL_AREA_PX: i32 = 60;
+const CAPTION_PX: i32 = 26;
+/// Rows of event labels under the top of the top panel, and the label geometry (12 px sans-serif).
+const LABEL_LANES: usize = 6;
+const LABEL_LANE_PX: i32 = 14;
+const LABEL_OFFSET_PX: i32 = 4;
+/// A generous average glyph width, so estimated labels are never narrower than drawn ones.
+const LABEL_CHAR_PX: i32 = 7;
+/// Space kept between two labels in one lane.
+const LABEL_GAP_PX: i32 = 6;
+
+/// Gives each label (its horizontal pixel span) the first lane in which it does not overlap a label
+/// placed before it, in left-to-right order; `None` when every lane is taken there.
+fn label_lanes(spans: &[(i32, i32)], lanes: usize) -> Vec<Option<usize>> {
+    let mut order: Vec<usize> = (0..spans.len()).collect();
+    order.sort_by_key(|&index| spans[index].0);
+    let mut lane_end = vec![i32::MIN; lanes];
+    let mut assigned = vec![None; spans.len()];
+    for index in order {
+        let (start, end) = spans[index];
+        if let Some(lane) = lane_end.iter().position(|&taken| taken < start) {
+            lane_end[lane] = end + LABEL_GAP_PX;
+            assigned[index] = Some(lane);
+        }
+    }
+    assigned
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn labels_take_the_first_free_lane_and_are_left_out_when_all_are_taken() {
+        // Three labels 100 px wide, 10 px apart: each needs its own lane; a fourth far right reuses lane 0.
+        let spans = [(0, 100), (10, 110), (20, 120), (300, 400)];
+        assert_eq!(label_lanes(&spans, 6), [Some(0), Some(1), Some(2), Some(0)]);
+        // Two lanes only: the third is left out.
+        assert_eq!(label_lanes(&spans, 2), [Some(0), Some(1), None, Some(0)]);
+        // Order of the input does not matter: lanes follow the x position.
+        assert_eq!(label_lanes(&[(300, 400), (0, 100)], 1), [Some(0), Some(0)]);
+        // A label starting inside the gap after another is not put in its lane.
+        assert_eq!(label_lanes(&[(0, 100), (104, 150)], 2), [Some(0), Some(1)]);
+    }
 
     #[test]
     fn series_stays_bounded_and_keeps_spikes() {
