@@ -23,7 +23,7 @@ use anyhow::Result;
 
 use crate::cli::{Cli, DoctorArgs};
 use crate::exit::{Failure, NOT_DONE, SUCCESS, USAGE};
-use crate::link::{LinkChoice, LinkKind};
+use crate::link::LinkChoice;
 use crate::session::Session;
 use report::{Check, Report};
 
@@ -139,9 +139,8 @@ fn examine<W: Write>(session: &Session, args: &DoctorArgs, report: &mut Report<W
     let started = Instant::now();
     // A link that fails ends the listening early; everything else is heard out.
     session.wait_for(args.listen, |status| status.link_error.as_ref().map(|_| ()));
-    if session.kind != LinkKind::Replay || session.status().link_error.is_none() {
-        session.settle_protocol(Duration::ZERO);
-    }
+    // Encode for V1 if that is what the robot turned out to speak (auto mode).
+    session.settle_protocol(Duration::ZERO);
     let status = session.status();
     let seen = robot::Observation {
         status: &status,
