@@ -67,7 +67,7 @@ fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check
         return Ok(Check::pass(
             ID,
             TITLE,
-            format!("{sent} accepted: {from} -> {wanted_name} in {} ms", after.as_millis()),
+            format!("{sent} accepted: {from} -> {wanted_name} in {:.1} ms", after.as_secs_f64() * 1000.0),
         ));
     }
     let status = session.status();
