@@ -151,11 +151,16 @@ pub fn is_up(iface: &str) -> bool {
         .is_some_and(|flags| flags & IFF_UP != 0)
 }
 
+/// How to bring `iface` up: with the robot's bitrate on hardware; a virtual interface has none to set.
 pub fn down_message(iface: &str) -> String {
-    format!(
-        "CAN interface {iface} is down: bring it up with `sudo ip link set {iface} up type can bitrate 500000` \
-         (a vcan interface: `sudo ip link set up {iface}`)"
-    )
+    match presence(iface) {
+        Presence::Can { driver: None } => {
+            format!("virtual CAN interface {iface} is down: bring it up with `sudo ip link set up {iface}`")
+        }
+        _ => format!(
+            "CAN interface {iface} is down: bring it up with `sudo ip link set {iface} up type can bitrate 500000`"
+        ),
+    }
 }
 
 /// Bitrate, error state and counters over rtnetlink (no privileges needed).

@@ -1,6 +1,6 @@
 #!/bin/sh
 # The SocketCAN scenario for tracerctl, run by busybox sh inside the test VM (tests/vm/run.sh builds the VM).
-# vcan0 and vcan1 are up when it starts. Every check prints one line
+# vcan0 and vcan1 are up when it starts (the doctor checks create and delete a scratch vcan2). Every check prints one line
 #     CHECK <name>: PASS|FAIL <evidence>
 # followed, on failure, by evidence lines starting with "  | " (the relevant candump -L lines, stderr, ...).
 # The last line is "SCENARIO PASS" or "SCENARIO FAIL (n failed)".
@@ -275,8 +275,11 @@ stop() {
 
 # the virtual TRACER
 SIM_PID=""
+SIM_ARGS=""
+# sim_start [ARGS...]: start the simulator on vcan0 (ARGS go to `sim`, e.g. --fault estop@0), return once it sends
 sim_start() {
-    $T --iface vcan0 sim >$W/sim.out 2>$W/sim.err &
+    SIM_ARGS="$*"
+    $T --iface vcan0 sim "$@" >$W/sim.out 2>$W/sim.err &
     SIM_PID=$!
     cap_start $W/sim_probe.log vcan0
     if wait_grep $W/sim_probe.log ' 211#' 15 $SIM_PID; then SIM_UP=1; else SIM_UP=0; fi
@@ -290,7 +293,7 @@ sim_stop() {
 # ev_sim: evidence about the simulator when it is not running
 ev_sim() {
     [ "$SIM_UP" = 1 ] && return
-    ev "the simulator ('$T --iface vcan0 sim') sent no 0x211 within 15 s; its stderr:"
+    ev "the simulator ('$T --iface vcan0 sim${SIM_ARGS:+ $SIM_ARGS}') sent no 0x211 within 15 s; its stderr:"
     ev_file $W/sim.err 6
 }
 
@@ -376,7 +379,7 @@ ck_error_iface_down() {
         fail "exit status $rc (expected a prompt failure; 143 = still running after 15 s): $msg"
     elif ! grep -qi 'down' $W/down.err; then
         fail "exit status $rc but the message does not say the interface is down: $msg"
-    elif ! grep -qE 'ip link set (dev )?vcan1 up|ip link set (dev )?vcan1 .*up' $W/down.err; then
+    elif ! grep -qE 'ip link set (dev )?vcan1 up|ip link set (dev )?vcan1 .*up|ip link set up vcan1' $W/down.err; then
         fail "exit status $rc but the message does not give the fix 'ip link set vcan1 up': $msg"
     else
         pass "exit status $rc: $msg"
@@ -875,6 +878,282 @@ ck_flood_no_loss() {
     esac
 }
 
+# --- doctor: why isn't it moving?
+# Each check runs `tracerctl doctor` once, with --listen 1s, on its own bus: vcan0 with a simulator it starts and
+# stops itself, or a scratch vcan2 (created and deleted by the check, so nothing else sends on it).
+SCRATCH=vcan2
+
+# scratch_vcan up|down: create $SCRATCH (deleting a leftover), brought up or left down
+scratch_vcan() {
+    ip link del dev $SCRATCH 2>/dev/null
+    ip link add dev $SCRATCH type vcan || { echo "WARN: cannot create $SCRATCH" >&2; return 1; }
+    [ "$1" = up ] && ip link set up $SCRATCH
+    return 0
+}
+scratch_del() { ip link del dev $SCRATCH 2>/dev/null; }
+
+# doc_run NAME CMD...: run a doctor command (30 s limit); sets RC; files $W/NAME.out, .err
+doc_run() {
+    name=$1
+    shift
+    timeout 30 "$@" >$W/$name.out 2>$W/$name.err
+    RC=$?
+}
+
+# dj FILE ID FIELD: a field (status, finding, action, title) of check ID in doctor's --format json output;
+# empty if there is no such check (or the field is null). One check object per line after the split.
+dj() {
+    sed 's/},{/}\n{/g' "$1" | grep "\"id\":\"$2\"" | head -n 1 |
+        sed -nE "s/.*\"$3\":(\"(([^\"\\\\]|\\\\.)*)\"|null).*/\2/p"
+}
+# dj_ids FILE: the check ids of a JSON report, in order, comma-separated
+dj_ids() { grep -oE '"id":"[a-z_]+"' "$1" | sed 's/"id":"//; s/"$//' | tr '\n' ',' | sed 's/,$//'; }
+
+# dt FILE TITLE [action]: PASS|WARN|FAIL|SKIP of the check titled TITLE in doctor's text output, or (with
+# "action") the text of its "      -> " line
+dt() {
+    awk -v t="$2" -v a="${3:-}" '
+        f { if (substr($0, 1, 9) == "      -> ") print substr($0, 10); exit }
+        /^(PASS|WARN|FAIL|SKIP)  / {
+            x = substr($0, 7, 18); sub(/ +$/, "", x)
+            if (x == t) { if (a == "") { print substr($0, 1, 4); exit } f = 1 }
+        }' "$1"
+}
+# dt_line FILE TITLE: the whole line of that check
+dt_line() { awk -v t="$2" '/^(PASS|WARN|FAIL|SKIP)  / {x = substr($0, 7, 18); sub(/ +$/, "", x); if (x == t) {print; exit}}' "$1"; }
+
+# ev_doc NAME CMD: evidence for a doctor command run by doc_run or run_cmd
+ev_doc() {
+    ev "\$ $2   (exit status $RC)"
+    ev "stdout:"; ev_file $W/$1.out 40
+    [ -s $W/$1.err ] && { ev "stderr:"; ev_file $W/$1.err 8; }
+}
+
+ck_doctor_missing_iface() {
+    cmd="$T --iface nosuch0 doctor --listen 1s"
+    doc_run doc_nosuch $cmd
+    st=$(dt $W/doc_nosuch.out interface)
+    act=$(dt $W/doc_nosuch.out interface action)
+    line=$(dt_line $W/doc_nosuch.out interface)
+    if [ "$RC" != 4 ]; then
+        fail "exit status $RC (want 4, not drivable): $line"
+    elif [ "$st" != FAIL ]; then
+        fail "the interface check is '${st:-missing}', not FAIL"
+    elif [ "$(dt $W/doc_nosuch.out 'kernel CAN')" != PASS ]; then
+        fail "kernel CAN is '$(dt $W/doc_nosuch.out 'kernel CAN')', not PASS (the VM has can and can-raw)"
+    elif ! echo "$line" | grep -q 'nosuch0'; then
+        fail "the interface line does not name nosuch0: $line"
+    elif ! echo "$act" | grep -qF 'ip -br link show type can'; then
+        fail "the action does not name 'ip -br link show type can': $act"
+    elif ! echo "$act" | grep -qE 'CAN interfaces here: ([a-z0-9]+, )*vcan0[ ,]'; then
+        fail "the action does not list vcan0 among the existing CAN interfaces: $act"
+    elif ! grep -q '^Result: ' $W/doc_nosuch.out; then
+        fail "no 'Result:' line"
+    else
+        pass "exit 4; $line; -> $act"
+    fi
+    case $VERDICT in FAIL*) ev_doc doc_nosuch "$cmd" ;; esac
+}
+
+ck_doctor_iface_down() {
+    scratch_vcan down
+    cmd="$T --iface $SCRATCH doctor --listen 1s --format json"
+    doc_run doc_down $cmd
+    scratch_del
+    j=$W/doc_down.out
+    want_ids=kernel_can,interface,interface_up,frames,protocol,status,control_mode,estop,faults,battery,motors
+    notskip=""
+    for id in frames protocol status control_mode estop faults battery motors; do
+        [ "$(dj $j $id status)" = skip ] || notskip="$notskip $id: $(dj $j $id status);"
+    done
+    st=$(dj $j interface_up status)
+    act=$(dj $j interface_up action)
+    if [ "$RC" != 4 ]; then
+        fail "exit status $RC (want 4, not drivable)"
+    elif [ "$(dj $j kernel_can status)" != pass ] || [ "$(dj $j interface status)" != pass ]; then
+        fail "kernel_can '$(dj $j kernel_can status)', interface '$(dj $j interface status)' (want pass, pass)"
+    elif [ "$st" != fail ]; then
+        fail "interface_up is '${st:-missing}', not fail: $(dj $j interface_up finding)"
+    elif ! echo "$act" | grep -qE "ip link set (dev )?$SCRATCH (.* )?up|ip link set up $SCRATCH"; then
+        fail "the action does not give 'ip link set $SCRATCH up': $act"
+    elif ! grep -q '"drivable":false' $j || ! grep -q '"probe":false' $j; then
+        fail "the report does not say \"drivable\":false and \"probe\":false"
+    elif [ "$(dj_ids $j)" != "$want_ids" ]; then
+        fail "check ids: $(dj_ids $j) (want $want_ids: the link checks stop at the first fail, the robot's are skipped)"
+    elif [ -n "$notskip" ]; then
+        fail "not skip:$notskip"
+    else
+        pass "exit 4; interface_up fail: $(dj $j interface_up finding); -> $act"
+    fi
+    case $VERDICT in FAIL*) ev_doc doc_down "$cmd   ($SCRATCH created, left down)" ;; esac
+}
+
+ck_doctor_silent_bus() {
+    scratch_vcan up
+    cmd="$T --iface $SCRATCH doctor --listen 1s"
+    doc_run doc_silent $cmd
+    scratch_del
+    o=$W/doc_silent.out
+    bad=""
+    for t in 'kernel CAN' interface 'interface up'; do
+        [ "$(dt $o "$t")" = PASS ] || bad="$bad $t: $(dt $o "$t");"
+    done
+    notskip=""
+    for t in protocol 'system status' 'control mode' E-stop faults battery motors; do
+        [ "$(dt $o "$t")" = SKIP ] || notskip="$notskip $t: $(dt $o "$t");"
+    done
+    line=$(dt_line $o 'frames arriving')
+    if [ "$RC" != 4 ]; then
+        fail "exit status $RC (want 4, not drivable): $line"
+    elif [ -n "$bad" ]; then
+        fail "not PASS:$bad"
+    elif [ -n "$notskip" ]; then
+        fail "not SKIP after nothing was received:$notskip"
+    elif [ "$(dt $o 'frames arriving')" != FAIL ] || ! echo "$line" | grep -q 'nothing received'; then
+        fail "the frames check is not FAIL 'nothing received': ${line:-missing}"
+    elif [ -z "$(dt $o 'frames arriving' action)" ]; then
+        fail "the frames check gives no action"
+    else
+        pass "exit 4; $line"
+    fi
+    case $VERDICT in FAIL*) ev_doc doc_silent "$cmd   ($SCRATCH up, nothing sending)" ;; esac
+}
+
+ck_doctor_healthy() {
+    [ -n "$SIM_PID" ] && sim_stop
+    sim_start
+    cmd="$T --iface vcan0 doctor --listen 1s --format json"
+    doc_run doc_healthy $cmd
+    sim_stop
+    j=$W/doc_healthy.out
+    want_ids=kernel_can,interface,interface_up,bitrate,bus_state,frames,protocol,status,other_senders,control_mode,estop,faults,battery,motors
+    ids=$(dj_ids $j)
+    proto=$(dj $j protocol finding)
+    rate=$(dj $j bitrate finding)
+    bus=$(dj $j bus_state finding)
+    notpass=""
+    for id in protocol bitrate bus_state estop battery; do
+        [ "$(dj $j $id status)" = pass ] || notpass="$notpass $id: $(dj $j $id status) $(dj $j $id finding);"
+    done
+    if [ "$RC" != 0 ]; then
+        fail "exit status $RC (want 0, drivable); failures: $(grep -oE '"failures":[0-9]+' $j)"
+    elif [ -n "$notpass" ]; then
+        fail "not pass:$notpass"
+    elif ! echo "$proto" | grep -q 'V2'; then
+        fail "protocol finding does not say V2: $proto"
+    elif ! echo "$rate" | grep -q 'virtual' || ! echo "$bus" | grep -q 'virtual'; then
+        fail "bitrate or bus state does not say virtual: bitrate '$rate'; bus_state '$bus'"
+    elif [ "$ids" != "$want_ids" ]; then
+        fail "check ids: $ids (want $want_ids)"
+    elif ! grep -q '"drivable":true' $j || ! grep -q '"failures":0' $j || ! grep -q '"link":"vcan0"' $j || ! grep -q '"probe":false' $j; then
+        fail "the report lacks \"drivable\":true, \"failures\":0, \"link\":\"vcan0\" or \"probe\":false"
+    else
+        pass "exit 0; protocol $proto; bitrate $rate; E-stop $(dj $j estop finding); battery $(dj $j battery finding); control mode $(dj $j control_mode status) $(dj $j control_mode finding)"
+    fi
+    case $VERDICT in FAIL*) ev_doc doc_healthy "$cmd"; ev_sim ;; esac
+}
+
+ck_doctor_probe() {
+    [ -n "$SIM_PID" ] && sim_stop
+    sim_start
+    cmd="$T --iface vcan0 doctor --probe --listen 1s"
+    run_cmd doc_probe $cmd
+    sim_stop
+    o=$W/doc_probe.out
+    frames $W/doc_probe.log 111 421 >$W/doc_probe.f
+    lines $W/doc_probe.log 111 421 >$W/doc_probe.l
+    first421=$(awk '$2 == "421" && $3 == "01" {print NR; exit}' $W/doc_probe.f)
+    first111=$(awk '$2 == "111" {print NR; exit}' $W/doc_probe.f)
+    last111=$(awk '$2 == "111" {n = NR} END {print n + 0}' $W/doc_probe.f)
+    zeros=$(awk '$2 == "111" && $3 == "0000000000000000"' $W/doc_probe.f | grep -c .)
+    other111=$(awk '$2 == "111" && $3 != "0000000000000000"' $W/doc_probe.f | grep -c .)
+    restore=$(awk -v l="$last111" 'NR > l && $2 == "421" && $3 == "00" {print NR; exit}' $W/doc_probe.f)
+    # anything else the doctor sent (the simulator's identifiers and the markers left out)
+    frames $W/doc_probe.log | awk -v s="^($SIM_IDS|111|421)\$" '$2 !~ s {print $2 "#" $3}' >$W/doc_probe.other
+    bad=""
+    for t in 'probe: mode' 'probe: zero motion' 'probe: restore'; do
+        [ "$(dt $o "$t")" = PASS ] || bad="$bad $t: $(dt $o "$t");"
+    done
+    if [ "$RC" != 0 ]; then
+        fail "exit status $RC (want 0, drivable)"
+    elif [ -n "$bad" ]; then
+        fail "not PASS:$bad"
+    elif [ -z "$first421" ]; then
+        fail "no 421#01 on the bus"
+    elif [ -z "$first111" ]; then
+        fail "no 0x111 on the bus"
+    elif [ "$first421" -gt "$first111" ]; then
+        fail "the first 0x111 came before the first 421#01"
+    elif [ "$other111" != 0 ]; then
+        fail "$other111 0x111 frames with a non-zero payload (the probe must only send 111#0000000000000000)"
+    elif [ "$zeros" -lt 20 ]; then
+        fail "only $zeros frames 111#0000000000000000 (want at least 20)"
+    elif [ -z "$restore" ]; then
+        fail "no 421#00 after the last 0x111 (the simulator was in standby: the probe must put it back)"
+    elif [ -s $W/doc_probe.other ]; then
+        fail "frames other than 0x111 and 0x421 were sent: $(sort $W/doc_probe.other | uniq -c | head -5 | tr -s ' ' | tr '\n' ';')"
+    else
+        pass "exit 0; 421#01, then $zeros x 111#0000000000000000 and nothing else on 0x111, then 421#00; $(dt_line $o 'probe: restore' | tr -s ' ')"
+    fi
+    case $VERDICT in FAIL*)
+        ev_doc doc_probe "$cmd"
+        ev_sim
+        ev "candump -L vcan0 (111, 421):"
+        ev_file $W/doc_probe.l 30 ;;
+    esac
+}
+
+ck_doctor_foreign_traffic() {
+    scratch_vcan up
+    cangen $SCRATCH -I 7A0 -L 8 -g 5 >/dev/null 2>&1 &
+    gp=$!
+    usleep 300000
+    cmd="$T --iface $SCRATCH doctor --listen 1s --format json"
+    doc_run doc_foreign $cmd
+    galive=0
+    alive $gp && galive=1
+    stop $gp
+    scratch_del
+    j=$W/doc_foreign.out
+    pf=$(dj $j protocol finding)
+    if [ $galive = 0 ]; then
+        fail "cangen $SCRATCH -I 7A0 was not running during the doctor run"
+    elif [ "$RC" != 4 ]; then
+        fail "exit status $RC (want 4, not drivable)"
+    elif [ "$(dj $j frames status)" != pass ]; then
+        fail "the frames check is '$(dj $j frames status)' (want pass: cangen sends 200 frames/s): $(dj $j frames finding)"
+    elif [ "$(dj $j protocol status)" != fail ]; then
+        fail "the protocol check is '$(dj $j protocol status)', not fail: $pf"
+    elif ! echo "$pf" | grep -q '0x7A0'; then
+        fail "the protocol finding does not name the identifier seen (0x7A0): $pf"
+    else
+        pass "exit 4; protocol fail: $pf; -> $(dj $j protocol action)"
+    fi
+    case $VERDICT in FAIL*) ev_doc doc_foreign "$cmd   (cangen $SCRATCH -I 7A0 -L 8 -g 5 running)" ;; esac
+}
+
+ck_doctor_estop() {
+    [ -n "$SIM_PID" ] && sim_stop
+    sim_start --fault estop@0
+    cmd="$T --iface vcan0 doctor --listen 1s"
+    doc_run doc_estop $cmd
+    sim_stop
+    o=$W/doc_estop.out
+    line=$(dt_line $o E-stop)
+    if [ "$RC" != 4 ]; then
+        fail "exit status $RC (want 4, not drivable): ${line:-no E-stop line}"
+    elif [ "$(dt $o E-stop)" != FAIL ]; then
+        fail "the E-stop check is not FAIL: ${line:-missing}"
+    elif [ -z "$(dt $o E-stop action)" ]; then
+        fail "the E-stop check gives no action"
+    elif ! grep -q '^Result: .*E-stop' $o; then
+        fail "the Result line does not name the E-stop: $(grep '^Result' $o)"
+    else
+        pass "exit 4; $line; -> $(dt $o E-stop action)"
+    fi
+    case $VERDICT in FAIL*) ev_doc doc_estop "$cmd   (simulator: sim --fault estop@0)"; ev_sim ;; esac
+}
+
 # ------------------------------------------------------------------------------------------- run
 
 echo "SCENARIO START at uptime $(uptime_s)s; tracerctl: $($T --version 2>&1 | head -n 1)"
@@ -914,6 +1193,14 @@ check monitor_log_matches_bus
 check monitor_log_replay
 
 check flood_no_loss
+
+check doctor_missing_iface
+check doctor_iface_down
+check doctor_silent_bus
+check doctor_healthy
+check doctor_probe
+check doctor_foreign_traffic
+check doctor_estop
 
 echo "SCENARIO END at uptime $(uptime_s)s: $N_PASS passed, $N_FAIL failed"
 if [ $N_FAIL = 0 ] && [ $N_PASS -gt 0 ]; then

@@ -525,9 +525,7 @@ pub fn motors(seen: &Observation) -> Check {
         let names: Vec<String> = silent.iter().map(|motor| format!("motor {motor}")).collect();
         parts.push(format!("no feedback from {} ({expected})", names.join(" or ")));
         worst = worst.max(Outcome::Warn);
-        actions.push(
-            "check the motor driver cables; the faults check names a driver that stopped answering".into(),
-        );
+        actions.push("check the motor driver cables and power".into());
     }
     let finding = parts.join("; ");
     match worst {
