@@ -125,7 +125,7 @@ fn exit_status(drivable: bool, signal: Option<u8>) -> u8 {
 }
 
 /// Runs the checks of what the robot sends (and the probe) on an open session; prints the report to
-/// `out` and returns the exit status. For tests and for `run`.
+/// `out` and returns the exit status. The tests' entry point (`run` adds the link checks first).
 pub fn execute(session: &Session, args: &DoctorArgs, out: &mut impl Write) -> Result<u8> {
     let mut report = Report::new(out, args.format, false, session.name.clone());
     let signal = examine(session, args, &mut report)?;
