@@ -161,17 +161,19 @@ impl FrameRx for SocketRx {
 
 /// Adds what to do to the errors a CAN socket can give.
 pub fn explain_io(error: io::Error, iface: &str) -> io::Error {
-    let iface = if iface.is_empty() { "the interface" } else { iface };
+    let name = if iface.is_empty() { "the interface" } else { iface };
     let hint = match error.raw_os_error() {
-        Some(libc::ENETDOWN) => format!(
-            "{iface} is down: bring it up with `sudo ip link set {iface} up type can bitrate 500000` \
-             (a vcan interface: `sudo ip link set up {iface}`)"
-        ),
+        Some(libc::ENETDOWN) if !iface.is_empty() => can_interface::down_message(iface),
+        Some(libc::ENETDOWN) => {
+            "the interface is down: bring it up with `sudo ip link set IFACE up type can \
+                                 bitrate 500000` (a vcan: `sudo ip link set up IFACE`)"
+                .to_string()
+        }
         Some(libc::ENOBUFS) => format!(
-            "the transmit queue of {iface} is full: no other node acknowledges the frames. \
+            "the transmit queue of {name} is full: no other node acknowledges the frames. \
              Is the robot on, the bus wired and terminated, and the bitrate 500000?"
         ),
-        Some(libc::ENODEV) | Some(libc::ENXIO) => format!("{iface} has disappeared (adapter unplugged?)"),
+        Some(libc::ENODEV) | Some(libc::ENXIO) => format!("{name} has disappeared (adapter unplugged?)"),
         _ => return error,
     };
     io::Error::new(error.kind(), format!("{hint} ({error})"))

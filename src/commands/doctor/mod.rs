@@ -108,7 +108,7 @@ pub fn run(cli: &Cli, args: &DoctorArgs) -> Result<u8> {
         Some(session) => examine(session, args, &mut report)?,
         None => {
             let can = matches!(choice, LinkChoice::SocketCan { .. });
-            add_all(&mut report, robot::skipped("frames", "the link is not usable", can))?;
+            add_all(&mut report, robot::skipped("frames", "motors", "the link is not usable", can))?;
             None
         }
     };

@@ -74,10 +74,12 @@ const CHECKS: &[(&str, &str)] = &[
     ("motors", "motors"),
 ];
 
-/// The checks from `first` on, skipped for `reason` (no frames, no link).
-pub fn skipped(first: &str, reason: &str, can: bool) -> Vec<Check> {
-    let start = CHECKS.iter().position(|(id, _)| *id == first).unwrap_or(0);
-    CHECKS[start..]
+/// The checks from `first` to `last` (inclusive), skipped for `reason` (no frames, no link, no status).
+pub fn skipped(first: &str, last: &str, reason: &str, can: bool) -> Vec<Check> {
+    let position = |wanted: &str| CHECKS.iter().position(|(id, _)| *id == wanted);
+    let start = position(first).unwrap_or(0);
+    let end = position(last).unwrap_or(CHECKS.len() - 1);
+    CHECKS[start..=end]
         .iter()
         .filter(|(id, _)| can || *id != "protocol")
         .map(|(id, title)| Check::skip(id, title, reason))
@@ -89,7 +91,7 @@ pub fn skipped(first: &str, reason: &str, can: bool) -> Vec<Check> {
 pub fn checks(seen: &Observation) -> Vec<Check> {
     let mut checks = vec![frames(seen)];
     if seen.status.frames == 0 {
-        checks.extend(skipped("protocol", "nothing received", seen.is_can()));
+        checks.extend(skipped("protocol", "motors", "nothing received", seen.is_can()));
         return checks;
     }
     if seen.is_can() {
@@ -109,9 +111,7 @@ pub fn checks(seen: &Observation) -> Vec<Check> {
             checks.push(battery(&state));
         }
         None => {
-            let mut skip = skipped("control_mode", "no system status received", true);
-            skip.pop(); // motors are checked below
-            checks.extend(skip);
+            checks.extend(skipped("control_mode", "battery", "no system status received", true));
         }
     }
     checks.push(motors(seen));
