@@ -316,20 +316,16 @@ fn drive_loop(
         if let (Some(status), name) = (signal.exit_status(), signal.name()) {
             break End::Signal(status, name);
         }
-        // The process was stopped (SIGTSTP, SIGSTOP) or the machine stalled: what the terminal queued
-        // meanwhile is stale, and every key counts as released.
-        if last_loop.elapsed() > GAP_LIMIT {
-            while input.try_recv().is_ok() {}
-            teleop.release_all();
-            driving.needs_release = true;
-            // Keys the terminal delivers from now on may be the backlog: quiet counts from here.
-            last_drive_key = Instant::now();
-            if screen.take_back()? {
-                drawn = None;
-            }
+        // After SIGTSTP or Ctrl-Z the terminal was given back: take it again.
+        if last_loop.elapsed() > GAP_LIMIT && screen.take_back()? {
+            drawn = None;
         }
         last_loop = Instant::now();
+        // The sender's own clock jumped (the process was stopped, or the machine stalled; a slow redraw of
+        // this loop alone does not count): what the terminal queued meanwhile is stale, every key counts as
+        // released, and the quiet that makes a press fresh counts from here.
         if let Some(text) = driving.gap_since_last_look() {
+            while input.try_recv().is_ok() {}
             teleop.release_all();
             last_drive_key = Instant::now();
             app.set_message(text, Instant::now());

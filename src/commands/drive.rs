@@ -460,7 +460,7 @@ mod tests {
             suspended_message(Duration::from_millis(800)),
             "suspended for 0.80 s, longer than the robot's 500 ms command timeout: the robot stopped; drive ended"
         );
-        assert!(suspended_message(Duration::from_millis(150)).starts_with("suspended for 0.15 s (no command"));
+        assert!(suspended_message(Duration::from_millis(250)).starts_with("suspended for 0.25 s (no command"));
     }
 
     #[test]

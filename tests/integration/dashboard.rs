@@ -315,8 +315,9 @@ fn drive_then(name: &str, finish: impl FnOnce(&Session, &Path)) -> Vec<i16> {
         session.keys(&["Up"]);
         std::thread::sleep(Duration::from_millis(33));
     }
-    // Still held: the last commands move the robot.
-    assert!(commanded(&log).last().is_some_and(|mm| *mm > 0), "driving before the exit");
+    // It drove (on a loaded machine tmux may deliver the repeats late, and the deadline brakes in between,
+    // so the very last frame need not be moving).
+    assert!(commanded(&log).iter().rev().take(50).any(|mm| *mm > 0), "driving before the exit");
     finish(&session, &log);
     std::thread::sleep(Duration::from_millis(500));
     commanded(&log)
