@@ -37,6 +37,9 @@ const SUSPEND_WAIT: Duration = Duration::from_millis(100);
 /// After a halt, a gap or a block, the keyboard must be this quiet (no drive key) before a press counts as
 /// fresh: auto-repeats of a key still held, or a backlog read after a suspension, are not fresh presses.
 const RELEASE_QUIET: Duration = Duration::from_millis(150);
+/// After a gap in the sender's clock, no drive key counts as a fresh press for this long: the keys the
+/// terminal queued while the process was stopped arrive in this time, and are stale.
+const GAP_SETTLE: Duration = Duration::from_millis(300);
 /// A robot state older than this does not block driving (nor allow it: the sender's checks stay).
 const BLOCK_STATUS_AGE: Duration = Duration::from_millis(500);
 
@@ -311,14 +314,24 @@ fn drive_loop(
     let mut drawn: Option<u64> = None;
     let mut next_tick = Instant::now();
     let mut last_loop = Instant::now();
-    let mut last_drive_key = Instant::now();
+    // After a gap, drive keys are not fresh until the terminal's backlog has surely been read.
+    let mut settle_until = Instant::now();
+    // No drive key yet: the keyboard has been quiet "forever".
+    let mut last_drive_key = Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now);
     let end = 'run: loop {
         if let (Some(status), name) = (signal.exit_status(), signal.name()) {
             break End::Signal(status, name);
         }
-        // After SIGTSTP or Ctrl-Z the terminal was given back: take it again.
-        if last_loop.elapsed() > GAP_LIMIT && screen.take_back()? {
-            drawn = None;
+        if last_loop.elapsed() > GAP_LIMIT {
+            // After SIGTSTP or Ctrl-Z the terminal was given back: take it again.
+            if screen.take_back()? {
+                drawn = None;
+            }
+            // Let the sender take its tick first: it alone tells a suspension from a slow redraw, and the
+            // input that piled up meanwhile must not be read as fresh presses before it has.
+            if driving.armed() {
+                std::thread::sleep(LOOP * 2);
+            }
         }
         last_loop = Instant::now();
         // The sender's own clock jumped (the process was stopped, or the machine stalled; a slow redraw of
@@ -328,6 +341,7 @@ fn drive_loop(
             while input.try_recv().is_ok() {}
             teleop.release_all();
             last_drive_key = Instant::now();
+            settle_until = Instant::now() + GAP_SETTLE;
             app.set_message(text, Instant::now());
         }
         // Wait for input until the next tick, so a key acts at once.
@@ -359,7 +373,10 @@ fn drive_loop(
                         let quiet = last_drive_key.elapsed();
                         last_drive_key = Instant::now();
                         teleop.key(now, driving_key, action);
-                        let fresh = action == KeyAction::Press && !was_held && quiet >= RELEASE_QUIET;
+                        let fresh = action == KeyAction::Press
+                            && !was_held
+                            && quiet >= RELEASE_QUIET
+                            && Instant::now() >= settle_until;
                         if driving.needs_release && fresh && !driving.blocked_now() {
                             driving.needs_release = false;
                         }
