@@ -72,6 +72,24 @@ fn commanded(log: &Path) -> Vec<i16> {
         .collect()
 }
 
+/// Seconds since the epoch, as the record's timestamps.
+fn wall_clock() -> f64 {
+    std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_secs_f64()
+}
+
+/// (timestamp, commanded linear speed in mm/s) of every 0x111 in a candump log.
+fn commanded_at(log: &Path) -> Vec<(f64, i16)> {
+    let output = tracerctl().args(["decode", "--format", "json", "--id", "0x111"]).arg(log).output().unwrap();
+    String::from_utf8_lossy(&output.stdout)
+        .lines()
+        .map(|line| {
+            let value: serde_json::Value = serde_json::from_str(line).unwrap();
+            let at = value["ts"].as_f64().expect("a timestamp");
+            (at, (value["fields"]["linear_velocity"].as_f64().unwrap() * 1000.0).round() as i16)
+        })
+        .collect()
+}
+
 /// The robot's measured linear speed as the speeds panel shows it (its `robot` row: m/s, rad/s).
 fn measured(screen: &str) -> Option<f64> {
     screen.lines().find_map(|line| {
@@ -96,6 +114,7 @@ fn arrows_drive_the_simulator_release_stops_it_and_q_restores_the_terminal() {
         session.wait_for(Duration::from_secs(10), |s| s.contains("tracerctl") && s.contains("sim"));
     assert!(up, "the dashboard came up:\n{screen}");
     assert!(screen.contains("key release: auto-repeat timeout"), "tmux passes no releases:\n{screen}");
+    arm(&session);
 
     // Hold Up: tmux forwards one key per send, like a terminal's auto-repeat (33 ms interval). Halfway
     // through, the robot must be moving.
@@ -137,6 +156,143 @@ fn arrows_drive_the_simulator_release_stops_it_and_q_restores_the_terminal() {
     assert_eq!(speeds.last(), Some(&0), "the record ends with zero velocity");
 }
 
+/// Arms driving: `a`, the prompt, `y`; the header says ARMED.
+fn arm(session: &Session) {
+    session.keys(&["a"]);
+    let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Arm driving?"));
+    assert!(asked, "a asks before arming:\n{screen}");
+    session.keys(&["y"]);
+    let (armed, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("· ARMED ·"));
+    assert!(armed, "y arms:\n{screen}");
+}
+
+/// Every 0x111 and 0x421 the dashboard sent, from its `--record` log (lines marked as sent by tracerctl
+/// are the ones with these identifiers: the simulator never sends them).
+fn sent_ids(log: &Path) -> Vec<String> {
+    std::fs::read_to_string(log)
+        .unwrap_or_default()
+        .lines()
+        .filter_map(|line| line.split_whitespace().nth(2))
+        .filter(|frame| frame.starts_with("111#") || frame.starts_with("421#") || frame.starts_with("121#"))
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn opens_watching_and_sends_nothing_until_armed() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("watch.log");
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    let command = format!("{} --sim dashboard --record {}; sleep 30", binary.display(), log.display());
+    let session = Session::start(&format!("tracerctl-watch-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up, "{screen}");
+    assert!(screen.contains("· WATCHING ·"), "{screen}");
+    // Watching for a second: the simulator's feedback is recorded, nothing is sent.
+    std::thread::sleep(Duration::from_millis(1000));
+    // An arrow key asks to arm and does not drive; any other key keeps watching.
+    session.keys(&["Up"]);
+    let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Arm driving?"));
+    assert!(asked, "{screen}");
+    session.keys(&["n"]);
+    let (closed, screen) = session.wait_for(Duration::from_secs(5), |s| !s.contains("Arm driving?"));
+    assert!(closed && screen.contains("· WATCHING ·"), "{screen}");
+    session.keys(&["l"]);
+    session.keys(&["Escape"]);
+    std::thread::sleep(Duration::from_millis(300));
+    let recorded = std::fs::read_to_string(&log).unwrap_or_default();
+    assert!(recorded.lines().count() > 20, "the feedback was recorded: {recorded}");
+    assert_eq!(sent_ids(&log), Vec::<String>::new(), "watching sends nothing");
+
+    // Armed: 0x421 first, then motion at 50 Hz; a disarms: zeros, then nothing more.
+    arm(&session);
+    std::thread::sleep(Duration::from_millis(500));
+    session.keys(&["a"]);
+    let (disarmed, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("· WATCHING ·"));
+    assert!(disarmed, "{screen}");
+    std::thread::sleep(Duration::from_millis(200));
+    let sent = sent_ids(&log);
+    assert_eq!(sent.first().map(String::as_str), Some("421#01"), "{sent:?}");
+    assert!(sent.len() > 15, "about 25 motion frames in 0.5 s: {sent:?}");
+    std::thread::sleep(Duration::from_millis(500));
+    assert_eq!(sent_ids(&log), sent, "nothing is sent once disarmed");
+    assert_eq!(sent.last().map(String::as_str), Some("111#0000000000000000"));
+}
+
+#[test]
+fn watch_only_never_arms() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("watch-only.log");
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    let command =
+        format!("{} --sim dashboard --watch --record {}; sleep 30", binary.display(), log.display());
+    let session = Session::start(&format!("tracerctl-watchonly-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up && screen.contains("WATCH ONLY"), "{screen}");
+    for key in ["a", "Up", "y", "m", "y", "c", "y"] {
+        session.keys(&[key]);
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let (said, screen) = session.wait_for(Duration::from_secs(3), |s| s.contains("watch-only (--watch)"));
+    assert!(said, "{screen}");
+    std::thread::sleep(Duration::from_millis(300));
+    assert_eq!(sent_ids(&log), Vec::<String>::new());
+    session.keys(&["q"]);
+    let (ended, screen) =
+        session.wait_for(Duration::from_secs(5), |s| s.contains("nothing was sent (never armed)"));
+    assert!(ended, "{screen}");
+}
+
+#[test]
+fn space_sends_zero_at_once_and_a_held_key_needs_a_fresh_press() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("space.log");
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    // Full speed 1.5 m/s so a ramp would show: from there the old Space took 3.1 s.
+    let command = format!(
+        "{} --sim dashboard --max-linear 1.5 --accel 100 --decel 100 --record {}; sleep 30",
+        binary.display(),
+        log.display()
+    );
+    let session = Session::start(&format!("tracerctl-space-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up, "{screen}");
+    arm(&session);
+    for _ in 0..10 {
+        session.keys(&["+"]);
+    }
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_millis(1000) {
+        session.keys(&["Up"]);
+        std::thread::sleep(Duration::from_millis(33));
+    }
+    // Space while Up is still being held (auto-repeat goes on for a while): zero at once, and it stays zero.
+    let space_at = wall_clock();
+    session.keys(&["Space"]);
+    let again = Instant::now();
+    while again.elapsed() < Duration::from_millis(500) {
+        session.keys(&["Up"]);
+        std::thread::sleep(Duration::from_millis(33));
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let timed = commanded_at(&log);
+    let before: Vec<i16> = timed.iter().filter(|(at, _)| *at < space_at).map(|(_, mm)| *mm).collect();
+    let after: Vec<(f64, i16)> = timed.iter().filter(|(at, _)| *at >= space_at).copied().collect();
+    assert_eq!(before.last(), Some(&1500), "at full speed before Space: {before:?}");
+    assert_eq!(after[0].1, 0, "the first frame after Space is zero (no ramp): {after:?}");
+    assert!(after[0].0 - space_at < 0.1, "and it left at once: {after:?}");
+    assert!(after.iter().all(|(_, mm)| *mm == 0), "the held key did not resume: {after:?}");
+    // Let go (the deadline passes), press again: it drives.
+    std::thread::sleep(Duration::from_millis(800));
+    let start = Instant::now();
+    while start.elapsed() < Duration::from_millis(500) {
+        session.keys(&["Up"]);
+        std::thread::sleep(Duration::from_millis(33));
+    }
+    std::thread::sleep(Duration::from_millis(100));
+    assert!(commanded(&log).iter().rev().take(5).any(|mm| *mm > 0), "a fresh press drives again");
+}
+
 #[test]
 fn refuses_without_a_terminal() {
     let output = tracerctl().args(["--sim", "dashboard"]).output().unwrap();
@@ -153,13 +309,15 @@ fn drive_then(name: &str, finish: impl FnOnce(&Session, &Path)) -> Vec<i16> {
     let session = Session::start(&format!("{name}-{}", std::process::id()), &command);
     let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
     assert!(up, "{screen}");
+    arm(&session);
     let start = Instant::now();
     while start.elapsed() < Duration::from_millis(1500) {
         session.keys(&["Up"]);
         std::thread::sleep(Duration::from_millis(33));
     }
-    // Still held: the last commands move the robot.
-    assert!(commanded(&log).last().is_some_and(|mm| *mm > 0), "driving before the exit");
+    // It drove (on a loaded machine tmux may deliver the repeats late, and the deadline brakes in between,
+    // so the very last frame need not be moving).
+    assert!(commanded(&log).iter().rev().take(50).any(|mm| *mm > 0), "driving before the exit");
     finish(&session, &log);
     std::thread::sleep(Duration::from_millis(500));
     commanded(&log)
