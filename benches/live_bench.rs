@@ -45,6 +45,15 @@ fn pty() -> (serialport::TTYPort, String) {
     (master, path)
 }
 
+/// A pseudo-terminal of 100x30 for the dashboard (a new one is 0x0, where nothing is drawn).
+fn terminal_pty() -> (serialport::TTYPort, String) {
+    let (master, path) = pty();
+    let size = libc::winsize { ws_row: 30, ws_col: 100, ws_xpixel: 0, ws_ypixel: 0 };
+    // SAFETY: TIOCSWINSZ with a valid winsize on an open pseudo-terminal.
+    unsafe { libc::ioctl(std::os::fd::AsRawFd::as_raw_fd(&master), libc::TIOCSWINSZ, &size) };
+    (master, path)
+}
+
 fn percentile(sorted: &[f64], p: f64) -> f64 {
     sorted[((sorted.len() - 1) as f64 * p).round() as usize]
 }
@@ -237,7 +246,7 @@ fn monitor_flood(frames: usize) {
 
 fn dashboard(seconds: u64) {
     let (mut robot, robot_path) = pty();
-    let (terminal, terminal_path) = pty();
+    let (terminal, terminal_path) = terminal_pty();
     let arrivals_rx = record_motion_frames(robot.try_clone().unwrap());
     let slave = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
     let mut child = Command::new(binary())
@@ -331,7 +340,7 @@ impl Dash {
         use std::sync::atomic::{AtomicBool, Ordering};
         use std::sync::Arc;
         let (robot, robot_path) = pty();
-        let (terminal, terminal_path) = pty();
+        let (terminal, terminal_path) = terminal_pty();
         let arrivals = record_motion_frames(robot.try_clone().unwrap());
         let slave = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
         let child = Command::new(binary())

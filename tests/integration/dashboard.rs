@@ -447,3 +447,105 @@ fn ctrl_z_sends_zero_then_suspends_and_gives_the_terminal_back() {
     assert!(!after.is_empty() && after.iter().all(|mm| *mm == 0), "{after:?}");
     session.keys(&["q"]);
 }
+
+/// The dashboard on a pseudo-terminal this test owns, answering the keyboard-protocol query as kitty,
+/// foot or WezTerm would, so it gets key release events; the robot on a second pseudo-terminal.
+#[test]
+fn with_release_events_a_release_brakes_to_zero_within_150_ms_of_frames() {
+    use crate::serial_peer::{healthy, FakeRobot};
+    use serialport::SerialPort;
+    use std::io::{Read, Write};
+    let robot = FakeRobot::start(healthy());
+    let (terminal, terminal_slave) = serialport::TTYPort::pair().unwrap();
+    let terminal_path = terminal_slave.name().unwrap();
+    drop(terminal_slave);
+    // A 100x30 terminal (a new pseudo-terminal is 0x0, where nothing is drawn).
+    let size = libc::winsize { ws_row: 30, ws_col: 100, ws_xpixel: 0, ws_ypixel: 0 };
+    // SAFETY: TIOCSWINSZ with a valid winsize on an open pseudo-terminal.
+    unsafe { libc::ioctl(std::os::fd::AsRawFd::as_raw_fd(&terminal), libc::TIOCSWINSZ, &size) };
+    let open = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["--serial", &robot.path, "dashboard"])
+        .env("TERM", "xterm-256color")
+        .stdin(open())
+        .stdout(open())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let screen_text = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
+    {
+        let (mut screen, mut answer) = (terminal.try_clone().unwrap(), terminal.try_clone().unwrap());
+        let (done, screen_text) = (std::sync::Arc::clone(&done), std::sync::Arc::clone(&screen_text));
+        std::thread::spawn(move || {
+            let mut buffer = [0u8; 65536];
+            screen.set_timeout(Duration::from_millis(50)).unwrap();
+            while !done.load(std::sync::atomic::Ordering::SeqCst) {
+                if let Ok(read) = screen.read(&mut buffer) {
+                    let text = &buffer[..read];
+                    if text.windows(4).any(|w| w == b"\x1b[?u") {
+                        let _ = answer.write_all(b"\x1b[?0u\x1b[?62;22c");
+                    }
+                    let mut shown = screen_text.lock().unwrap();
+                    shown.push_str(&String::from_utf8_lossy(text));
+                    let keep = shown.len().saturating_sub(20_000);
+                    shown.drain(..keep);
+                }
+            }
+        });
+    }
+    let mut keys = terminal;
+    let wait_for = |needle: &str| {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while !screen_text.lock().unwrap().contains(needle) {
+            assert!(
+                Instant::now() < deadline,
+                "{needle:?} never shown: {:?}",
+                screen_text
+                    .lock()
+                    .unwrap()
+                    .chars()
+                    .rev()
+                    .take(3000)
+                    .collect::<String>()
+                    .chars()
+                    .rev()
+                    .collect::<String>()
+            );
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    wait_for("terminal events (kitty protocol)");
+    keys.write_all(b"a").unwrap();
+    wait_for("Arm driving?");
+    keys.write_all(b"y").unwrap();
+    wait_for("ARMED");
+    std::thread::sleep(Duration::from_millis(200));
+    // Press, repeats for 1.2 s (0.15 m/s = 10 % on RS232 once ramped), release.
+    keys.write_all(b"\x1b[1;1:1A").unwrap();
+    for _ in 0..36 {
+        std::thread::sleep(Duration::from_millis(33));
+        keys.write_all(b"\x1b[1;1:2A").unwrap();
+    }
+    let percent = |f: &tracerctl::protocol::serial::SerialFrame| {
+        (f.frame_type == 0x55 && f.command == 0x01).then_some(f.payload[2] as i8)
+    };
+    let released = Instant::now();
+    keys.write_all(b"\x1b[1;1:3A").unwrap();
+    std::thread::sleep(Duration::from_millis(500));
+    keys.write_all(b"q").unwrap();
+    let _ = child.wait();
+    done.store(true, std::sync::atomic::Ordering::SeqCst);
+    let frames: Vec<(Instant, i8)> =
+        robot.frames().iter().filter_map(|(at, f)| Some((*at, percent(f)?))).collect();
+    let before: Vec<i8> = frames.iter().filter(|(at, _)| *at < released).map(|(_, p)| *p).collect();
+    assert_eq!(before.last(), Some(&10), "at 0.15 m/s when released: {before:?}");
+    let after: Vec<i8> = frames.iter().filter(|(at, _)| *at >= released).map(|(_, p)| *p).collect();
+    let to_zero = after.iter().position(|p| *p == 0).expect("zero after the release");
+    // 0.15 m/s at 1.5 m/s² is 0.1 s: five 20 ms frames, the first sent at once; 7 frames (140 ms) at most.
+    // (At the old 0.5 m/s² it took 15 frames, 290 ms.)
+    assert!(to_zero <= 6, "{to_zero} frames before zero after the release: {after:?}");
+    assert!(after[..to_zero].windows(2).all(|w| w[1] <= w[0]), "braking, never speeding up: {after:?}");
+    let zero_at = frames.iter().find(|(at, p)| *at >= released && *p == 0).unwrap().0;
+    eprintln!("release event to zero: {:?} ({to_zero} frames)", zero_at - released);
+}
