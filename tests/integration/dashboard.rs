@@ -448,96 +448,122 @@ fn ctrl_z_sends_zero_then_suspends_and_gives_the_terminal_back() {
     session.keys(&["q"]);
 }
 
-/// The dashboard on a pseudo-terminal this test owns, answering the keyboard-protocol query as kitty,
-/// foot or WezTerm would, so it gets key release events; the robot on a second pseudo-terminal.
+/// The dashboard on a 100x30 pseudo-terminal this test owns; with `kitty`, it answers the keyboard-protocol
+/// query as kitty, foot or WezTerm would, so the dashboard gets key release events.
+struct PtyDashboard {
+    child: std::process::Child,
+    keys: serialport::TTYPort,
+    shown: std::sync::Arc<std::sync::Mutex<String>>,
+    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl PtyDashboard {
+    fn start(robot_path: &str, kitty: bool) -> Self {
+        use serialport::SerialPort;
+        use std::io::{Read, Write};
+        use std::sync::atomic::{AtomicBool, Ordering};
+        use std::sync::{Arc, Mutex};
+        let (terminal, terminal_slave) = serialport::TTYPort::pair().unwrap();
+        let terminal_path = terminal_slave.name().unwrap();
+        drop(terminal_slave);
+        // A 100x30 terminal (a new pseudo-terminal is 0x0, where nothing is drawn).
+        let size = libc::winsize { ws_row: 30, ws_col: 100, ws_xpixel: 0, ws_ypixel: 0 };
+        // SAFETY: TIOCSWINSZ with a valid winsize on an open pseudo-terminal.
+        unsafe { libc::ioctl(std::os::fd::AsRawFd::as_raw_fd(&terminal), libc::TIOCSWINSZ, &size) };
+        let open = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
+        let child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["--serial", robot_path, "dashboard"])
+            .env("TERM", "xterm-256color")
+            .stdin(open())
+            .stdout(open())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .unwrap();
+        let done = Arc::new(AtomicBool::new(false));
+        let shown = Arc::new(Mutex::new(String::new()));
+        {
+            let (mut screen, mut answer) = (terminal.try_clone().unwrap(), terminal.try_clone().unwrap());
+            let (done, shown) = (Arc::clone(&done), Arc::clone(&shown));
+            std::thread::spawn(move || {
+                let mut buffer = [0u8; 65536];
+                screen.set_timeout(Duration::from_millis(50)).unwrap();
+                while !done.load(Ordering::SeqCst) {
+                    if let Ok(read) = screen.read(&mut buffer) {
+                        let text = &buffer[..read];
+                        if kitty && text.windows(4).any(|w| w == b"\x1b[?u") {
+                            let _ = answer.write_all(b"\x1b[?0u\x1b[?62;22c");
+                        }
+                        let mut shown = shown.lock().unwrap();
+                        shown.push_str(&String::from_utf8_lossy(text));
+                        let keep = shown.len().saturating_sub(50_000);
+                        shown.drain(..keep);
+                    }
+                }
+            });
+        }
+        Self { child, keys: terminal, shown, done }
+    }
+
+    /// Waits until `needle` was drawn (since the last `forget`).
+    fn wait_for(&self, needle: &str) {
+        let deadline = Instant::now() + Duration::from_secs(10);
+        while !self.shown.lock().unwrap().contains(needle) {
+            assert!(Instant::now() < deadline, "{needle:?} never shown");
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    }
+
+    fn forget(&self) {
+        self.shown.lock().unwrap().clear();
+    }
+
+    fn type_keys(&mut self, bytes: &[u8]) {
+        std::io::Write::write_all(&mut self.keys, bytes).unwrap();
+    }
+
+    fn arm(&mut self) {
+        self.type_keys(b"a");
+        self.wait_for("Arm driving?");
+        self.type_keys(b"y");
+        self.wait_for("ARMED");
+    }
+
+    fn quit(mut self) {
+        self.type_keys(b"q");
+        let _ = self.child.wait();
+        self.done.store(true, std::sync::atomic::Ordering::SeqCst);
+    }
+}
+
+/// (arrival, linear percent) of the RS232 motion frames a fake robot received.
+fn percents(robot: &crate::serial_peer::FakeRobot) -> Vec<(Instant, i8)> {
+    robot
+        .frames()
+        .iter()
+        .filter(|(_, f)| f.frame_type == 0x55 && f.command == 0x01)
+        .map(|(at, f)| (*at, f.payload[2] as i8))
+        .collect()
+}
+
 #[test]
 fn with_release_events_a_release_brakes_to_zero_within_150_ms_of_frames() {
     use crate::serial_peer::{healthy, FakeRobot};
-    use serialport::SerialPort;
-    use std::io::{Read, Write};
     let robot = FakeRobot::start(healthy());
-    let (terminal, terminal_slave) = serialport::TTYPort::pair().unwrap();
-    let terminal_path = terminal_slave.name().unwrap();
-    drop(terminal_slave);
-    // A 100x30 terminal (a new pseudo-terminal is 0x0, where nothing is drawn).
-    let size = libc::winsize { ws_row: 30, ws_col: 100, ws_xpixel: 0, ws_ypixel: 0 };
-    // SAFETY: TIOCSWINSZ with a valid winsize on an open pseudo-terminal.
-    unsafe { libc::ioctl(std::os::fd::AsRawFd::as_raw_fd(&terminal), libc::TIOCSWINSZ, &size) };
-    let open = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
-    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
-        .args(["--serial", &robot.path, "dashboard"])
-        .env("TERM", "xterm-256color")
-        .stdin(open())
-        .stdout(open())
-        .stderr(std::process::Stdio::null())
-        .spawn()
-        .unwrap();
-    let done = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-    let screen_text = std::sync::Arc::new(std::sync::Mutex::new(String::new()));
-    {
-        let (mut screen, mut answer) = (terminal.try_clone().unwrap(), terminal.try_clone().unwrap());
-        let (done, screen_text) = (std::sync::Arc::clone(&done), std::sync::Arc::clone(&screen_text));
-        std::thread::spawn(move || {
-            let mut buffer = [0u8; 65536];
-            screen.set_timeout(Duration::from_millis(50)).unwrap();
-            while !done.load(std::sync::atomic::Ordering::SeqCst) {
-                if let Ok(read) = screen.read(&mut buffer) {
-                    let text = &buffer[..read];
-                    if text.windows(4).any(|w| w == b"\x1b[?u") {
-                        let _ = answer.write_all(b"\x1b[?0u\x1b[?62;22c");
-                    }
-                    let mut shown = screen_text.lock().unwrap();
-                    shown.push_str(&String::from_utf8_lossy(text));
-                    let keep = shown.len().saturating_sub(20_000);
-                    shown.drain(..keep);
-                }
-            }
-        });
-    }
-    let mut keys = terminal;
-    let wait_for = |needle: &str| {
-        let deadline = Instant::now() + Duration::from_secs(10);
-        while !screen_text.lock().unwrap().contains(needle) {
-            assert!(
-                Instant::now() < deadline,
-                "{needle:?} never shown: {:?}",
-                screen_text
-                    .lock()
-                    .unwrap()
-                    .chars()
-                    .rev()
-                    .take(3000)
-                    .collect::<String>()
-                    .chars()
-                    .rev()
-                    .collect::<String>()
-            );
-            std::thread::sleep(Duration::from_millis(20));
-        }
-    };
-    wait_for("terminal events (kitty protocol)");
-    keys.write_all(b"a").unwrap();
-    wait_for("Arm driving?");
-    keys.write_all(b"y").unwrap();
-    wait_for("ARMED");
+    let mut dash = PtyDashboard::start(&robot.path, true);
+    dash.wait_for("kitty protocol");
+    dash.arm();
     std::thread::sleep(Duration::from_millis(200));
     // Press, repeats for 1.2 s (0.15 m/s = 10 % on RS232 once ramped), release.
-    keys.write_all(b"\x1b[1;1:1A").unwrap();
+    dash.type_keys(b"\x1b[1;1:1A");
     for _ in 0..36 {
         std::thread::sleep(Duration::from_millis(33));
-        keys.write_all(b"\x1b[1;1:2A").unwrap();
+        dash.type_keys(b"\x1b[1;1:2A");
     }
-    let percent = |f: &tracerctl::protocol::serial::SerialFrame| {
-        (f.frame_type == 0x55 && f.command == 0x01).then_some(f.payload[2] as i8)
-    };
     let released = Instant::now();
-    keys.write_all(b"\x1b[1;1:3A").unwrap();
+    dash.type_keys(b"\x1b[1;1:3A");
     std::thread::sleep(Duration::from_millis(500));
-    keys.write_all(b"q").unwrap();
-    let _ = child.wait();
-    done.store(true, std::sync::atomic::Ordering::SeqCst);
-    let frames: Vec<(Instant, i8)> =
-        robot.frames().iter().filter_map(|(at, f)| Some((*at, percent(f)?))).collect();
+    dash.quit();
+    let frames = percents(&robot);
     let before: Vec<i8> = frames.iter().filter(|(at, _)| *at < released).map(|(_, p)| *p).collect();
     assert_eq!(before.last(), Some(&10), "at 0.15 m/s when released: {before:?}");
     let after: Vec<i8> = frames.iter().filter(|(at, _)| *at >= released).map(|(_, p)| *p).collect();
@@ -548,4 +574,59 @@ fn with_release_events_a_release_brakes_to_zero_within_150_ms_of_frames() {
     assert!(after[..to_zero].windows(2).all(|w| w[1] <= w[0]), "braking, never speeding up: {after:?}");
     let zero_at = frames.iter().find(|(at, p)| *at >= released && *p == 0).unwrap().0;
     eprintln!("release event to zero: {:?} ({to_zero} frames)", zero_at - released);
+}
+
+/// An E-stop reported while driving: zero at once (and said on screen); a key still held does not resume
+/// once it is released (the E-stop, then the key); a fresh press does. (Before: `keys +0.15 sent +0.15`
+/// under E-STOP.)
+#[test]
+fn an_estop_sends_zero_and_driving_resumes_only_on_a_fresh_press_once_clear() {
+    use crate::serial_peer::{healthy, FakeRobot};
+    use tracerctl::protocol::message::{SystemState, VEHICLE_ESTOP};
+    let robot = FakeRobot::start(healthy());
+    let mut dash = PtyDashboard::start(&robot.path, true);
+    dash.wait_for("kitty protocol");
+    dash.arm();
+    std::thread::sleep(Duration::from_millis(200));
+    dash.forget();
+    let hold = |dash: &mut PtyDashboard, how_long: Duration| {
+        let until = Instant::now() + how_long;
+        while Instant::now() < until {
+            std::thread::sleep(Duration::from_millis(33));
+            dash.type_keys(b"\x1b[1;1:2A");
+        }
+    };
+    dash.type_keys(b"\x1b[1;1:1A");
+    hold(&mut dash, Duration::from_millis(1000));
+    dash.forget();
+    let pressed = Instant::now();
+    robot.set_status(SystemState { vehicle_state: VEHICLE_ESTOP, ..healthy() });
+    // Up is still held (repeats go on) through the E-stop and after it is released.
+    hold(&mut dash, Duration::from_millis(600));
+    let cleared = Instant::now();
+    robot.set_status(healthy());
+    hold(&mut dash, Duration::from_millis(600));
+    dash.type_keys(b"\x1b[1;1:3A");
+    std::thread::sleep(Duration::from_millis(300));
+    let frames = percents(&robot);
+    let during: Vec<i8> = frames.iter().filter(|(at, _)| *at >= pressed).map(|(_, p)| *p).collect();
+    assert!(
+        frames.iter().any(|(at, p)| *at < pressed && *p == 10),
+        "driving at 0.15 m/s before the E-stop: {frames:?}"
+    );
+    // The status comes every 20 ms: the zero follows within a few frames, and never a ramp back up.
+    let first_zero = during.iter().position(|p| *p == 0).expect("zero after the E-stop");
+    assert!(first_zero <= 5, "{during:?}");
+    assert!(during[first_zero..].iter().all(|p| *p == 0), "held key never resumed: {during:?}");
+    assert!(frames.iter().any(|(at, _)| *at > cleared), "still armed and sending");
+    // A fresh press after the E-stop cleared drives again.
+    let fresh = Instant::now();
+    dash.type_keys(b"\x1b[1;1:1A");
+    hold(&mut dash, Duration::from_millis(500));
+    dash.type_keys(b"\x1b[1;1:3A");
+    std::thread::sleep(Duration::from_millis(200));
+    dash.quit();
+    let again: Vec<i8> = percents(&robot).iter().filter(|(at, _)| *at >= fresh).map(|(_, p)| *p).collect();
+    assert!(again.contains(&10), "a fresh press drives again: {again:?}");
+    assert_eq!(again.last(), Some(&0));
 }
