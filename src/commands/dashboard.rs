@@ -402,6 +402,17 @@ fn drive_loop(
             }
         }
 
+        // Look again before commanding: keys read just now may be a backlog from before a gap that the sender
+        // has recorded meanwhile; they must not end its hold. (If the sender records the gap only after
+        // this look, its gap overrides the resume asked for below: it checks for gaps after resumes.)
+        if let Some(text) = driving.gap_since_last_look() {
+            while input.try_recv().is_ok() {}
+            teleop.release_all();
+            last_drive_key = Instant::now();
+            settle_until = Instant::now() + GAP_SETTLE;
+            fresh_press = false;
+            app.set_message(text, Instant::now());
+        }
         let now = Instant::now();
         let request = teleop.request(epoch.elapsed());
         let requested = (request.0 * limits.max_linear, request.1 * limits.max_angular);

@@ -974,16 +974,16 @@ fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
             Span::raw(" keep watching"),
         ]),
     ];
-    let width = 64.min(area.width.saturating_sub(4)).max(20);
+    dialog(frame, area, lines, 64, block("Arm driving?", theme).border_style(theme.warning()));
+}
+
+/// A question in a box in the middle of the screen, over what is there.
+fn dialog(frame: &mut Frame, area: Rect, lines: Vec<Line<'static>>, width: u16, block: Block<'static>) {
+    let width = width.min(area.width.saturating_sub(4)).max(20);
     let height = (lines.len() as u16 + 2).min(area.height);
     let popup = centered(area, width, height);
     frame.render_widget(Clear, popup);
-    frame.render_widget(
-        Paragraph::new(lines)
-            .wrap(Wrap { trim: false })
-            .block(block("Arm driving?", theme).border_style(theme.warning())),
-        popup,
-    );
+    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }).block(block), popup);
 }
 
 fn render_confirm(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
@@ -1018,16 +1018,7 @@ fn render_confirm(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
         Span::styled("any other key", theme.key()),
         Span::raw(" cancel"),
     ]));
-    let width = 62.min(area.width.saturating_sub(4)).max(20);
-    let height = (lines.len() as u16 + 2).min(area.height);
-    let popup = centered(area, width, height);
-    frame.render_widget(Clear, popup);
-    frame.render_widget(
-        Paragraph::new(lines)
-            .wrap(Wrap { trim: false })
-            .block(block("Clear faults?", theme).border_style(theme.alarm())),
-        popup,
-    );
+    dialog(frame, area, lines, 62, block("Clear faults?", theme).border_style(theme.alarm()));
 }
 
 #[cfg(test)]

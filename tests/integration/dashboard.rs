@@ -163,6 +163,20 @@ fn arrows_drive_the_simulator_release_stops_it_and_q_restores_the_terminal() {
     assert_eq!(speeds.last(), Some(&0), "the record ends with zero velocity");
 }
 
+/// Starts `tracerctl --sim dashboard EXTRA --record LOG` in tmux and waits for it to draw; the temporary
+/// directory holding the log lives as long as the returned handle.
+fn sim_dashboard(name: &str, extra: &str) -> (Session, tempfile::TempDir, std::path::PathBuf) {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("session.log");
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    let command =
+        format!("{} --sim dashboard {extra} --record {}; sleep 30", binary.display(), log.display());
+    let session = Session::start(&format!("{name}-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up, "{screen}");
+    (session, dir, log)
+}
+
 /// Arms driving: `a`, the prompt, `y`; the header says ARMED.
 fn arm(session: &Session) {
     session.keys(&["a"]);
@@ -187,13 +201,8 @@ fn sent_ids(log: &Path) -> Vec<String> {
 
 #[test]
 fn opens_watching_and_sends_nothing_until_armed() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("watch.log");
-    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
-    let command = format!("{} --sim dashboard --record {}; sleep 30", binary.display(), log.display());
-    let session = Session::start(&format!("tracerctl-watch-{}", std::process::id()), &command);
-    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
-    assert!(up, "{screen}");
+    let (session, _dir, log) = sim_dashboard("tracerctl-watch", "");
+    let screen = session.screen();
     assert!(screen.contains("· WATCHING ·"), "{screen}");
     // Watching for a second: the simulator's feedback is recorded, nothing is sent.
     std::thread::sleep(Duration::from_millis(1000));
@@ -228,14 +237,8 @@ fn opens_watching_and_sends_nothing_until_armed() {
 
 #[test]
 fn watch_only_never_arms() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("watch-only.log");
-    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
-    let command =
-        format!("{} --sim dashboard --watch --record {}; sleep 30", binary.display(), log.display());
-    let session = Session::start(&format!("tracerctl-watchonly-{}", std::process::id()), &command);
-    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
-    assert!(up && screen.contains("WATCH ONLY"), "{screen}");
+    let (session, _dir, log) = sim_dashboard("tracerctl-watchonly", "--watch");
+    assert!(session.screen().contains("WATCH ONLY"), "{}", session.screen());
     for key in ["a", "Up", "y", "m", "y", "c", "y"] {
         session.keys(&[key]);
         std::thread::sleep(Duration::from_millis(50));
@@ -286,8 +289,10 @@ fn space_sends_zero_at_once_and_a_held_key_needs_a_fresh_press() {
     let before: Vec<i16> = timed.iter().filter(|(at, _)| *at < space_at).map(|(_, mm)| *mm).collect();
     let after: Vec<(f64, i16)> = timed.iter().filter(|(at, _)| *at >= space_at).copied().collect();
     assert_eq!(before.last(), Some(&1500), "at full speed before Space: {before:?}");
-    assert_eq!(after[0].1, 0, "the first frame after Space is zero (no ramp): {after:?}");
-    assert!(after[0].0 - space_at < 0.1, "and it left at once: {after:?}");
+    // The key takes a moment through tmux: a regular frame at full speed may still leave before it acts.
+    let first_zero = after.iter().position(|(_, mm)| *mm == 0).expect("zero after Space");
+    assert!(after[..first_zero].iter().all(|(_, mm)| *mm == 1500), "no ramp, straight to zero: {after:?}");
+    assert!(after[first_zero].0 - space_at < 0.1, "zero within 0.1 s of Space: {after:?}");
     assert!(after.iter().all(|(_, mm)| *mm == 0), "the held key did not resume: {after:?}");
     // Let go (the deadline passes), press again: it drives.
     std::thread::sleep(Duration::from_millis(800));
@@ -309,13 +314,7 @@ fn refuses_without_a_terminal() {
 
 /// Starts a dashboard in tmux, drives for a moment, and ends it with `finish`; returns the commands recorded.
 fn drive_then(name: &str, finish: impl FnOnce(&Session, &Path)) -> Vec<i16> {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("session.log");
-    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
-    let command = format!("{} --sim dashboard --record {}; sleep 30", binary.display(), log.display());
-    let session = Session::start(&format!("{name}-{}", std::process::id()), &command);
-    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
-    assert!(up, "{screen}");
+    let (session, _dir, log) = sim_dashboard(name, "");
     arm(&session);
     let start = Instant::now();
     while start.elapsed() < Duration::from_millis(1500) {
@@ -374,13 +373,7 @@ fn hold_up(session: &Session, how_long: Duration) {
 
 #[test]
 fn after_sigstop_the_first_frame_is_zero_and_keys_typed_meanwhile_do_not_drive() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("stop.log");
-    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
-    let command = format!("{} --sim dashboard --record {}; sleep 30", binary.display(), log.display());
-    let session = Session::start(&format!("tracerctl-sigstop-{}", std::process::id()), &command);
-    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
-    assert!(up, "{screen}");
+    let (session, _dir, log) = sim_dashboard("tracerctl-sigstop", "");
     arm(&session);
     hold_up(&session, Duration::from_millis(1500));
     // Stopped while the key still counts as held; keys typed while it is stopped pile up in the terminal.
@@ -409,13 +402,7 @@ fn after_sigstop_the_first_frame_is_zero_and_keys_typed_meanwhile_do_not_drive()
 
 #[test]
 fn ctrl_z_sends_zero_then_suspends_and_gives_the_terminal_back() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("ctrl-z.log");
-    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
-    let command = format!("{} --sim dashboard --record {}; sleep 30", binary.display(), log.display());
-    let session = Session::start(&format!("tracerctl-ctrlz-{}", std::process::id()), &command);
-    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
-    assert!(up, "{screen}");
+    let (session, _dir, log) = sim_dashboard("tracerctl-ctrlz", "");
     arm(&session);
     hold_up(&session, Duration::from_millis(1500));
     let pressed_at = wall_clock();
