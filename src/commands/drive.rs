@@ -233,6 +233,11 @@ fn execute_with(
         End::TimeUp => sender.ramp_down_and_stop(&limits),
         _ => sender.stop(),
     };
+    // A signal during the ramp down stopped it at once (the signal thread ends the sender): say so.
+    let end = match (end, signal.exit_status()) {
+        (End::TimeUp, Some(status)) => End::Signal(signal.name(), status),
+        (end, _) => end,
+    };
     context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()).take();
     // The stderr reader is gone: nothing more can be said; the robot was stopped above.
     if let End::OutputGone(error) = &end {
