@@ -182,6 +182,14 @@ pub struct MotionLimitArgs {
     /// Angular acceleration of the ramp, rad/s²
     #[arg(long, default_value_t = 1.0, value_name = "RAD/S2")]
     pub angular_accel: f64,
+
+    /// Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s
+    #[arg(long, default_value_t = 1.5, value_name = "M/S2")]
+    pub decel: f64,
+
+    /// Angular braking, rad/s²; at least --angular-accel
+    #[arg(long, default_value_t = 3.0, value_name = "RAD/S2")]
+    pub angular_decel: f64,
 }
 
 impl MotionLimitArgs {
@@ -192,6 +200,8 @@ impl MotionLimitArgs {
             max_angular: self.max_angular,
             linear_accel: self.accel,
             angular_accel: self.angular_accel,
+            linear_decel: self.decel,
+            angular_decel: self.angular_decel,
         }
         .validated()
     }
@@ -288,14 +298,21 @@ pub struct SendRawArgs {
 }
 
 const DASHBOARD_AFTER_HELP: &str = "\
-Keys: arrows drive (up/down linear, left/right angular, combined), Space stops at once, + and - change the
-speed scale, l cycles the lights, c clears faults (asks first), m enables command mode, ? shows help,
-q, Esc or Ctrl-C stop the robot and quit.
+The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
+is not disturbed). The first arrow key, m, c or l asks \"Arm driving?\"; y arms (0x421 command mode, then
+motion commands at 50 Hz), a disarms at once. --watch forbids arming. The state, ARMED or WATCHING, is on
+screen.
+
+Keys: arrows drive (up/down linear, left/right angular, combined), Space sends zero at once, + and -
+change the speed scale, l cycles the lights, c clears faults (asks first), m enables command mode, a arms
+or disarms, ? shows help, q or Ctrl-C stop the robot and quit. Esc closes a prompt or the help.
 
 A key counts as held until the terminal reports its release (kitty keyboard protocol: kitty, foot,
 WezTerm, alacritty, Ghostty, iTerm2) or, in other terminals and in tmux, until no auto-repeat arrives
-before a deadline learned from the key stream. The mode in use is on screen. If input or drawing stalls,
-the robot is commanded to zero within 250 ms; every exit sends zero-velocity frames.";
+before a deadline learned from the key stream; releasing brakes at --decel. While the robot reports an
+E-stop, a latched fault or RC override, zero is sent and keys are ignored until a fresh press once it is
+clear; the same after the process was suspended. If input or drawing stalls, the robot is commanded to
+zero within 250 ms; every exit sends zero-velocity frames.";
 
 const DOCTOR_AFTER_HELP: &str = "\
 Checks in order: kernel CAN support, the interface (exists, up, 500 kbit/s, error state and counters) or
@@ -328,6 +345,10 @@ pub struct DoctorArgs {
 pub struct DashboardArgs {
     #[command(flatten)]
     pub limits: MotionLimitArgs,
+
+    /// Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)
+    #[arg(long)]
+    pub watch: bool,
 
     /// Write a candump log of the session (frames received and sent) to FILE
     #[arg(long, value_name = "FILE")]

@@ -1,25 +1,42 @@
 //! The 50 Hz motion sender: its own clock, caps, ramps, a watchdog, and zero-velocity frames on every way out.
 //!
 //! The sender thread wakes on an absolute 20 ms grid (late wake-ups skip ticks rather than burst). Each tick it
-//! takes the latest target, zeroes it if the target is older than the watchdog (input stalled), clamps it to
-//! the caps, moves the sent command towards it by at most the acceleration limits, and sends it. Stopping, by
-//! [`MotionSender::stop`], by dropping the sender (errors, panics that unwind), by the panic hook (panics on
-//! any thread), or by a termination signal, sends zero-velocity frames at once.
+//! takes the latest target, clamps it to the caps, moves the sent command towards it within the acceleration
+//! limits (braking has its own, stronger, deceleration), and sends it.
+//!
+//! The stop rules (docs/architecture.md, "Stop rules"):
+//! - **Hold.** Some events make the sender *hold* zero and ignore targets until its owner calls
+//!   [`MotionSender::resume`] on a fresh operator command: a halt (Space, an E-stop or fault the owner saw,
+//!   SIGTSTP), a gap in its own clock longer than [`GAP_LIMIT`] (the process was suspended or the machine
+//!   stalled: the robot has stopped by itself, or is about to, so the ramp state becomes zero), and a
+//!   watchdog trip (the owner stopped refreshing the target: input stalled).
+//! - **Stop first.** Before the stop frames, what the link still holds for output is discarded, so the
+//!   zeros are not queued behind stale motion; a motion frame is held back while the link's output is not
+//!   draining. Stopping, by [`MotionSender::stop`], by dropping the sender (errors, panics that unwind), by
+//!   the panic hook (panics on any thread), or by a signal, sends zero-velocity frames at once.
+//! - **Truth.** How many stop frames actually left is counted, so callers never say "stopped" when none did.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::{Arc, Mutex, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::link::{Codec, FrameTx, LinkFrame};
+use crate::link::{is_queue_full, Codec, FrameTx, LinkFrame};
 use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
 
 /// The chassis wants a motion command every 20 ms (and stops by itself after 500 ms without one).
 pub const PERIOD: Duration = Duration::from_millis(20);
 /// How many zero-velocity frames end a drive (a lost frame or two must not matter).
 pub const STOP_FRAMES: usize = 3;
+/// A gap this long in the sender's own clock (five periods) means the process or the machine did not run:
+/// the ramp state becomes zero and the sender holds zero until a fresh command.
+pub const GAP_LIMIT: Duration = Duration::from_millis(100);
+/// How long the stop frames are retried while the transmit queue is full.
+const STOP_RETRY: Duration = Duration::from_millis(100);
+/// A link with this many frames still queued for output is not draining: motion is held back.
+const BACKLOG_LIMIT: usize = 2;
 
 /// Caps and ramps.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,21 +45,33 @@ pub struct Limits {
     pub max_linear: f64,
     /// rad/s.
     pub max_angular: f64,
-    /// m/s².
+    /// m/s², speeding up.
     pub linear_accel: f64,
-    /// rad/s².
+    /// rad/s², speeding up.
     pub angular_accel: f64,
+    /// m/s², slowing down (braking); at least `linear_accel`.
+    pub linear_decel: f64,
+    /// rad/s², slowing down; at least `angular_accel`.
+    pub angular_decel: f64,
 }
 
 impl Default for Limits {
-    /// Safe defaults for driving next to people: 0.5 m/s, 0.5 rad/s, reached in about a second.
+    /// Safe defaults for driving next to people: 0.5 m/s, 0.5 rad/s, reached in about a second; braking three
+    /// times as strong (from 0.15 m/s to zero in 0.1 s, from 0.5 m/s in 0.33 s).
     fn default() -> Self {
-        Self { max_linear: 0.5, max_angular: 0.5, linear_accel: 0.5, angular_accel: 1.0 }
+        Self {
+            max_linear: 0.5,
+            max_angular: 0.5,
+            linear_accel: 0.5,
+            angular_accel: 1.0,
+            linear_decel: 1.5,
+            angular_decel: 3.0,
+        }
     }
 }
 
 impl Limits {
-    /// Clamps caps to the protocol limits and rejects nonsense.
+    /// Clamps caps to the protocol limits and rejects nonsense (braking weaker than accelerating too).
     pub fn validated(self) -> Result<Self> {
         let positive = |value: f64, what: &str| {
             anyhow::ensure!(
@@ -55,24 +84,83 @@ impl Limits {
         positive(self.max_angular, "--max-angular")?;
         positive(self.linear_accel, "--accel")?;
         positive(self.angular_accel, "--angular-accel")?;
+        positive(self.linear_decel, "--decel")?;
+        positive(self.angular_decel, "--angular-decel")?;
+        anyhow::ensure!(
+            self.linear_decel >= self.linear_accel,
+            "--decel ({} m/s²) must be at least --accel ({} m/s²): braking is never weaker than speeding up",
+            self.linear_decel,
+            self.linear_accel
+        );
+        anyhow::ensure!(
+            self.angular_decel >= self.angular_accel,
+            "--angular-decel ({} rad/s²) must be at least --angular-accel ({} rad/s²): braking is never \
+             weaker than speeding up",
+            self.angular_decel,
+            self.angular_accel
+        );
         Ok(Self {
             max_linear: self.max_linear.min(LINEAR_LIMIT),
             max_angular: self.max_angular.min(ANGULAR_LIMIT),
             ..self
         })
     }
+
+    /// How long braking from `command` to zero takes.
+    pub fn braking_time(&self, command: MotionCommand) -> Duration {
+        let seconds =
+            (command.linear().abs() / self.linear_decel).max(command.angular().abs() / self.angular_decel);
+        Duration::from_secs_f64(seconds.clamp(0.0, 60.0))
+    }
 }
 
 /// One step of the sender's control law: clamp the target, then move `current` towards it within the
-/// acceleration allowed in `dt`. Pure, so the ramp is tested without threads.
+/// acceleration (speeding up) or deceleration (slowing down, reversing) allowed in `dt`. Pure, so the ramp is
+/// tested without threads.
 pub fn ramp_step(current: (f64, f64), target: (f64, f64), limits: &Limits, dt: Duration) -> (f64, f64) {
     let dt = dt.as_secs_f64();
     let clamp = |value: f64, cap: f64| if value.is_nan() { 0.0 } else { value.clamp(-cap, cap) };
-    let toward = |from: f64, to: f64, step: f64| from + (to - from).clamp(-step, step);
     (
-        toward(current.0, clamp(target.0, limits.max_linear), limits.linear_accel * dt),
-        toward(current.1, clamp(target.1, limits.max_angular), limits.angular_accel * dt),
+        axis_step(current.0, clamp(target.0, limits.max_linear), limits.linear_accel * dt, limits.linear_decel * dt),
+        axis_step(
+            current.1,
+            clamp(target.1, limits.max_angular),
+            limits.angular_accel * dt,
+            limits.angular_decel * dt,
+        ),
     )
+}
+
+fn axis_step(from: f64, to: f64, accel_step: f64, decel_step: f64) -> f64 {
+    let toward = |to: f64, step: f64| from + (to - from).clamp(-step, step);
+    if from * to < 0.0 {
+        // Reversing: brake to zero first (the next ticks speed up the other way).
+        toward(0.0, decel_step)
+    } else if to.abs() < from.abs() {
+        toward(to, decel_step)
+    } else {
+        toward(to, accel_step)
+    }
+}
+
+/// Why the sender holds zero and ignores the target until [`MotionSender::resume`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Hold {
+    /// Asked to stop at once (Space, a state that forbids driving).
+    Halt,
+    /// SIGTSTP: zeros sent, the process is about to stop.
+    Suspend,
+    /// The sender's own clock jumped by this much: the process was suspended or the machine stalled.
+    Gap(Duration),
+    /// The owner stopped refreshing the target (input stalled) for longer than the watchdog.
+    Watchdog,
+}
+
+impl Hold {
+    /// Zero at once rather than braking: the operator asked, or the robot has stopped by itself already.
+    fn is_immediate(self) -> bool {
+        !matches!(self, Hold::Watchdog)
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -87,11 +175,34 @@ struct Target {
 pub struct SenderStats {
     /// The last command sent.
     pub sent: MotionCommand,
+    /// When the last motion frame left.
+    pub sent_at: Option<Instant>,
     pub frames: u64,
+    /// Sends that failed, for any reason (`queue_full` included).
     pub send_errors: u64,
+    /// Frames not sent because the transmit queue was full (ENOBUFS, EAGAIN, a write timeout).
+    pub queue_full: u64,
+    /// Motion frames not written because the link's output was not draining (they would arrive stale).
+    pub held_back: u64,
+    /// Frames still queued for output that were discarded before the stop frames.
+    pub discarded: u64,
     pub mode_frames: u64,
     /// Ticks where the watchdog zeroed a stale target.
     pub watchdog_trips: u64,
+    /// Gaps in the sender's clock longer than [`GAP_LIMIT`], and the latest one.
+    pub gaps: u64,
+    pub last_gap: Option<Duration>,
+    /// Why the sender holds zero now, if it does.
+    pub hold: Option<Hold>,
+    /// Zero-velocity frames that left when the sender stopped; `None` while it runs.
+    pub stop_frames_sent: Option<usize>,
+}
+
+impl SenderStats {
+    /// True when the sender stopped and at least one stop frame reached the link.
+    pub fn stop_confirmed(&self) -> bool {
+        self.stop_frames_sent.is_some_and(|sent| sent > 0)
+    }
 }
 
 struct Shared {
@@ -102,7 +213,29 @@ struct Shared {
     enable_mode: AtomicBool,
     /// A new target that should not wait for the next tick (a key press): send now, restart the grid.
     kicked: AtomicBool,
+    /// A hold asked for by the owner or a signal, taken by the sender at its next tick.
+    hold_request: Mutex<Option<Hold>>,
+    /// Set by `resume`: clear the hold at the next tick.
+    resume_request: AtomicBool,
+    /// Halts asked for, and the latest one whose zero frame has left (so SIGTSTP can wait for it).
+    halts_asked: AtomicU64,
+    halts_done: AtomicU64,
     last_error: Mutex<Option<String>>,
+}
+
+impl Shared {
+    fn stats(&self) -> std::sync::MutexGuard<'_, SenderStats> {
+        self.stats.lock().unwrap_or_else(|p| p.into_inner())
+    }
+
+    /// Asks for zero at once and holding; returns the halt's number.
+    fn halt(&self, hold: Hold) -> u64 {
+        *self.hold_request.lock().unwrap_or_else(|p| p.into_inner()) = Some(hold);
+        self.resume_request.store(false, Ordering::SeqCst);
+        let number = self.halts_asked.fetch_add(1, Ordering::SeqCst) + 1;
+        self.kicked.store(true, Ordering::SeqCst);
+        number
+    }
 }
 
 /// Stops the sender from another thread (a signal handler thread): zero-velocity frames at once.
@@ -113,9 +246,25 @@ pub struct Stopper {
 }
 
 impl Stopper {
+    /// Ends the sender: zero-velocity frames at once, then its thread ends.
     pub fn stop_now(&self) {
         self.shared.stop.store(true, Ordering::SeqCst);
         self.thread.unpark();
+    }
+
+    /// For SIGTSTP: zero at once and hold; returns once the zero frame has left (or after `timeout`), so the
+    /// process can stop knowing the robot was told to stop. True if it left in time.
+    pub fn suspend(&self, timeout: Duration) -> bool {
+        let number = self.shared.halt(Hold::Suspend);
+        self.thread.unpark();
+        let deadline = Instant::now() + timeout;
+        while Instant::now() < deadline {
+            if self.shared.halts_done.load(Ordering::SeqCst) >= number {
+                return true;
+            }
+            std::thread::sleep(Duration::from_millis(1));
+        }
+        false
     }
 }
 
@@ -148,6 +297,7 @@ pub fn emergency_stop() {
     PANICKED.store(true, Ordering::SeqCst);
     if let Ok(guard) = emergency().try_lock() {
         if let Some((tx, frame)) = guard.as_ref() {
+            tx.discard_pending();
             for _ in 0..STOP_FRAMES {
                 let _ = tx.send(frame);
             }
@@ -169,7 +319,7 @@ pub fn install_panic_hook() {
 
 impl MotionSender {
     /// Starts sending at 50 Hz. `codec` encodes for the link's wire; `watchdog` is how old a target may get
-    /// before the sender treats input as stalled and commands zero.
+    /// before the sender treats input as stalled, commands zero and holds it.
     pub fn start(tx: Arc<dyn FrameTx>, mut codec: Codec, limits: Limits, watchdog: Duration) -> Result<Self> {
         install_panic_hook();
         let stop_frame = codec.motion(MotionCommand::STOP);
@@ -180,6 +330,10 @@ impl MotionSender {
             stop: AtomicBool::new(false),
             enable_mode: AtomicBool::new(true),
             kicked: AtomicBool::new(false),
+            hold_request: Mutex::new(None),
+            resume_request: AtomicBool::new(false),
+            halts_asked: AtomicU64::new(0),
+            halts_done: AtomicU64::new(0),
             last_error: Mutex::new(None),
         });
         let thread = {
@@ -198,7 +352,8 @@ impl MotionSender {
         Stopper { shared: Arc::clone(&self.shared), thread }
     }
 
-    /// Sets what to drive at (m/s, rad/s); also tells the watchdog that input is alive.
+    /// Sets what to drive at (m/s, rad/s); also tells the watchdog that input is alive. Ignored while the
+    /// sender holds zero.
     pub fn set_target(&self, linear: f64, angular: f64) {
         *self.shared.target.lock().unwrap_or_else(|p| p.into_inner()) =
             Target { linear, angular, set_at: Instant::now() };
@@ -208,10 +363,28 @@ impl MotionSender {
     /// frame leaves within a millisecond; the 20 ms grid restarts from it).
     pub fn set_target_now(&self, linear: f64, angular: f64) {
         self.set_target(linear, angular);
+        self.kick();
+    }
+
+    fn kick(&self) {
         self.shared.kicked.store(true, Ordering::SeqCst);
         if let Some(thread) = &self.thread {
             thread.thread().unpark();
         }
+    }
+
+    /// Zero at once (no ramp), then hold zero until [`MotionSender::resume`].
+    pub fn halt(&self) {
+        self.set_target(0.0, 0.0);
+        self.shared.halt(Hold::Halt);
+        self.kick();
+    }
+
+    /// Ends a hold: the next target counts again, ramped up from zero. Call it only on a fresh command from
+    /// the operator (a key pressed after the hold began).
+    pub fn resume(&self) {
+        *self.shared.hold_request.lock().unwrap_or_else(|p| p.into_inner()) = None;
+        self.shared.resume_request.store(true, Ordering::SeqCst);
     }
 
     /// Asks for the mode-enable frame (0x421 = CAN on V2) before the next motion frame.
@@ -220,10 +393,10 @@ impl MotionSender {
     }
 
     pub fn stats(&self) -> SenderStats {
-        *self.shared.stats.lock().unwrap_or_else(|p| p.into_inner())
+        *self.shared.stats()
     }
 
-    /// The sender's error, if sending failed (the thread keeps trying).
+    /// The sender's latest send error, if sending failed (the thread keeps trying).
     pub fn last_error(&self) -> Option<String> {
         self.shared.last_error.lock().unwrap_or_else(|p| p.into_inner()).clone()
     }
@@ -233,13 +406,10 @@ impl MotionSender {
         self.thread.as_ref().is_some_and(|thread| !thread.is_finished())
     }
 
-    /// Ramps down to zero within the acceleration limits (for a normal end), then stops.
+    /// Brakes to zero within the deceleration limits (for a normal end), then stops.
     pub fn ramp_down_and_stop(self, limits: &Limits) -> SenderStats {
         self.set_target(0.0, 0.0);
-        let sent = self.stats().sent;
-        let seconds =
-            (sent.linear().abs() / limits.linear_accel).max(sent.angular().abs() / limits.angular_accel);
-        let deadline = Instant::now() + Duration::from_secs_f64(seconds.min(5.0)) + PERIOD * 2;
+        let deadline = Instant::now() + limits.braking_time(self.stats().sent).min(Duration::from_secs(5)) + PERIOD * 2;
         while Instant::now() < deadline && self.stats().sent != MotionCommand::STOP && self.is_running() {
             self.set_target(0.0, 0.0);
             std::thread::sleep(Duration::from_millis(5));
@@ -259,9 +429,9 @@ impl MotionSender {
             thread.thread().unpark();
             if thread.join().is_err() {
                 // The sender thread panicked (its hook already sent zeros); send them again from here.
-                for _ in 0..STOP_FRAMES {
-                    let _ = self.tx.send(&self.stop_frame);
-                }
+                self.tx.discard_pending();
+                let sent = (0..STOP_FRAMES).filter(|_| self.tx.send(&self.stop_frame).is_ok()).count();
+                self.shared.stats().stop_frames_sent = Some(sent);
             }
         }
         *emergency().lock().unwrap_or_else(|p| p.into_inner()) = None;
@@ -277,14 +447,18 @@ impl Drop for MotionSender {
 fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limits, watchdog: Duration) {
     let mut next_tick = Instant::now();
     let mut current = (0.0, 0.0);
-    let mut last_tick = Instant::now();
+    let mut last_tick: Option<Instant> = None;
+    let mut hold: Option<Hold> = None;
     let record = |result: std::io::Result<()>, mode: bool| {
-        let mut stats = shared.stats.lock().unwrap_or_else(|p| p.into_inner());
+        let mut stats = shared.stats();
         match result {
             Ok(()) if mode => stats.mode_frames += 1,
             Ok(()) => stats.frames += 1,
             Err(error) => {
                 stats.send_errors += 1;
+                if is_queue_full(&error) {
+                    stats.queue_full += 1;
+                }
                 *shared.last_error.lock().unwrap_or_else(|p| p.into_inner()) = Some(error.to_string());
             }
         }
@@ -294,23 +468,56 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             break;
         }
         let now = Instant::now();
-        let target = *shared.target.lock().unwrap_or_else(|p| p.into_inner());
-        let stale = now.duration_since(target.set_at) > watchdog;
-        let wanted = if stale { (0.0, 0.0) } else { (target.linear, target.angular) };
-        if stale && (target.linear != 0.0 || target.angular != 0.0) {
-            shared.stats.lock().unwrap_or_else(|p| p.into_inner()).watchdog_trips += 1;
+        let halt_number = shared.halts_asked.load(Ordering::SeqCst);
+        if shared.resume_request.swap(false, Ordering::SeqCst) {
+            hold = None;
         }
-        // At least one period's step: a frame sent early for a key press must already move (it restarts the
-        // grid, so the ramp gains at most one step per press).
-        current =
-            ramp_step(current, wanted, &limits, now.duration_since(last_tick).clamp(PERIOD, PERIOD * 5));
-        last_tick = now;
+        if let Some(asked) = shared.hold_request.lock().unwrap_or_else(|p| p.into_inner()).take() {
+            hold = Some(asked);
+        }
+        // The sender's own clock: a jump means nothing ran (SIGSTOP, Ctrl-Z, a stalled machine).
+        let since = last_tick.map_or(Duration::ZERO, |last| now.duration_since(last));
+        if since > GAP_LIMIT {
+            hold = Some(Hold::Gap(since));
+            let mut stats = shared.stats();
+            stats.gaps += 1;
+            stats.last_gap = Some(since);
+        }
+        let target = *shared.target.lock().unwrap_or_else(|p| p.into_inner());
+        let moving_target = target.linear != 0.0 || target.angular != 0.0;
+        if hold.is_none() && moving_target && now.duration_since(target.set_at) > watchdog {
+            hold = Some(Hold::Watchdog);
+            shared.stats().watchdog_trips += 1;
+        }
+        current = match hold {
+            Some(reason) if reason.is_immediate() => (0.0, 0.0),
+            Some(_) => ramp_step(current, (0.0, 0.0), &limits, since.clamp(PERIOD, PERIOD * 5)),
+            // At least one period's step: a frame sent early for a key press must already move (it restarts
+            // the grid, so the ramp gains at most one step per press).
+            None => ramp_step(current, (target.linear, target.angular), &limits, since.clamp(PERIOD, PERIOD * 5)),
+        };
+        last_tick = Some(now);
+        shared.stats().hold = hold;
         if shared.enable_mode.swap(false, Ordering::SeqCst) {
             record(tx.send(&codec.enable_command_mode()), true);
         }
         let (command, _) = MotionCommand::clamped_from_si(current.0, current.1);
-        record(tx.send(&codec.motion(command)), false);
-        shared.stats.lock().unwrap_or_else(|p| p.into_inner()).sent = command;
+        // Not behind a backlog: a motion frame queued there would reach the robot late, and stale.
+        if tx.pending().is_some_and(|queued| queued >= BACKLOG_LIMIT) {
+            shared.stats().held_back += 1;
+        } else {
+            let result = tx.send(&codec.motion(command));
+            let sent = result.is_ok();
+            record(result, false);
+            if sent {
+                let mut stats = shared.stats();
+                stats.sent = command;
+                stats.sent_at = Some(Instant::now());
+                if command == MotionCommand::STOP {
+                    shared.halts_done.fetch_max(halt_number, Ordering::SeqCst);
+                }
+            }
+        }
 
         // Next point on the 20 ms grid; if we are late by whole periods, skip them rather than burst.
         next_tick += PERIOD;
@@ -331,12 +538,39 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             std::thread::park_timeout(next_tick - now);
         }
     }
-    // Every way out of the loop ends here: zero velocity, several times (each frame encoded anew, so
-    // RS232 frame ids keep rolling).
+    // Every way out of the loop ends here: discard what the link still holds, then zero velocity, several
+    // times (each frame encoded anew, so RS232 frame ids keep rolling), retried while the queue is full.
+    let discarded = tx.discard_pending();
+    let deadline = Instant::now() + STOP_RETRY;
+    let mut sent = 0;
     for _ in 0..STOP_FRAMES {
-        record(tx.send(&codec.motion(MotionCommand::STOP)), false);
+        let frame = codec.motion(MotionCommand::STOP);
+        loop {
+            let result = tx.send(&frame);
+            match result {
+                Ok(()) => {
+                    sent += 1;
+                    record(Ok(()), false);
+                    break;
+                }
+                Err(error) if is_queue_full(&error) && Instant::now() < deadline => {
+                    record(Err(error), false);
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+                Err(error) => {
+                    record(Err(error), false);
+                    break;
+                }
+            }
+        }
     }
-    shared.stats.lock().unwrap_or_else(|p| p.into_inner()).sent = MotionCommand::STOP;
+    let mut stats = shared.stats();
+    stats.discarded += discarded as u64;
+    stats.stop_frames_sent = Some(sent);
+    if sent > 0 {
+        stats.sent = MotionCommand::STOP;
+        stats.sent_at = Some(Instant::now());
+    }
 }
 
 #[cfg(test)]
@@ -347,7 +581,7 @@ mod tests {
 
     #[test]
     fn ramp_respects_acceleration_and_caps() {
-        let limits = Limits { max_linear: 0.5, max_angular: 0.4, linear_accel: 0.5, angular_accel: 1.0 };
+        let limits = Limits { max_linear: 0.5, max_angular: 0.4, ..Limits::default() };
         let mut current = (0.0, 0.0);
         current = ramp_step(current, (2.0, -2.0), &limits, PERIOD);
         assert!((current.0 - 0.01).abs() < 1e-12 && (current.1 + 0.02).abs() < 1e-12, "{current:?}");
@@ -355,9 +589,45 @@ mod tests {
             current = ramp_step(current, (2.0, -2.0), &limits, PERIOD);
         }
         assert_eq!(current, (0.5, -0.4), "capped");
-        current = ramp_step(current, (0.0, 0.0), &limits, PERIOD);
-        assert!((current.0 - 0.49).abs() < 1e-12);
         assert_eq!(ramp_step((0.0, 0.0), (f64::NAN, 0.1), &limits, PERIOD).0, 0.0);
+    }
+
+    #[test]
+    fn braking_uses_its_own_stronger_deceleration() {
+        let limits = Limits::default();
+        // Slowing down: 1.5 m/s² and 3 rad/s², three times the acceleration.
+        let braked = ramp_step((0.5, -0.4), (0.0, 0.0), &limits, PERIOD);
+        assert!((braked.0 - 0.47).abs() < 1e-12 && (braked.1 + 0.34).abs() < 1e-12, "{braked:?}");
+        // Slowing to a lower speed in the same direction brakes too; speeding up accelerates.
+        assert!((ramp_step((0.5, 0.0), (0.2, 0.0), &limits, PERIOD).0 - 0.47).abs() < 1e-12);
+        assert!((ramp_step((0.2, 0.0), (0.5, 0.0), &limits, PERIOD).0 - 0.21).abs() < 1e-12);
+        // Reversing brakes to zero first and never overshoots it in that step.
+        let mut current = (0.3, 0.0);
+        let mut steps = 0;
+        while current.0 > 0.0 {
+            current = ramp_step(current, (-0.3, 0.0), &limits, PERIOD);
+            steps += 1;
+        }
+        assert_eq!(current.0, 0.0);
+        assert!((10..=11).contains(&steps), "0.3 m/s at 1.5 m/s² is 0.2 s (+ rounding): {steps}");
+        assert!(ramp_step(current, (-0.3, 0.0), &limits, PERIOD).0 < 0.0);
+        // From 0.15 m/s, zero within 150 ms (the issue's requirement), whatever the grid phase.
+        let mut current = (0.15, 0.0);
+        let mut elapsed = Duration::ZERO;
+        while current.0 > 0.0 {
+            current = ramp_step(current, (0.0, 0.0), &limits, PERIOD);
+            elapsed += PERIOD;
+        }
+        assert!(elapsed <= Duration::from_millis(120), "{elapsed:?}");
+        assert_eq!(limits.braking_time(MotionCommand { linear_mm_s: 150, angular_mrad_s: 0 }).as_millis(), 100);
+    }
+
+    #[test]
+    fn braking_weaker_than_accelerating_is_refused() {
+        let error = Limits { linear_decel: 0.3, ..Limits::default() }.validated().unwrap_err().to_string();
+        assert!(error.contains("--decel (0.3 m/s²) must be at least --accel (0.5 m/s²)"), "{error}");
+        assert!(Limits { angular_decel: 0.5, ..Limits::default() }.validated().is_err());
+        assert!(Limits { linear_decel: f64::INFINITY, ..Limits::default() }.validated().is_err());
     }
 
     #[test]
@@ -481,5 +751,193 @@ mod tests {
         let last = frames.try_iter().last().unwrap().1;
         let LinkFrame::Serial(frame) = last else { panic!("serial link") };
         assert_eq!((frame.command, frame.payload[2], frame.payload[3]), (0x01, 0, 0), "zero percent");
+    }
+
+    /// A link whose behaviour the test sets: sends that stall, fail or hit a full queue, and a backlog.
+    #[derive(Default)]
+    struct FaultyLink {
+        frames: Mutex<Vec<(Instant, LinkFrame)>>,
+        /// The send with this number (1-based) blocks for this long first: a stalled machine, as the
+        /// sender's own clock sees it.
+        stall: Mutex<Option<(usize, Duration)>>,
+        sends: std::sync::atomic::AtomicUsize,
+        /// Every send fails with this errno (e.g. EPIPE 32, ENOBUFS 105) while set; `failures_left` limits it.
+        fail_errno: Mutex<Option<i32>>,
+        failures_left: std::sync::atomic::AtomicUsize,
+        pending: Mutex<Option<usize>>,
+        discards: Mutex<Vec<(Instant, usize)>>,
+    }
+
+    impl FrameTx for FaultyLink {
+        fn send(&self, frame: &LinkFrame) -> std::io::Result<()> {
+            let number = self.sends.fetch_add(1, Ordering::SeqCst) + 1;
+            if let Some((at, pause)) = *self.stall.lock().unwrap() {
+                if at == number {
+                    std::thread::sleep(pause);
+                }
+            }
+            if let Some(errno) = *self.fail_errno.lock().unwrap() {
+                if self.failures_left.load(Ordering::SeqCst) > 0 {
+                    self.failures_left.fetch_sub(1, Ordering::SeqCst);
+                    return Err(std::io::Error::from_raw_os_error(errno));
+                }
+            }
+            self.frames.lock().unwrap().push((Instant::now(), *frame));
+            Ok(())
+        }
+
+        fn pending(&self) -> Option<usize> {
+            *self.pending.lock().unwrap()
+        }
+
+        fn discard_pending(&self) -> usize {
+            let queued = self.pending.lock().unwrap().take().unwrap_or(0);
+            self.discards.lock().unwrap().push((Instant::now(), queued));
+            queued
+        }
+    }
+
+    impl FaultyLink {
+        fn speeds(&self) -> Vec<(Instant, i16)> {
+            self.frames.lock().unwrap().iter().filter_map(|(at, f)| Some((*at, linear_of(f)?))).collect()
+        }
+    }
+
+    fn sender_kept_going(link: &FaultyLink) -> bool {
+        link.speeds().iter().filter(|(_, speed)| *speed == 300).count() >= 3
+    }
+
+    fn start(link: &Arc<FaultyLink>, limits: Limits) -> MotionSender {
+        let tx: Arc<dyn FrameTx> = Arc::clone(link) as Arc<dyn FrameTx>;
+        MotionSender::start(tx, Codec::new(Wire::CanV2), limits, Duration::from_millis(250)).unwrap()
+    }
+
+    /// Keeps refreshing the target, as drive's and the dashboard's loops do (also right after a resume).
+    fn keep_asking(sender: &MotionSender, linear: f64, how_long: Duration) {
+        let until = Instant::now() + how_long;
+        while Instant::now() < until {
+            sender.set_target(linear, 0.0);
+            std::thread::sleep(Duration::from_millis(5));
+        }
+    }
+
+    #[test]
+    fn a_gap_in_the_senders_clock_zeroes_the_ramp_and_holds_until_resumed() {
+        let link = Arc::new(FaultyLink::default());
+        // The 30th send stalls 300 ms: the sender is at full speed by then (0.3 m/s at 100 m/s²).
+        *link.stall.lock().unwrap() = Some((30, Duration::from_millis(300)));
+        let sender = start(&link, Limits { linear_accel: 100.0, linear_decel: 100.0, ..Limits::default() });
+        keep_asking(&sender, 0.3, Duration::from_millis(1200));
+        let stats = sender.stats();
+        assert_eq!(stats.gaps, 1);
+        assert!(matches!(stats.hold, Some(Hold::Gap(gap)) if gap >= Duration::from_millis(300)), "{stats:?}");
+        let speeds = link.speeds();
+        let stalled = speeds.iter().position(|(_, speed)| *speed == 300).unwrap() + 30;
+        // Everything after the stalled frame is zero although the target stayed at 0.3 m/s throughout.
+        let after: Vec<i16> = speeds[stalled.min(speeds.len())..].iter().map(|(_, s)| *s).collect();
+        let first_after_gap = speeds.iter().position(|(at, _)| *at > speeds[29].0 + Duration::from_millis(250));
+        let first_after_gap = first_after_gap.expect("frames after the gap");
+        assert!(speeds[first_after_gap..].iter().all(|(_, s)| *s == 0), "held zero: {after:?}");
+        // A fresh command: the ramp starts again from zero, one step at a time.
+        sender.resume();
+        keep_asking(&sender, 0.3, Duration::from_millis(100));
+        let speeds: Vec<i16> = link.speeds().iter().map(|(_, s)| *s).collect();
+        assert!(speeds.ends_with(&[300]) || speeds.contains(&300), "drives again after resume: {speeds:?}");
+        assert_eq!(sender.stats().hold, None);
+    }
+
+    #[test]
+    fn a_halt_is_zero_at_once_with_no_ramp_and_holds() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits { max_linear: 1.5, linear_accel: 100.0, ..Limits::default() });
+        keep_asking(&sender, 1.5, Duration::from_millis(150));
+        let halted = Instant::now();
+        sender.halt();
+        keep_asking(&sender, 1.5, Duration::from_millis(100));
+        let speeds = link.speeds();
+        let after: Vec<(Duration, i16)> =
+            speeds.iter().filter(|(at, _)| *at >= halted).map(|(at, s)| (at.duration_since(halted), *s)).collect();
+        assert!(speeds.iter().any(|(at, s)| *at < halted && *s == 1500), "was at 1.5 m/s");
+        assert_eq!(after[0].1, 0, "the first frame after Space is zero: {after:?}");
+        assert!(after[0].0 < Duration::from_millis(10), "and leaves at once: {after:?}");
+        assert!(after.iter().all(|(_, s)| *s == 0), "{after:?}");
+        assert_eq!(sender.stats().hold, Some(Hold::Halt));
+    }
+
+    #[test]
+    fn a_release_brakes_from_0_15_to_zero_within_150_ms() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits::default());
+        keep_asking(&sender, 0.15, Duration::from_millis(600));
+        let released = Instant::now();
+        sender.set_target_now(0.0, 0.0);
+        keep_asking(&sender, 0.0, Duration::from_millis(250));
+        let zero = link.speeds().into_iter().find(|(at, s)| *at >= released && *s == 0).unwrap().0;
+        assert!(zero.duration_since(released) <= Duration::from_millis(150), "{:?}", zero - released);
+    }
+
+    #[test]
+    fn suspend_returns_once_the_zero_frame_has_left() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits { linear_accel: 100.0, linear_decel: 100.0, ..Limits::default() });
+        keep_asking(&sender, 0.3, Duration::from_millis(100));
+        assert!(sender.stopper().suspend(Duration::from_millis(100)));
+        let last = *link.speeds().last().unwrap();
+        assert_eq!(last.1, 0, "the latest frame on the link is zero when suspend returns");
+        assert_eq!(sender.stats().hold, Some(Hold::Suspend));
+    }
+
+    #[test]
+    fn stop_frames_that_cannot_be_sent_are_not_reported_as_sent() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits::default());
+        keep_asking(&sender, 0.3, Duration::from_millis(100));
+        *link.fail_errno.lock().unwrap() = Some(5); // EIO: the adapter is gone
+        link.failures_left.store(usize::MAX, Ordering::SeqCst);
+        let stats = sender.stop();
+        assert_eq!(stats.stop_frames_sent, Some(0));
+        assert!(!stats.stop_confirmed());
+        assert_ne!(stats.sent, MotionCommand::STOP, "the last command that left was not a stop");
+    }
+
+    #[test]
+    fn a_full_transmit_queue_is_counted_and_the_stop_frames_are_retried() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits { linear_accel: 100.0, linear_decel: 100.0, ..Limits::default() });
+        keep_asking(&sender, 0.3, Duration::from_millis(60));
+        *link.fail_errno.lock().unwrap() = Some(105); // ENOBUFS
+        link.failures_left.store(4, Ordering::SeqCst);
+        keep_asking(&sender, 0.3, Duration::from_millis(200));
+        assert_eq!(link.failures_left.load(Ordering::SeqCst), 0, "four sends hit the full queue");
+        link.failures_left.store(2, Ordering::SeqCst);
+        let stats = sender.stop();
+        assert_eq!(stats.queue_full, 6, "{stats:?}");
+        assert!(sender_kept_going(&link), "the sender went on after the full queue");
+        assert_eq!(stats.stop_frames_sent, Some(STOP_FRAMES), "retried until the queue took them");
+        let speeds: Vec<i16> = link.speeds().iter().map(|(_, s)| *s).collect();
+        assert_eq!(&speeds[speeds.len() - STOP_FRAMES..], &[0; STOP_FRAMES]);
+    }
+
+    #[test]
+    fn motion_is_held_back_behind_a_backlog_and_the_backlog_is_discarded_before_the_stop() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits { linear_accel: 100.0, ..Limits::default() });
+        keep_asking(&sender, 0.3, Duration::from_millis(100));
+        // The peer stops reading: the driver holds 40 frames.
+        *link.pending.lock().unwrap() = Some(40);
+        let stalled = Instant::now();
+        keep_asking(&sender, 0.3, Duration::from_millis(100));
+        let stats = sender.stop();
+        assert!(stats.held_back >= 3, "{stats:?}");
+        assert_eq!(stats.discarded, 40);
+        let frames = link.frames.lock().unwrap().clone();
+        let during: Vec<Option<i16>> = frames
+            .iter()
+            .filter(|(at, _)| *at > stalled + Duration::from_millis(5))
+            .map(|(_, f)| linear_of(f))
+            .collect();
+        assert_eq!(during, vec![Some(0); STOP_FRAMES], "only the stop frames, after the discard");
+        let discarded_at = link.discards.lock().unwrap()[0].0;
+        assert!(frames.iter().rev().take(STOP_FRAMES).all(|(at, _)| *at >= discarded_at));
     }
 }

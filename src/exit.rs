@@ -1,6 +1,6 @@
 //! Exit statuses, the same for every command (documented in docs/troubleshooting.md).
 
-use std::io;
+use std::io::{self, Write};
 
 /// Everything worked.
 pub const SUCCESS: u8 = 0;
@@ -47,6 +47,7 @@ pub fn report(error: &anyhow::Error) -> u8 {
     if is_broken_pipe(error) {
         return SUCCESS;
     }
-    eprintln!("tracerctl: {error:#}");
+    // Not eprintln!: a closed stderr must not turn an error into a panic (exit 101).
+    let _ = writeln!(io::stderr(), "tracerctl: {error:#}");
     error.downcast_ref::<Failure>().map_or(FAILURE, |failure| failure.code)
 }

@@ -11,6 +11,7 @@ use anyhow::{Context, Result};
 
 use crate::link::{self, Codec, FrameRx, FrameTx, LinkChoice, LinkFrame, LinkKind, RxStats};
 use crate::protocol::detect::{ProtocolDetector, Verdict};
+use crate::protocol::error_frame::{ErrorFrame, ErrorTally};
 use crate::protocol::message::{
     Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, RcState, SystemState,
 };
@@ -34,13 +35,17 @@ pub struct RobotStatus {
     pub odometry: Option<Odometry>,
     /// RC transmitter state (0x241), if the robot sends it.
     pub rc: Option<(Instant, RcState)>,
-    /// The latest CAN error frame.
+    /// The latest CAN error frame, and every error frame counted by class (they are not identifiers).
     pub last_error_frame: Option<CanFrame>,
+    pub error_tally: ErrorTally,
     pub detector: ProtocolDetector,
     pub frames: u64,
     /// Frames per identifier: CAN standard IDs as-is, extended ones with bit 31 set, RS232 frames as
     /// type << 8 | command. At most [`MAX_COUNTED_IDS`] identifiers; the rest are only in `frames`.
+    /// Error frames are not here (their "identifier" is a set of error classes): see `error_tally`.
     pub id_counts: Vec<(u32, u64)>,
+    /// When the robot sent the latest frame: the kernel's receive timestamp on SocketCAN (so a backlog
+    /// drained late, after a suspension say, is seen as old), the time it was read on other links.
     pub last_frame: Option<Instant>,
     pub rx: RxStats,
     /// Set when the link failed or ended; the reader has stopped.
@@ -49,6 +54,12 @@ pub struct RobotStatus {
 
 impl RobotStatus {
     fn count(&mut self, frame: &LinkFrame) {
+        if let LinkFrame::Can(can) = frame {
+            if let Some(error) = ErrorFrame::from_frame(can) {
+                self.error_tally.add(&error);
+                return;
+            }
+        }
         let key = match frame {
             LinkFrame::Can(frame) if frame.is_extended() => frame.id() | 0x8000_0000,
             LinkFrame::Can(frame) => frame.id(),
@@ -166,9 +177,10 @@ impl Session {
             let shared = Arc::clone(&shared);
             let rx = link.rx;
             let codec = Codec::new(wire);
+            let kernel_stamps = link.kind == LinkKind::SocketCan;
             std::thread::Builder::new()
                 .name("tracerctl-reader".into())
-                .spawn(move || read_loop(rx, codec, hint, &shared, record_queue))
+                .spawn(move || read_loop(rx, codec, hint, &shared, record_queue, kernel_stamps))
                 .context("cannot start the reader thread")?
         };
         Ok(Self {
@@ -308,6 +320,16 @@ fn open_socketcan(_iface: &str) -> Result<link::Link> {
     anyhow::bail!("SocketCAN exists only on Linux: use --serial PORT or --sim")
 }
 
+/// The moment a frame stamped `ts` (wall clock, by the kernel) was received, on the monotonic clock. A
+/// stamp in the future (the wall clock stepped back) counts as now; one older than a minute as a minute.
+fn sent_at(ts: &crate::candump::Timestamp) -> Instant {
+    let now = Instant::now();
+    let stamp = Duration::new(ts.secs, ts.nanos);
+    let wall = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or(Duration::ZERO);
+    let age = wall.saturating_sub(stamp).min(Duration::from_secs(60));
+    now.checked_sub(age).unwrap_or(now)
+}
+
 enum Record {
     Frame(link::Received),
     Close,
@@ -359,6 +381,14 @@ impl FrameTx for RecordingTx {
         let _ = self.queue.send(Record::Frame(link::Received { ts: link::now_timestamp(), frame: *frame }));
         Ok(())
     }
+
+    fn pending(&self) -> Option<usize> {
+        self.inner.pending()
+    }
+
+    fn discard_pending(&self) -> usize {
+        self.inner.discard_pending()
+    }
 }
 
 fn read_loop(
@@ -367,6 +397,7 @@ fn read_loop(
     hint: ProtocolHint,
     shared: &Shared,
     record: Option<mpsc::Sender<Record>>,
+    kernel_stamps: bool,
 ) {
     while !shared.stop.load(Ordering::SeqCst) {
         let received = rx.recv(Duration::from_millis(20));
@@ -377,7 +408,7 @@ fn read_loop(
                 if let Some(record) = &record {
                     let _ = record.send(Record::Frame(received));
                 }
-                let now = Instant::now();
+                let now = if kernel_stamps { sent_at(&received.ts) } else { Instant::now() };
                 status.frames += 1;
                 status.count(&received.frame);
                 status.last_frame = Some(now);

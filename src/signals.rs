@@ -43,14 +43,45 @@ impl SignalFlag {
 /// Starts listening for termination signals; `on_signal` runs on a helper thread as soon as one arrives.
 #[cfg(unix)]
 pub fn listen(on_signal: impl Fn(i32) + Send + 'static) -> Result<SignalFlag> {
+    listen_inner(on_signal, None::<fn()>)
+}
+
+/// As [`listen`], and SIGTSTP (Ctrl-Z, `kill -TSTP`) runs `before_stop` (which stops the robot and returns
+/// once the zero frames have left) and then stops the process for real. After SIGCONT the sender sees the
+/// gap in its clock and holds zero until a fresh command.
+#[cfg(unix)]
+pub fn listen_suspendable(
+    on_signal: impl Fn(i32) + Send + 'static,
+    before_stop: impl Fn() + Send + 'static,
+) -> Result<SignalFlag> {
+    listen_inner(on_signal, Some(before_stop))
+}
+
+#[cfg(unix)]
+fn listen_inner(
+    on_signal: impl Fn(i32) + Send + 'static,
+    before_stop: Option<impl Fn() + Send + 'static>,
+) -> Result<SignalFlag> {
+    use signal_hook::consts::SIGTSTP;
     let flag = SignalFlag::default();
-    let mut signals =
-        signal_hook::iterator::Signals::new(TERMINATION).context("cannot install signal handlers")?;
+    let mut wanted = TERMINATION.to_vec();
+    if before_stop.is_some() {
+        wanted.push(SIGTSTP);
+    }
+    let mut signals = signal_hook::iterator::Signals::new(wanted).context("cannot install signal handlers")?;
     let inner = Arc::clone(&flag.0);
     std::thread::Builder::new()
         .name("tracerctl-signals".into())
         .spawn(move || {
             for signal in signals.forever() {
+                if signal == SIGTSTP {
+                    if let Some(before_stop) = &before_stop {
+                        before_stop();
+                    }
+                    // SIGSTOP cannot be caught: the process stops here, as Ctrl-Z expects, until SIGCONT.
+                    let _ = signal_hook::low_level::raise(signal_hook::consts::SIGSTOP);
+                    continue;
+                }
                 inner.store(signal, Ordering::SeqCst);
                 on_signal(signal);
             }
@@ -61,5 +92,13 @@ pub fn listen(on_signal: impl Fn(i32) + Send + 'static) -> Result<SignalFlag> {
 
 #[cfg(not(unix))]
 pub fn listen(_on_signal: impl Fn(i32) + Send + 'static) -> Result<SignalFlag> {
+    Ok(SignalFlag::default())
+}
+
+#[cfg(not(unix))]
+pub fn listen_suspendable(
+    _on_signal: impl Fn(i32) + Send + 'static,
+    _before_stop: impl Fn() + Send + 'static,
+) -> Result<SignalFlag> {
     Ok(SignalFlag::default())
 }

@@ -1,19 +1,25 @@
 //! `tracerctl drive`: drive at a fixed speed, ramped and capped, with zero-velocity frames on every way out.
+//!
+//! The stop rules (docs/architecture.md) as drive applies them: signals are handled from the very start;
+//! SIGTSTP sends zeros before the process stops; any gap in the sender's clock (a suspension, a stalled
+//! machine) or a watchdog trip ends the drive with zeros, since the robot has stopped by itself and only a
+//! fresh command may move it again; and the report says whether the stop frames really left.
 
 use std::io::{IsTerminal, Write};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
 use super::live;
 use crate::cli::{Cli, DriveArgs};
-use crate::control::{Limits, MotionSender};
-use crate::exit::{Failure, SUCCESS};
-use crate::link::Codec;
-use crate::protocol::message::MODE_CAN;
+use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
+use crate::exit::{Failure, FAILURE, NOT_DONE, SUCCESS};
+use crate::link::{Codec, QUEUE_FULL_MEANING};
+use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT, MODE_CAN};
 use crate::protocol::Wire;
-use crate::session::Session;
-use crate::signals;
+use crate::session::{RobotStatus, Session};
+use crate::signals::{self, SignalFlag};
 
 /// The main loop refreshes the target this often; the watchdog zeroes it if that stops for this long.
 const REFRESH: Duration = Duration::from_millis(20);
@@ -25,6 +31,16 @@ const STATUS_EVERY_PIPE: Duration = Duration::from_secs(1);
 const MODE_RETRY: Duration = Duration::from_millis(200);
 /// The robot sends feedback every 20 ms; this long without any frame means the link is gone.
 const FEEDBACK_LOST: Duration = Duration::from_secs(1);
+/// A commanded speed at least this large (m/s or rad/s) should show in the robot's measured speed...
+const MOVING_COMMAND: f64 = 0.05;
+/// ... as at least this share of it ...
+const FOLLOW_SHARE: f64 = 0.25;
+/// ... within this long; otherwise the robot is not following and the drive ends.
+const FOLLOW_WINDOW: Duration = Duration::from_millis(1500);
+/// Motion feedback older than this is not a measurement of now.
+const MOTION_FRESH: Duration = Duration::from_millis(200);
+/// How long SIGTSTP waits for the zero frame to leave before the process stops anyway.
+const SUSPEND_WAIT: Duration = Duration::from_millis(100);
 
 /// Why the drive ended.
 #[derive(Debug, PartialEq)]
@@ -33,6 +49,14 @@ enum End {
     Signal(&'static str, u8),
     EStop,
     LinkLost(String),
+    /// The sender's clock jumped by this much: suspended, or the machine stalled.
+    Suspended(Duration),
+    /// The main loop stopped refreshing the target; the watchdog zeroed it.
+    Watchdog,
+    /// The robot's measured speed did not follow the command; why, as far as the status tells.
+    NotFollowing(String),
+    /// The status output (stderr) went away: nobody can watch the drive any more.
+    OutputGone(String),
 }
 
 pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
@@ -41,12 +65,47 @@ pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
         args.linear.is_finite() && args.angular.is_finite(),
         "--linear and --angular must be numbers"
     );
+    // Signals first: a Ctrl-C while the link opens or the robot is awaited must end the command cleanly.
+    let sender_slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
+    let suspended_early = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let signal = {
+        let (on_signal, on_suspend) = (Arc::clone(&sender_slot), Arc::clone(&sender_slot));
+        let early = Arc::clone(&suspended_early);
+        signals::listen_suspendable(
+            move |_| {
+                if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                    stopper.stop_now();
+                }
+            },
+            move || match on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                Some(stopper) => {
+                    stopper.suspend(SUSPEND_WAIT);
+                }
+                None => early.store(true, std::sync::atomic::Ordering::SeqCst),
+            },
+        )?
+    };
     let session = live::open(cli, true)?;
-    execute(&session, args, limits, &mut std::io::stderr())
+    let context = Context { signal, sender_slot, suspended_early };
+    execute_with(&session, args, limits, &mut std::io::stderr(), &context)
+}
+
+/// What `run` sets up before the session: the signal flag and where the sender's stopper goes.
+struct Context {
+    signal: SignalFlag,
+    sender_slot: Arc<Mutex<Option<Stopper>>>,
+    suspended_early: Arc<std::sync::atomic::AtomicBool>,
 }
 
 /// Drives on an open session; progress and the result go to `out`.
-pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut impl Write) -> Result<u8> {
+fn execute_with(
+    session: &Session,
+    args: &DriveArgs,
+    limits: Limits,
+    out: &mut impl Write,
+    context: &Context,
+) -> Result<u8> {
+    let signal = &context.signal;
     let target = (
         args.linear.clamp(-limits.max_linear, limits.max_linear),
         args.angular.clamp(-limits.max_angular, limits.max_angular),
@@ -59,7 +118,12 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
         )?;
     }
 
-    match live::first_status(session) {
+    let first = live::first_status_unless(session, || signal.received().is_some());
+    if let (Some(status), name) = (signal.exit_status(), signal.name()) {
+        writeln!(out, "{name} before driving: nothing was sent")?;
+        return Ok(status);
+    }
+    match first {
         Some((state, wire)) => {
             let protocol = match wire {
                 Wire::Serial => "RS232".to_string(),
@@ -87,32 +151,54 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
             writeln!(out, "warning: {reason}; driving anyway (--ignore-faults)")?;
         }
     }
+    if context.suspended_early.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(Failure {
+            code: FAILURE,
+            message: "suspended before driving started: drive ended (run it again to drive)".to_string(),
+        }
+        .into());
+    }
 
     let sender = MotionSender::start(session.tx.clone(), Codec::new(session.wire()), limits, WATCHDOG)?;
-    // A signal stops the robot from the signal thread at once; the loop below notices and reports.
-    let stopper = sender.stopper();
-    let signal = signals::listen(move |_| stopper.stop_now())?;
+    *context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
 
     let started = Instant::now();
     let mut last_status = Instant::now() - STATUS_EVERY_PIPE;
     let mut last_mode_request = Instant::now();
-    let status_every = if std::io::stderr().is_terminal() { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE };
+    let mut last_iteration = Instant::now();
+    let mut follow = Follow::default();
+    let overwrite = std::io::stderr().is_terminal();
+    let status_every = if overwrite { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE };
     let end = loop {
         if let (Some(signo), name) = (signal.exit_status(), signal.name()) {
             break End::Signal(name, signo);
+        }
+        // After a gap in this loop (suspended with the rest of the process, or blocked on a slow
+        // terminal), let the sender take its next tick first: it alone knows whether commands stopped.
+        let since = last_iteration.elapsed();
+        last_iteration = Instant::now();
+        if since > GAP_LIMIT {
+            std::thread::sleep(PERIOD * 2);
+        }
+        let stats = sender.stats();
+        match stats.hold {
+            Some(Hold::Gap(gap)) => break End::Suspended(gap.max(stats.last_gap.unwrap_or_default())),
+            Some(Hold::Watchdog) => break End::Watchdog,
+            _ => {}
         }
         if args.duration.is_some_and(|duration| started.elapsed() >= duration) {
             break End::TimeUp;
         }
         sender.set_target(target.0, target.1);
         if crate::control::panicked() {
-            break End::LinkLost("an internal error (a thread panicked); the robot was stopped".to_string());
+            break End::LinkLost("an internal error (a thread panicked)".to_string());
         }
         let status = session.status();
         if let Some(error) = status.link_error.clone() {
             break End::LinkLost(error);
         }
-        // Had feedback, and it stopped: do not keep driving blind.
+        // Had feedback, and it stopped: do not keep driving blind. (On CAN, `last_frame` is when the robot
+        // sent it, so a backlog read late does not count as fresh.)
         if status.last_frame.is_some_and(|at| at.elapsed() > FEEDBACK_LOST) {
             break End::LinkLost(format!("no frames from the robot for {} s", FEEDBACK_LOST.as_secs()));
         }
@@ -129,8 +215,15 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
                 last_mode_request = Instant::now();
             }
         }
+        if follow.observe(&status, stats.sent) && !args.ignore_faults {
+            break End::NotFollowing(robot_words(&status));
+        }
         if last_status.elapsed() >= status_every {
-            write_status(out, started.elapsed(), target, &sender, session, status_every == STATUS_EVERY_TTY)?;
+            let line = status_line(started.elapsed(), target, &sender, &status);
+            let written = if overwrite { write!(out, "\r\x1b[K{line}") } else { writeln!(out, "{line}") };
+            if let Err(error) = written.and_then(|()| out.flush()) {
+                break End::OutputGone(error.to_string());
+            }
             last_status = Instant::now();
         }
         std::thread::sleep(REFRESH);
@@ -140,48 +233,192 @@ pub fn execute(session: &Session, args: &DriveArgs, limits: Limits, out: &mut im
         End::TimeUp => sender.ramp_down_and_stop(&limits),
         _ => sender.stop(),
     };
-    if status_every == STATUS_EVERY_TTY {
+    context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()).take();
+    // The stderr reader is gone: nothing more can be said; the robot was stopped above.
+    if let End::OutputGone(error) = &end {
+        return Err(Failure { code: FAILURE, message: format!("the status output went away ({error})") }.into());
+    }
+    if overwrite {
         writeln!(out)?;
     }
-    let summary = format!(
-        "{} motion frames sent ({} send errors, {} watchdog stops); last command {:+.3} m/s {:+.3} rad/s",
-        stats.frames,
-        stats.send_errors,
-        stats.watchdog_trips,
-        stats.sent.linear(),
-        stats.sent.angular()
-    );
     let elapsed = started.elapsed().as_secs_f64();
+    let report = report(&stats, &follow, session);
     match end {
         End::TimeUp => {
-            writeln!(out, "stopped after {elapsed:.2} s (time up): {summary}")?;
+            writeln!(out, "stopped after {elapsed:.2} s (time up): {report}")?;
+            if !stats.stop_confirmed() {
+                return Ok(FAILURE);
+            }
             Ok(SUCCESS)
         }
         End::Signal(name, status) => {
-            writeln!(out, "stopped after {elapsed:.2} s ({name}): {summary}")?;
+            writeln!(out, "stopped after {elapsed:.2} s ({name}): {report}")?;
             Ok(status)
         }
         End::EStop => {
-            Err(Failure::not_done(format!("stopped after {elapsed:.2} s: the E-stop was pressed; {summary}"))
+            Err(Failure::not_done(format!("stopped after {elapsed:.2} s: the E-stop was pressed; {report}"))
                 .into())
         }
+        End::NotFollowing(robot) => Err(Failure {
+            code: NOT_DONE,
+            message: format!(
+                "stopped after {elapsed:.2} s: the robot did not follow the command: sent {:+.3} m/s \
+                 {:+.3} rad/s for {:.1} s, it reported {:+.3} m/s {:+.3} rad/s ({robot}); {report}",
+                follow.commanded.linear(),
+                follow.commanded.angular(),
+                FOLLOW_WINDOW.as_secs_f64(),
+                follow.measured.0,
+                follow.measured.1,
+            ),
+        }
+        .into()),
+        End::Suspended(gap) => Err(Failure {
+            code: FAILURE,
+            message: format!("{}; {report}", suspended_message(gap)),
+        }
+        .into()),
+        End::Watchdog => Err(Failure {
+            code: FAILURE,
+            message: format!(
+                "stopped after {elapsed:.2} s: drive's own loop stalled for more than {} ms and the watchdog \
+                 commanded zero; drive ended (a stalled command is never resumed); {report}",
+                WATCHDOG.as_millis()
+            ),
+        }
+        .into()),
         End::LinkLost(error) => anyhow::bail!(
-            "stopped after {elapsed:.2} s: the link {} failed ({error}); {summary}",
+            "stopped after {elapsed:.2} s: the link {} failed ({error}); {report}",
             session.name
         ),
+        End::OutputGone(_) => unreachable!("returned above"),
     }
 }
 
-fn write_status(
-    out: &mut impl Write,
-    elapsed: Duration,
-    target: (f64, f64),
-    sender: &MotionSender,
-    session: &Session,
-    overwrite: bool,
-) -> Result<()> {
+/// `suspended for 0.80 s, longer than the robot's 500 ms command timeout: the robot stopped; drive ended`
+fn suspended_message(gap: Duration) -> String {
+    let seconds = gap.as_secs_f64();
+    if gap >= COMMAND_TIMEOUT {
+        format!(
+            "suspended for {seconds:.2} s, longer than the robot's {} ms command timeout: the robot stopped; \
+             drive ended",
+            COMMAND_TIMEOUT.as_millis()
+        )
+    } else {
+        format!(
+            "suspended for {seconds:.2} s (no command for more than {} ms): the ramp was reset and only a \
+             fresh command moves the robot again; drive ended",
+            GAP_LIMIT.as_millis()
+        )
+    }
+}
+
+/// The end-of-run report: frames, what the robot measured, and whether the stop frames really left.
+fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> String {
+    let mut parts = vec![format!("{} motion frames sent", stats.frames)];
+    let mut trouble = Vec::new();
+    if stats.send_errors > 0 {
+        trouble.push(format!("{} send errors", stats.send_errors));
+    }
+    if stats.queue_full > 0 {
+        trouble.push(format!("{} not sent ({QUEUE_FULL_MEANING})", stats.queue_full));
+    }
+    if stats.held_back > 0 {
+        trouble.push(format!("{} held back while the link's output was not draining", stats.held_back));
+    }
+    if stats.discarded > 0 {
+        trouble.push(format!("{} stale frames discarded before the stop frames", stats.discarded));
+    }
+    if stats.watchdog_trips > 0 {
+        trouble.push(format!("{} watchdog stops", stats.watchdog_trips));
+    }
+    if !trouble.is_empty() {
+        parts[0] = format!("{} ({})", parts[0], trouble.join(", "));
+    }
+    parts.push(if follow.samples > 0 {
+        format!("distance {:.2} m, peak measured {:+.3} m/s", follow.distance, follow.peak_linear)
+    } else {
+        "the robot reported no speed (no motion state frames)".to_string()
+    });
+    if stats.stop_confirmed() {
+        parts.push(format!(
+            "last command {:+.3} m/s {:+.3} rad/s",
+            stats.sent.linear(),
+            stats.sent.angular()
+        ));
+    } else {
+        let why = session_error(session).unwrap_or_else(|| "nothing was accepted by the link".to_string());
+        parts.push(format!(
+            "the stop frames could not be sent ({why}): the robot's own {} ms command timeout stops it",
+            COMMAND_TIMEOUT.as_millis()
+        ));
+    }
+    parts.join("; ")
+}
+
+/// Why the link cannot take frames, if it said.
+fn session_error(session: &Session) -> Option<String> {
+    session.status().link_error
+}
+
+/// What the robot's status says, for a report.
+fn robot_words(status: &RobotStatus) -> String {
+    match status.fresh_system(Duration::from_millis(500)) {
+        Some((state, wire)) => format!("robot: {}", live::describe(&state, wire)),
+        None => "no recent status from the robot".to_string(),
+    }
+}
+
+/// What the robot measured while driving: distance, peak speed, and whether it follows the command.
+#[derive(Debug, Default)]
+struct Follow {
+    /// Motion-state samples seen, the time of the latest (to integrate the distance once per sample).
+    samples: u64,
+    last_sample: Option<Instant>,
+    distance: f64,
+    peak_linear: f64,
+    /// Since when a moving command has shown no matching movement.
+    lagging_since: Option<Instant>,
+    /// The command and the measurement when it was judged.
+    commanded: MotionCommand,
+    measured: (f64, f64),
+}
+
+impl Follow {
+    /// Takes the latest status; true when the robot has not followed a moving command for
+    /// [`FOLLOW_WINDOW`].
+    fn observe(&mut self, status: &RobotStatus, sent: MotionCommand) -> bool {
+        let Some((at, motion)) = status.motion.filter(|(at, _)| at.elapsed() <= MOTION_FRESH) else {
+            return false;
+        };
+        let measured = (motion.linear(), motion.angular());
+        if self.last_sample != Some(at) {
+            if let Some(previous) = self.last_sample {
+                let dt = at.saturating_duration_since(previous).min(Duration::from_millis(100));
+                self.distance += measured.0.abs() * dt.as_secs_f64();
+            }
+            self.last_sample = Some(at);
+            self.samples += 1;
+            if measured.0.abs() > self.peak_linear.abs() {
+                self.peak_linear = measured.0;
+            }
+        }
+        let follows = |commanded: f64, measured: f64| {
+            commanded.abs() < MOVING_COMMAND || measured * commanded.signum() >= FOLLOW_SHARE * commanded.abs()
+        };
+        let commanding = sent.linear().abs() >= MOVING_COMMAND || sent.angular().abs() >= MOVING_COMMAND;
+        if commanding && !(follows(sent.linear(), measured.0) && follows(sent.angular(), measured.1)) {
+            let since = *self.lagging_since.get_or_insert_with(Instant::now);
+            self.commanded = sent;
+            self.measured = measured;
+            return since.elapsed() >= FOLLOW_WINDOW;
+        }
+        self.lagging_since = None;
+        false
+    }
+}
+
+fn status_line(elapsed: Duration, target: (f64, f64), sender: &MotionSender, status: &RobotStatus) -> String {
     let sent = sender.stats().sent;
-    let status = session.status();
     let measured = status
         .motion
         .map(|(_, m)| format!("{:+.3} m/s {:+.3} rad/s", m.linear(), m.angular()))
@@ -190,7 +427,7 @@ fn write_status(
         .fresh_system(Duration::from_millis(500))
         .map(|(state, wire)| live::describe(&state, wire))
         .unwrap_or_else(|| "no status".to_string());
-    let line = format!(
+    let mut line = format!(
         "{:6.2} s  target {:+.3} m/s {:+.3} rad/s  sent {:+.3} {:+.3}  measured {measured}  {robot}",
         elapsed.as_secs_f64(),
         target.0,
@@ -198,14 +435,69 @@ fn write_status(
         sent.linear(),
         sent.angular()
     );
-    if overwrite {
-        write!(out, "\r\x1b[K{line}")?;
-    } else {
-        writeln!(out, "{line}")?;
-    }
     if let Some(error) = sender.last_error() {
-        writeln!(out, "\nsend error: {error}")?;
+        line.push_str(&format!("  send error: {error}"));
     }
-    out.flush()?;
-    Ok(())
+    line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::message::MotionState;
+
+    fn moving(linear_mm_s: i16) -> RobotStatus {
+        RobotStatus {
+            motion: Some((Instant::now(), MotionState { linear_mm_s, ..MotionState::default() })),
+            ..RobotStatus::default()
+        }
+    }
+
+    #[test]
+    fn the_suspension_message_says_why_the_drive_ended() {
+        assert_eq!(
+            suspended_message(Duration::from_millis(800)),
+            "suspended for 0.80 s, longer than the robot's 500 ms command timeout: the robot stopped; drive ended"
+        );
+        assert!(suspended_message(Duration::from_millis(150)).starts_with("suspended for 0.15 s (no command"));
+    }
+
+    #[test]
+    fn a_robot_that_stays_still_is_not_following_after_the_window() {
+        let mut follow = Follow::default();
+        let command = MotionCommand { linear_mm_s: 300, angular_mrad_s: 0 };
+        assert!(!follow.observe(&moving(0), command), "judged only after the window");
+        follow.lagging_since = Some(Instant::now() - FOLLOW_WINDOW);
+        assert!(follow.observe(&moving(0), command));
+        assert_eq!(follow.measured, (0.0, 0.0));
+        // Moving at a quarter of the command or more is following; a small command is never judged.
+        let mut follow = Follow { lagging_since: Some(Instant::now() - FOLLOW_WINDOW), ..Follow::default() };
+        assert!(!follow.observe(&moving(80), command));
+        assert_eq!(follow.lagging_since, None);
+        let slow = MotionCommand { linear_mm_s: 30, angular_mrad_s: 0 };
+        assert!(!Follow { lagging_since: Some(Instant::now() - FOLLOW_WINDOW), ..Follow::default() }
+            .observe(&moving(0), slow));
+        // Backwards while asked forwards is not following.
+        let mut follow = Follow { lagging_since: Some(Instant::now() - FOLLOW_WINDOW), ..Follow::default() };
+        assert!(follow.observe(&moving(-300), command));
+    }
+
+    #[test]
+    fn distance_and_peak_come_from_the_measured_speed() {
+        let mut follow = Follow::default();
+        let start = Instant::now() - Duration::from_millis(100);
+        for step in 0..5u64 {
+            let status = RobotStatus {
+                motion: Some((
+                    start + Duration::from_millis(20 * step),
+                    MotionState { linear_mm_s: 500, ..MotionState::default() },
+                )),
+                ..RobotStatus::default()
+            };
+            follow.observe(&status, MotionCommand { linear_mm_s: 500, angular_mrad_s: 0 });
+        }
+        assert_eq!(follow.samples, 5);
+        assert!((follow.distance - 0.04).abs() < 1e-9, "{}", follow.distance);
+        assert_eq!(follow.peak_linear, 0.5);
+    }
 }

@@ -32,10 +32,29 @@ pub fn open(cli: &Cli, sends: bool) -> Result<Session> {
 
 /// Waits for the robot's protocol (auto mode) and for a status frame; describes what was seen.
 pub fn first_status(session: &Session) -> Option<(SystemState, Wire)> {
+    first_status_unless(session, || false)
+}
+
+/// As [`first_status`], giving up at once (`None`) when `cancelled` says so (a signal arrived).
+pub fn first_status_unless(session: &Session, cancelled: impl Fn() -> bool) -> Option<(SystemState, Wire)> {
+    const SLICE: Duration = Duration::from_millis(20);
+    let until = |wait: Duration, found: &dyn Fn(&RobotStatus) -> bool| {
+        let deadline = std::time::Instant::now() + wait;
+        while std::time::Instant::now() < deadline && !cancelled() {
+            if session.wait_for(SLICE, |status| found(status).then_some(())).is_some() {
+                return;
+            }
+        }
+    };
     if session.wire() != Wire::Serial {
-        session.settle_protocol(STATUS_WAIT / 2);
+        until(STATUS_WAIT / 2, &|status| status.detector.verdict() != Verdict::Unknown);
+        session.settle_protocol(Duration::ZERO);
     }
-    session.wait_for(STATUS_WAIT, |status| status.fresh_system(STATUS_WAIT))
+    until(STATUS_WAIT, &|status| status.fresh_system(STATUS_WAIT).is_some());
+    if cancelled() {
+        return None;
+    }
+    session.status().fresh_system(STATUS_WAIT)
 }
 
 /// `normal, mode can, 25.9 V, faults: none`

@@ -54,10 +54,38 @@ pub struct RxStats {
     pub serial_sync_losses: u64,
 }
 
-/// The sending half. `&self`, so one handle can be shared by several threads.
+/// The sending half. `&self`, so one handle can be shared by several threads. Sending never blocks for
+/// long: a full transmit queue is an error the caller counts ([`is_queue_full`]), not a wait.
 pub trait FrameTx: Send + Sync {
     fn send(&self, frame: &LinkFrame) -> io::Result<()>;
+
+    /// Frames accepted earlier that have not left yet, where the link can tell (a serial driver's output
+    /// queue). A motion command must not queue behind them: by the time it left it would be stale.
+    fn pending(&self) -> Option<usize> {
+        None
+    }
+
+    /// Discards frames accepted but not yet sent (before the stop frames, so they reach the robot first);
+    /// how many, where the link can tell.
+    fn discard_pending(&self) -> usize {
+        0
+    }
 }
+
+/// ENOBUFS on Linux: the interface's transmit queue is full.
+const ENOBUFS: i32 = 105;
+
+/// True when a send failed only because the transmit queue is full (SocketCAN's ENOBUFS, a non-blocking
+/// socket's EAGAIN, a serial write that timed out): the frame was not sent, the link is still there.
+pub fn is_queue_full(error: &io::Error) -> bool {
+    matches!(error.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut)
+        || error.raw_os_error() == Some(ENOBUFS)
+}
+
+/// What a full transmit queue means, in words, for messages and reports.
+pub const QUEUE_FULL_MEANING: &str = "transmit queue full: the bus is busy, no other node acknowledges the \
+     frames, or the controller is bus-off (check that the robot is on, the bus wired and terminated, the \
+     bitrate 500000, and `ip -details -statistics link show` for the error state)";
 
 /// The receiving half, owned by one reader thread.
 pub trait FrameRx: Send {

@@ -12,8 +12,10 @@ use super::{now_timestamp, FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received
 use crate::protocol::serial::{StreamDecoder, StreamEvent};
 use crate::protocol::Wire;
 
-/// Writes must not stall the 50 Hz sender for long: a frame takes about 1.1 ms at 115200 baud.
-const WRITE_TIMEOUT: Duration = Duration::from_millis(50);
+/// Writes must not stall the 50 Hz sender: a frame takes about 1.1 ms at 115200 baud, so a write that
+/// cannot finish in 10 ms is facing a full queue (a peer that does not read), and waiting longer helps
+/// nothing.
+const WRITE_TIMEOUT: Duration = Duration::from_millis(10);
 
 struct SerialTx(Mutex<Box<dyn SerialPort>>);
 
@@ -29,7 +31,24 @@ impl FrameTx for SerialTx {
         port.write_all(&frame.to_bytes())?;
         port.flush()
     }
+
+    fn pending(&self) -> Option<usize> {
+        let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        port.bytes_to_write().ok().map(|bytes| (bytes as usize).div_ceil(FRAME_LEN))
+    }
+
+    fn discard_pending(&self) -> usize {
+        let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        // TIOCOUTQ then TCOFLUSH. A pseudo-terminal reports 0 and flushes only what its peer's line
+        // discipline has not taken yet; a UART or USB adapter reports and drops its whole queue.
+        let queued = port.bytes_to_write().unwrap_or(0) as usize;
+        let _ = port.clear(serialport::ClearBuffer::Output);
+        queued.div_ceil(FRAME_LEN)
+    }
 }
+
+/// Bytes in one RS232 frame.
+const FRAME_LEN: usize = 13;
 
 struct SerialRx {
     port: Box<dyn SerialPort>,

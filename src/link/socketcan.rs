@@ -169,10 +169,7 @@ pub fn explain_io(error: io::Error, iface: &str) -> io::Error {
                                  bitrate 500000` (a vcan: `sudo ip link set up IFACE`)"
                 .to_string()
         }
-        Some(libc::ENOBUFS) => format!(
-            "the transmit queue of {name} is full: no other node acknowledges the frames. \
-             Is the robot on, the bus wired and terminated, and the bitrate 500000?"
-        ),
+        Some(libc::ENOBUFS) | Some(libc::EAGAIN) => format!("{name}: {}", super::QUEUE_FULL_MEANING),
         Some(libc::ENODEV) | Some(libc::ENXIO) => format!("{name} has disappeared (adapter unplugged?)"),
         _ => return error,
     };
@@ -197,6 +194,9 @@ pub fn open(iface: &str) -> anyhow::Result<Link> {
         _ => anyhow::anyhow!("cannot open CAN interface {iface}: {}", explain_io(error, iface)),
     })?;
     socket.set_error_filter_accept_all()?;
+    // Never block a sender (the 50 Hz motion sender least of all): a full queue is reported as EAGAIN or
+    // ENOBUFS and counted, and the frame is not sent (a motion command queued behind it would be stale).
+    socket.set_nonblocking(true)?;
     socket.set_recv_timestamp(true)?;
     let enable: libc::c_int = 1;
     // SAFETY: setsockopt with a valid int option value.

@@ -69,9 +69,83 @@ impl ErrorFrame {
     }
 }
 
+/// Error frames counted by class and by controller status: how a report lists them (never as identifiers).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct ErrorTally {
+    pub frames: u64,
+    pub classes: [u64; 10],
+    pub controller: [u64; 7],
+    pub bus_off: u64,
+}
+
+impl ErrorTally {
+    pub fn add(&mut self, error: &ErrorFrame) {
+        self.frames += 1;
+        for (count, (mask, _)) in self.classes.iter_mut().zip(ERROR_CLASSES) {
+            *count += u64::from(error.classes & mask != 0);
+        }
+        for (count, (mask, _)) in self.controller.iter_mut().zip(CONTROLLER_STATUS) {
+            *count += u64::from(error.controller & mask != 0);
+        }
+        self.bus_off += u64::from(error.is_bus_off());
+    }
+
+    /// `controller_problem x153 (rx_overflow x153), error_counters x153`, most frequent first.
+    pub fn describe(&self) -> String {
+        let mut classes: Vec<(u64, &str)> = self
+            .classes
+            .iter()
+            .zip(ERROR_CLASSES)
+            .filter(|(count, _)| **count > 0)
+            .map(|(count, (_, name))| (*count, *name))
+            .collect();
+        classes.sort_by(|a, b| b.0.cmp(&a.0));
+        let controller: Vec<String> = self
+            .controller
+            .iter()
+            .zip(CONTROLLER_STATUS)
+            .filter(|(count, _)| **count > 0)
+            .map(|(count, (_, name))| format!("{name} x{count}"))
+            .collect();
+        let parts: Vec<String> = classes
+            .iter()
+            .map(|(count, name)| {
+                if *name == "controller_problem" && !controller.is_empty() {
+                    format!("{name} x{count} ({})", controller.join(", "))
+                } else {
+                    format!("{name} x{count}")
+                }
+            })
+            .collect();
+        if parts.is_empty() {
+            "no error class set".to_string()
+        } else {
+            parts.join(", ")
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_tally_lists_classes_with_the_controller_status_never_identifiers() {
+        let mut tally = ErrorTally::default();
+        // What an SJA1000 sends on an RX FIFO overrun: controller problem (rx overflow) with counters.
+        let overrun = CanFrame::new_error(0x204, &[0, 0x01, 0, 0, 0, 0, 0, 0]).unwrap();
+        for _ in 0..3 {
+            tally.add(&ErrorFrame::from_frame(&overrun).unwrap());
+        }
+        tally.add(&ErrorFrame::from_frame(&CanFrame::new_error(0x40, &[]).unwrap()).unwrap());
+        assert_eq!(tally.frames, 4);
+        assert_eq!(tally.bus_off, 1);
+        assert_eq!(
+            tally.describe(),
+            "controller_problem x3 (rx_overflow x3), error_counters x3, bus_off x1"
+        );
+        assert!(!tally.describe().contains("0x204"));
+    }
 
     #[test]
     fn controller_problem_with_counters() {

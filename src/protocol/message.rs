@@ -34,6 +34,9 @@ pub const LINEAR_LIMIT: f64 = 1.5;
 /// (The manual's 0.7853 is a rounded pi/4; the firmware spec is the rounded number, so it stays.)
 #[allow(clippy::approx_constant)]
 pub const ANGULAR_LIMIT: f64 = 0.7853;
+/// The chassis stops by itself when no motion command has arrived for this long (manual: communication
+/// protection, 500 ms).
+pub const COMMAND_TIMEOUT: std::time::Duration = std::time::Duration::from_millis(500);
 /// Highest brightness of the custom light mode, percent.
 pub const BRIGHTNESS_MAX: u8 = 100;
 

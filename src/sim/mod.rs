@@ -115,7 +115,7 @@ impl Default for SimConfig {
             rc_present: false,
             rc_swb: RcSwitch::Top,
             faults: Vec::new(),
-            command_timeout: Duration::from_millis(500),
+            command_timeout: crate::protocol::message::COMMAND_TIMEOUT,
         }
     }
 }

@@ -7,7 +7,6 @@ use super::report::{Check, Outcome};
 use crate::commands::live;
 use crate::link::LinkKind;
 use crate::protocol::detect::Verdict;
-use crate::protocol::error_frame::ErrorFrame;
 use crate::protocol::message::{
     rc_switch_name, SystemState, MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY, VEHICLE_ESTOP,
     VEHICLE_EXCEPTION,
@@ -165,16 +164,12 @@ pub fn frames(seen: &Observation) -> Check {
     let finding = format!("{} frames in {} ({rate:.0}/s)", status.frames, seen.seconds());
     let mut trouble = Vec::new();
     if status.rx.error_frames > 0 {
-        let last = status
-            .last_error_frame
-            .as_ref()
-            .and_then(ErrorFrame::from_frame)
-            .map(|error| {
-                let names: Vec<&str> = error.class_names().chain(error.controller_names()).collect();
-                format!(" (last: {})", names.join(", "))
-            })
-            .unwrap_or_default();
-        trouble.push(format!("{} CAN error frames{last}", status.rx.error_frames));
+        // By class (and controller status), never as identifiers: an error frame's ID field is its classes.
+        trouble.push(format!(
+            "{} CAN error frames: {}",
+            status.rx.error_frames,
+            status.error_tally.describe()
+        ));
     }
     if status.rx.socket_drops > 0 {
         trouble.push(format!("{} frames dropped by the kernel (socket queue full)", status.rx.socket_drops));
