@@ -15,14 +15,13 @@
 //! is late by at most the time the thread waits to be scheduled.
 
 use std::collections::VecDeque;
-use std::io::Write;
-use std::os::fd::AsRawFd;
+use std::ffi::{CStr, CString};
+use std::os::fd::{AsRawFd, FromRawFd, OwnedFd};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-use serialport::{SerialPort, TTYPort};
 use tracerctl::protocol::message::{
     Message, MotionState, SystemState, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION,
 };
@@ -84,10 +83,7 @@ impl FaultyRobot {
     }
 
     pub fn with(status: Option<SystemState>, motion: MotionFeedback) -> Self {
-        let (mut master, slave) = TTYPort::pair().expect("a pseudo-terminal pair");
-        let path = slave.name().expect("the terminal side has a path");
-        drop(slave);
-        master.set_timeout(Duration::from_millis(5)).unwrap();
+        let (master, path) = open_pty();
         let shared = Arc::new(Shared {
             behaviour: Mutex::new(Behaviour { status, motion, reading: true, garbage: 0, vanish: false }),
             received: Mutex::new(Vec::new()),
@@ -98,7 +94,7 @@ impl FaultyRobot {
             let shared = Arc::clone(&shared);
             std::thread::Builder::new()
                 .name("faulty-robot".into())
-                .spawn(move || run(&shared, &mut master))
+                .spawn(move || run(&shared, master))
                 .unwrap()
         };
         Self { path, shared, thread: Some(thread) }
@@ -160,25 +156,6 @@ impl FaultyRobot {
     /// Every RS232 motion command so far as (arrival, (linear %, angular %)).
     pub fn motion(&self) -> Vec<(Instant, (i8, i8))> {
         lock(&self.shared.received).iter().filter_map(|(at, frame)| Some((*at, percent(frame)?))).collect()
-    }
-
-    /// Polls (every 2 ms) until `check` holds for the motion commands so far; when it did, or None at the
-    /// deadline.
-    pub fn wait_for(
-        &self,
-        timeout: Duration,
-        check: impl Fn(&[(Instant, (i8, i8))]) -> bool,
-    ) -> Option<Instant> {
-        let deadline = Instant::now() + timeout;
-        loop {
-            if check(&self.motion()) {
-                return Some(Instant::now());
-            }
-            if Instant::now() > deadline {
-                return None;
-            }
-            std::thread::sleep(Duration::from_millis(2));
-        }
     }
 }
 
@@ -267,7 +244,7 @@ impl Garbage {
     }
 }
 
-fn run(shared: &Shared, master: &mut TTYPort) {
+fn run(shared: &Shared, master: OwnedFd) {
     let mut encoder = SerialEncoder::new();
     let mut decoder = StreamDecoder::new();
     let mut garbage = Garbage { state: 0x9E37_79B9_7F4A_7C15 };
@@ -299,7 +276,7 @@ fn run(shared: &Shared, master: &mut TTYPort) {
             }
             if !out.is_empty() {
                 // Nobody may have the terminal open yet, or the host is slow: dropped, as on a real wire.
-                let _ = master.write_all(&out);
+                write_master(&master, &out);
             }
             // The next point on the 20 ms grid; after a delay, no burst of late reports.
             next_tick += FEEDBACK_PERIOD;
@@ -311,7 +288,7 @@ fn run(shared: &Shared, master: &mut TTYPort) {
             std::thread::sleep(Duration::from_millis(2));
             continue;
         }
-        if let Some(read) = read_master(master, &mut buffer) {
+        if let Some(read) = read_master(&master, &mut buffer) {
             let arrived = Instant::now();
             let mut received = lock(&shared.received);
             decoder.feed(&buffer[..read], |event| {
@@ -333,7 +310,7 @@ fn run(shared: &Shared, master: &mut TTYPort) {
 /// Reads what the host wrote, waiting up to 2 ms. Not through `serialport`'s `read`: it reports a hang-up
 /// (POLLHUP, the host closed its side) as an error before reading, and the bytes the host wrote before it
 /// went away are exactly what some scenarios are about.
-fn read_master(master: &TTYPort, buffer: &mut [u8]) -> Option<usize> {
+fn read_master(master: &OwnedFd, buffer: &mut [u8]) -> Option<usize> {
     let mut poll = libc::pollfd { fd: master.as_raw_fd(), events: libc::POLLIN, revents: 0 };
     // SAFETY: one valid pollfd.
     let ready = unsafe { libc::poll(&mut poll, 1, 2) };
@@ -349,4 +326,42 @@ fn read_master(master: &TTYPort, buffer: &mut [u8]) -> Option<usize> {
         std::thread::sleep(Duration::from_millis(2));
     }
     None
+}
+
+/// Writes what it can without waiting: bytes the host's side has no room for are lost, as on a real wire.
+fn write_master(master: &OwnedFd, bytes: &[u8]) {
+    // SAFETY: writes from a buffer of the given length.
+    let _ = unsafe { libc::write(master.as_raw_fd(), bytes.as_ptr().cast(), bytes.len()) };
+}
+
+/// A new pseudo-terminal: the master (non-blocking) and the terminal side's path.
+///
+/// Opened close-on-exec, unlike `serialport::TTYPort::pair`: a master without it is inherited by every
+/// process the tests spawn meanwhile, the host under test included, and a robot could then never vanish
+/// (closing our copy would not hang up the host's side). The terminal side is set raw once, as
+/// `TTYPort::pair` does (its default line discipline would echo the robot's feedback back to it before the
+/// host opens the terminal).
+fn open_pty() -> (OwnedFd, String) {
+    let ptmx = CString::new("/dev/ptmx").unwrap();
+    let flags = libc::O_RDWR | libc::O_NOCTTY | libc::O_CLOEXEC | libc::O_NONBLOCK;
+    // SAFETY: plain libc calls on descriptors this function owns; ptsname_r gets a buffer and its length.
+    unsafe {
+        let fd = libc::open(ptmx.as_ptr(), flags);
+        assert!(fd >= 0, "open /dev/ptmx: {}", std::io::Error::last_os_error());
+        let master = OwnedFd::from_raw_fd(fd);
+        assert_eq!(libc::grantpt(fd), 0, "grantpt");
+        assert_eq!(libc::unlockpt(fd), 0, "unlockpt");
+        let mut name = [0 as libc::c_char; 128];
+        assert_eq!(libc::ptsname_r(fd, name.as_mut_ptr(), name.len()), 0, "ptsname_r");
+        let path = CStr::from_ptr(name.as_ptr()).to_owned();
+        let slave = libc::open(path.as_ptr(), libc::O_RDWR | libc::O_NOCTTY | libc::O_CLOEXEC);
+        assert!(slave >= 0, "open {path:?}: {}", std::io::Error::last_os_error());
+        let slave = OwnedFd::from_raw_fd(slave);
+        let mut termios = std::mem::zeroed::<libc::termios>();
+        assert_eq!(libc::tcgetattr(slave.as_raw_fd(), &mut termios), 0, "tcgetattr");
+        libc::cfmakeraw(&mut termios);
+        assert_eq!(libc::tcsetattr(slave.as_raw_fd(), libc::TCSANOW, &termios), 0, "tcsetattr");
+        drop(slave);
+        (master, path.into_string().unwrap())
+    }
 }
