@@ -11,6 +11,9 @@
 //! 4. dashboard: on a pseudo-terminal this program owns (it types the arrow keys and drains the screen),
 //!    against the robot on a second one: CPU share with 50 Hz feedback, bytes drawn per second, and the
 //!    time from an arrow-key byte to the first motion frame that changed.
+//! 5. stops: release-to-zero with kitty release events (this program answers the keyboard-protocol query)
+//!    and with the auto-repeat deadline, Space-to-zero, signal-to-zero for drive (SIGINT, SIGTERM, SIGHUP,
+//!    SIGTSTP), and what drive sends after SIGSTOP / SIGCONT.
 
 use std::io::{Read, Write};
 use std::process::{Command, Stdio};
@@ -39,6 +42,15 @@ fn pty() -> (serialport::TTYPort, String) {
     let path = slave.name().unwrap();
     drop(slave);
     master.set_timeout(Duration::from_millis(2)).unwrap();
+    (master, path)
+}
+
+/// A pseudo-terminal of 100x30 for the dashboard (a new one is 0x0, where nothing is drawn).
+fn terminal_pty() -> (serialport::TTYPort, String) {
+    let (master, path) = pty();
+    let size = libc::winsize { ws_row: 30, ws_col: 100, ws_xpixel: 0, ws_ypixel: 0 };
+    // SAFETY: TIOCSWINSZ with a valid winsize on an open pseudo-terminal.
+    unsafe { libc::ioctl(std::os::fd::AsRawFd::as_raw_fd(&master), libc::TIOCSWINSZ, &size) };
     (master, path)
 }
 
@@ -234,7 +246,7 @@ fn monitor_flood(frames: usize) {
 
 fn dashboard(seconds: u64) {
     let (mut robot, robot_path) = pty();
-    let (terminal, terminal_path) = pty();
+    let (terminal, terminal_path) = terminal_pty();
     let arrivals_rx = record_motion_frames(robot.try_clone().unwrap());
     let slave = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
     let mut child = Command::new(binary())
@@ -273,8 +285,13 @@ fn dashboard(seconds: u64) {
             std::thread::sleep(next_feedback.saturating_duration_since(Instant::now()));
         }
     };
-    // Start-up (the terminal is asked whether it reports key releases; this one never answers: 2 s).
+    // Start-up (the terminal is asked whether it reports key releases; this one never answers: 2 s), then
+    // arm driving (the dashboard opens watching: a, then y).
     feed_until(Instant::now() + Duration::from_secs(4), &mut robot);
+    keys.write_all(b"a").unwrap();
+    feed_until(Instant::now() + Duration::from_millis(300), &mut robot);
+    keys.write_all(b"y").unwrap();
+    feed_until(Instant::now() + Duration::from_millis(500), &mut robot);
     let (cpu0, drawn0, t0) =
         (cpu_seconds(child.id()), drawn.load(std::sync::atomic::Ordering::Relaxed), Instant::now());
     feed_until(Instant::now() + Duration::from_secs(seconds), &mut robot);
@@ -308,10 +325,253 @@ fn dashboard(seconds: u64) {
     );
 }
 
+/// A dashboard on a terminal this program owns, against a robot on a second pseudo-terminal that sends
+/// feedback every 20 ms from a thread. `kitty`: answer the keyboard-protocol query, so the dashboard gets
+/// release events. Returns the child, the key writer, the motion frames and a stop flag for the feeder.
+struct Dash {
+    child: std::process::Child,
+    keys: serialport::TTYPort,
+    arrivals: std::sync::mpsc::Receiver<(Instant, i8)>,
+    done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+}
+
+impl Dash {
+    fn start(kitty: bool) -> Self {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        use std::sync::Arc;
+        let (robot, robot_path) = pty();
+        let (terminal, terminal_path) = terminal_pty();
+        let arrivals = record_motion_frames(robot.try_clone().unwrap());
+        let slave = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
+        let child = Command::new(binary())
+            .args(["--serial", &robot_path, "dashboard"])
+            .env("TERM", "xterm-256color")
+            .stdin(slave())
+            .stdout(slave())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let done = Arc::new(AtomicBool::new(false));
+        // The screen: drained; the keyboard-protocol query (CSI ? u) answered when `kitty`.
+        {
+            let (mut screen, mut answer, done) =
+                (terminal.try_clone().unwrap(), terminal.try_clone().unwrap(), Arc::clone(&done));
+            std::thread::spawn(move || {
+                let mut buffer = [0u8; 65536];
+                screen.set_timeout(Duration::from_millis(100)).unwrap();
+                while !done.load(Ordering::SeqCst) {
+                    if let Ok(read) = screen.read(&mut buffer) {
+                        let text = &buffer[..read];
+                        if kitty && text.windows(4).any(|w| w == b"\x1b[?u") {
+                            // Flags 0 (none pushed yet), then the primary device attributes.
+                            let _ = answer.write_all(b"\x1b[?0u\x1b[?62;22c");
+                        }
+                    }
+                }
+            });
+        }
+        {
+            let (mut robot, done) = (robot, Arc::clone(&done));
+            std::thread::spawn(move || {
+                let mut encoder = SerialEncoder::new();
+                let mut next = Instant::now();
+                while !done.load(Ordering::SeqCst) {
+                    let _ = robot.write_all(&feedback(&mut encoder));
+                    next += Duration::from_millis(20);
+                    std::thread::sleep(next.saturating_duration_since(Instant::now()));
+                }
+            });
+        }
+        let mut dash = Self { child, keys: terminal, arrivals, done };
+        std::thread::sleep(Duration::from_millis(if kitty { 1500 } else { 3500 }));
+        dash.type_keys(b"a", 300);
+        dash.type_keys(b"y", 500);
+        dash
+    }
+
+    fn type_keys(&mut self, bytes: &[u8], then_ms: u64) {
+        self.keys.write_all(bytes).unwrap();
+        std::thread::sleep(Duration::from_millis(then_ms));
+    }
+
+    /// Motion frames since the last call.
+    fn frames(&self) -> Vec<(Instant, i8)> {
+        self.arrivals.try_iter().collect()
+    }
+
+    fn quit(mut self) {
+        self.type_keys(b"q", 300);
+        self.done.store(true, std::sync::atomic::Ordering::SeqCst);
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// Milliseconds from `from` to the first zero frame at or after it.
+fn to_zero(frames: &[(Instant, i8)], from: Instant) -> Option<f64> {
+    frames
+        .iter()
+        .find(|(at, percent)| *at >= from && *percent == 0)
+        .map(|(at, _)| at.duration_since(from).as_secs_f64() * 1000.0)
+}
+
+fn summary(name: &str, mut samples: Vec<f64>) {
+    samples.sort_by(f64::total_cmp);
+    if samples.is_empty() {
+        println!("stops: {name}: no samples");
+        return;
+    }
+    println!(
+        "stops: {name}: {} runs, p50 {:.1} ms, max {:.1} ms",
+        samples.len(),
+        percentile(&samples, 0.5),
+        samples.last().unwrap()
+    );
+}
+
+fn stops() {
+    // Release events (kitty protocol): press, repeats every 33 ms for 1 s, release.
+    let mut dash = Dash::start(true);
+    let mut release_events = Vec::new();
+    for _ in 0..5 {
+        dash.frames();
+        dash.type_keys(b"\x1b[1;1:1A", 33);
+        for _ in 0..30 {
+            dash.type_keys(b"\x1b[1;1:2A", 33);
+        }
+        let moving = dash.frames().iter().any(|(_, percent)| *percent == 10);
+        let released = Instant::now();
+        dash.type_keys(b"\x1b[1;1:3A", 600);
+        if moving {
+            release_events.extend(to_zero(&dash.frames(), released));
+        }
+    }
+    dash.quit();
+    summary("release event to zero, from 0.15 m/s (kitty protocol)", release_events);
+
+    // No release events: auto-repeat every 33 ms for 1 s, then nothing; the deadline ends the hold.
+    let mut dash = Dash::start(false);
+    let mut deadline = Vec::new();
+    for _ in 0..5 {
+        dash.frames();
+        for _ in 0..30 {
+            dash.type_keys(b"\x1b[A", 33);
+        }
+        let last_key = Instant::now() - Duration::from_millis(33);
+        std::thread::sleep(Duration::from_millis(900));
+        let frames = dash.frames();
+        if frames.iter().any(|(_, percent)| *percent == 10) {
+            deadline.extend(to_zero(&frames, last_key));
+        }
+    }
+    // Space from full speed (scale 100 %: 0.5 m/s = 33 %): zero at once, no ramp in between.
+    for _ in 0..7 {
+        dash.type_keys(b"+", 20);
+    }
+    let mut space = Vec::new();
+    let mut ramp_frames = 0;
+    for _ in 0..5 {
+        for _ in 0..45 {
+            dash.type_keys(b"\x1b[A", 33);
+        }
+        dash.frames();
+        let pressed = Instant::now();
+        dash.type_keys(b" ", 1200);
+        let frames = dash.frames();
+        if let Some(ms) = to_zero(&frames, pressed) {
+            space.push(ms);
+            ramp_frames += frames.iter().filter(|(at, p)| *at >= pressed && *p != 0 && *p != 33).count();
+        }
+    }
+    dash.quit();
+    summary("last auto-repeat to zero, from 0.15 m/s (learned deadline, 33 ms repeats)", deadline);
+    summary("Space to zero, from 0.5 m/s", space);
+    println!("stops: frames between full speed and zero after Space: {ramp_frames} (0 = no ramp)");
+
+    // drive: signal to the first zero frame, on a pseudo-terminal.
+    for (name, signal) in [("SIGINT", 2), ("SIGTERM", 15), ("SIGHUP", 1), ("SIGTSTP", 20)] {
+        let mut samples = Vec::new();
+        for _ in 0..5 {
+            let (master, path) = pty();
+            let arrivals = record_motion_frames(master.try_clone().unwrap());
+            let mut child = Command::new(binary())
+                .args(["--serial", &path, "drive", "--linear", "0.3"])
+                .stdout(Stdio::null())
+                .stderr(Stdio::null())
+                .spawn()
+                .unwrap();
+            let mut master = master;
+            let mut encoder = SerialEncoder::new();
+            let started = Instant::now();
+            let mut seen = Vec::new();
+            while started.elapsed() < Duration::from_millis(1500) {
+                let _ = master.write_all(&feedback(&mut encoder));
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            seen.extend(arrivals.try_iter());
+            let sent = Instant::now();
+            unsafe { libc::kill(child.id() as i32, signal) };
+            let until = Instant::now() + Duration::from_millis(300);
+            while Instant::now() < until {
+                let _ = master.write_all(&feedback(&mut encoder));
+                std::thread::sleep(Duration::from_millis(20));
+            }
+            if signal == 20 {
+                unsafe { libc::kill(child.id() as i32, libc::SIGCONT) };
+            }
+            let _ = child.wait();
+            seen.extend(arrivals.try_iter());
+            if seen.iter().any(|(at, p)| *at < sent && *p == 20) {
+                samples.extend(to_zero(&seen, sent));
+            }
+        }
+        summary(&format!("drive: {name} to zero on a pseudo-terminal, from 0.3 m/s"), samples);
+    }
+
+    // drive: SIGSTOP for 0.8 s at full speed, then SIGCONT: what reaches the robot after the resume.
+    let (master, path) = pty();
+    let arrivals = record_motion_frames(master.try_clone().unwrap());
+    let child = Command::new(binary())
+        .args(["--serial", &path, "drive", "--linear", "0.3"])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut master = master;
+    let mut encoder = SerialEncoder::new();
+    let mut feed = |how_long: Duration, master: &mut serialport::TTYPort| {
+        let until = Instant::now() + how_long;
+        while Instant::now() < until {
+            let _ = master.write_all(&feedback(&mut encoder));
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    feed(Duration::from_millis(1500), &mut master);
+    unsafe { libc::kill(child.id() as i32, libc::SIGSTOP) };
+    feed(Duration::from_millis(800), &mut master);
+    arrivals.try_iter().for_each(drop);
+    let resumed = Instant::now();
+    unsafe { libc::kill(child.id() as i32, libc::SIGCONT) };
+    feed(Duration::from_millis(500), &mut master);
+    let output = child.wait_with_output().unwrap();
+    let after: Vec<i8> = arrivals.try_iter().filter(|(at, _)| *at >= resumed).map(|(_, p)| p).collect();
+    let message = String::from_utf8_lossy(&output.stderr);
+    println!(
+        "stops: drive SIGSTOP 0.8 s / SIGCONT: frames after the resume {after:?}, exit {:?}, {}",
+        output.status.code(),
+        message.lines().last().unwrap_or("").split(';').next().unwrap_or("")
+    );
+}
+
 fn main() {
     let seconds: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(10);
+    if std::env::args().nth(2).as_deref() == Some("stops") {
+        stops();
+        return;
+    }
     drive(seconds);
     monitor_normal(seconds);
     monitor_flood(200_000);
     dashboard(seconds);
+    stops();
 }

@@ -228,7 +228,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__dashboard)
-            opts="-h -V --max-linear --max-angular --accel --angular-accel --record --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -247,6 +247,14 @@ _tracerctl() {
                     return 0
                     ;;
                 --angular-accel)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --decel)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --angular-decel)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -406,7 +414,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --ignore-faults --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -437,6 +445,14 @@ _tracerctl() {
                     return 0
                     ;;
                 --angular-accel)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --decel)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --angular-decel)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

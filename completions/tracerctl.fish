@@ -105,6 +105,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -237,6 +239,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-li
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
@@ -249,6 +253,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s V -l version -d 'Print version'
@@ -256,6 +261,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
@@ -268,6 +275,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d '
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s V -l version -d 'Print version'

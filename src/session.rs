@@ -436,3 +436,63 @@ fn read_loop(
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::candump::{Timestamp, TimestampKind};
+    use crate::link::{FrameTx, Received};
+    use std::io;
+
+    /// A SocketCAN receiver with a backlog: frames the robot sent `age` ago, all read now (as after a
+    /// suspension), then nothing.
+    struct Backlog {
+        frames: Vec<Received>,
+    }
+
+    impl FrameRx for Backlog {
+        fn recv(&mut self, timeout: Duration) -> io::Result<Option<Received>> {
+            if self.frames.is_empty() {
+                std::thread::sleep(timeout);
+                return Ok(None);
+            }
+            Ok(Some(self.frames.remove(0)))
+        }
+
+        fn stats(&self) -> RxStats {
+            RxStats::default()
+        }
+    }
+
+    struct Nowhere;
+
+    impl FrameTx for Nowhere {
+        fn send(&self, _frame: &LinkFrame) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_backlog_drained_late_is_as_old_as_the_kernel_stamped_it() {
+        let stamped = link::now_timestamp();
+        let two_seconds_ago =
+            Timestamp { secs: stamped.secs - 2, nanos: stamped.nanos, kind: TimestampKind::Absolute };
+        let status_frame = CanFrame::new(0x211, &[0, 1, 1, 3, 0, 0, 0, 0xB1]).unwrap();
+        let frames =
+            (0..10).map(|_| Received { ts: two_seconds_ago, frame: LinkFrame::Can(status_frame) }).collect();
+        let backlog = link::Link {
+            name: "can0".to_string(),
+            kind: LinkKind::SocketCan,
+            wire: Wire::CanV2,
+            tx: Arc::new(Nowhere),
+            rx: Box::new(Backlog { frames }),
+        };
+        let session = Session::from_link(backlog, ProtocolHint::Auto).unwrap();
+        let status =
+            session.wait_for(Duration::from_secs(1), |s| (s.frames == 10).then(|| s.clone())).unwrap();
+        let age = status.last_frame.unwrap().elapsed();
+        assert!(age >= Duration::from_millis(1900) && age < Duration::from_millis(2500), "{age:?}");
+        assert!(status.fresh_system(Duration::from_secs(1)).is_none(), "two-second-old status is not fresh");
+        assert!(status.system.is_some());
+    }
+}

@@ -68,7 +68,8 @@ fn listen_inner(
     if before_stop.is_some() {
         wanted.push(SIGTSTP);
     }
-    let mut signals = signal_hook::iterator::Signals::new(wanted).context("cannot install signal handlers")?;
+    let mut signals =
+        signal_hook::iterator::Signals::new(wanted).context("cannot install signal handlers")?;
     let inner = Arc::clone(&flag.0);
     std::thread::Builder::new()
         .name("tracerctl-signals".into())

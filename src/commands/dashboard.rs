@@ -2,25 +2,27 @@
 //! and the renderer together. Everything it draws comes from the pure `dashboard::{app, render}`; every key
 //! goes through the pure `dashboard::teleop`.
 
-use std::io::IsTerminal;
+use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::RecvTimeoutError;
-use std::sync::Arc;
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
 use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
+use super::live;
 use crate::cli::{Cli, DashboardArgs};
-use crate::control::{Limits, MotionSender};
-use crate::dashboard::app::{App, Prompt, Snapshot, TeleopView};
+use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
+use crate::dashboard::app::{App, Arming, Prompt, Snapshot, TeleopView};
 use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
 use crate::exit::{Failure, FAILURE, SUCCESS, USAGE};
 use crate::link::{ClearTarget, Codec, LinkChoice, LinkKind};
-use crate::protocol::message::{Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
-use crate::session::Session;
+use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
+use crate::protocol::Wire;
+use crate::session::{RobotStatus, Session};
 use crate::signals;
 
 /// The loop's period: targets are refreshed this often (the sender's watchdog is ten times longer).
@@ -30,6 +32,16 @@ const WATCHDOG: Duration = Duration::from_millis(250);
 /// At most 20 redraws a second (slow SSH links).
 const MIN_REDRAW: Duration = Duration::from_millis(50);
 const UPDATE_EVERY: Duration = Duration::from_millis(50);
+/// How long SIGTSTP / Ctrl-Z waits for the zero frame to leave before the process stops anyway.
+const SUSPEND_WAIT: Duration = Duration::from_millis(100);
+/// After a halt, a gap or a block, the keyboard must be this quiet (no drive key) before a press counts as
+/// fresh: auto-repeats of a key still held, or a backlog read after a suspension, are not fresh presses.
+const RELEASE_QUIET: Duration = Duration::from_millis(150);
+/// After a gap in the sender's clock, no drive key counts as a fresh press for this long: the keys the
+/// terminal queued while the process was stopped arrive in this time, and are stale.
+const GAP_SETTLE: Duration = Duration::from_millis(300);
+/// A robot state older than this does not block driving (nor allow it: the sender's checks stay).
+const BLOCK_STATUS_AGE: Duration = Duration::from_millis(500);
 
 /// Why the dashboard ended.
 enum End {
@@ -54,55 +66,286 @@ pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
     let session = Session::open_recording(&choice, cli.protocol.into(), None, args.record.as_deref())?;
     let color = cli.color.enabled(true);
 
-    let end = {
+    let (end, stopped) = {
         let screen = Screen::enter()?;
-        let result = drive_loop(screen, &session, limits, color);
+        let result = drive_loop(screen, &session, limits, color, args.watch);
         // `screen` was dropped inside: the terminal is back before anything is printed.
         result?
     };
-    let (status, message) = match end {
-        End::Quit => (SUCCESS, "quit: the robot was stopped".to_string()),
-        End::Signal(status, name) => (status, format!("{name}: the robot was stopped")),
-        End::TerminalLost(why) => (FAILURE, format!("the terminal went away ({why}): the robot was stopped")),
-        End::LinkLost(why) => {
-            (FAILURE, format!("the link {} failed ({why}): the robot was stopped", session.name))
-        }
+    let robot = match &stopped {
+        Stopped::NeverArmed => "nothing was sent (never armed)".to_string(),
+        Stopped::Confirmed => "the robot was stopped".to_string(),
+        Stopped::NotSent(why) => format!(
+            "the stop frames could not be sent ({why}): the robot's own {} ms command timeout stops it",
+            COMMAND_TIMEOUT.as_millis()
+        ),
     };
-    eprintln!("tracerctl: {message}");
+    let (status, message) = match end {
+        End::Quit => (SUCCESS, format!("quit: {robot}")),
+        End::Signal(status, name) => (status, format!("{name}: {robot}")),
+        End::TerminalLost(why) => (FAILURE, format!("the terminal went away ({why}): {robot}")),
+        End::LinkLost(why) => (FAILURE, format!("the link {} failed ({why}): {robot}", session.name)),
+    };
+    let status = match stopped {
+        Stopped::NotSent(_) if status == SUCCESS => FAILURE,
+        _ => status,
+    };
+    let _ = writeln!(std::io::stderr(), "tracerctl: {message}");
     Ok(status)
 }
 
-fn drive_loop(mut screen: Screen, session: &Session, limits: Limits, color: bool) -> Result<End> {
-    let can_drive = session.kind != LinkKind::Replay;
+/// What happened to the robot at the end.
+enum Stopped {
+    NeverArmed,
+    Confirmed,
+    NotSent(String),
+}
+
+/// Arming, holding and resuming: the dashboard's side of the stop rules. The dashboard opens watching (no
+/// sender, nothing sent); arming starts the sender (0x421, then 50 Hz motion); disarming stops it.
+struct Driving<'a> {
+    session: &'a Session,
+    limits: Limits,
+    sender: Option<MotionSender>,
+    /// Where the signal thread finds the running sender's stopper.
+    slot: Arc<Mutex<Option<Stopper>>>,
+    /// Arming is not possible: --watch, or a replay.
+    watch_only: Option<&'static str>,
+    was_armed: bool,
+    /// After a halt, a gap or a blocking state: keys still held must be let go, and pressed again.
+    needs_release: bool,
+    /// Why driving is blocked now (E-stop, latched fault, RC override), from the robot's status.
+    blocked: Option<String>,
+    seen_gaps: u64,
+    seen_watchdog: u64,
+    last_requested: (f64, f64),
+    /// The outcome of the last disarm (a stop that could not be sent is remembered for the exit message).
+    last_stop: Option<Stopped>,
+}
+
+impl<'a> Driving<'a> {
+    fn armed(&self) -> bool {
+        self.sender.is_some()
+    }
+
+    fn arm(&mut self) -> Result<String> {
+        if let Some(why) = self.watch_only {
+            return Ok(format!("watch-only ({why}): driving cannot be armed"));
+        }
+        if self.armed() {
+            return Ok("already armed".to_string());
+        }
+        let sender = MotionSender::start(
+            self.session.tx.clone(),
+            Codec::new(self.session.wire()),
+            self.limits,
+            WATCHDOG,
+        )?;
+        *self.slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
+        let stats = sender.stats();
+        self.seen_gaps = stats.gaps;
+        self.seen_watchdog = stats.watchdog_trips;
+        self.sender = Some(sender);
+        self.was_armed = true;
+        // Nothing moves until a key is pressed after arming (the key that asked does not drive).
+        self.needs_release = true;
+        Ok("ARMED: command mode requested; press an arrow key to drive, a to disarm".to_string())
+    }
+
+    /// Stops the sender: zero frames, then nothing more is sent.
+    fn disarm(&mut self) -> Stopped {
+        self.slot.lock().unwrap_or_else(|p| p.into_inner()).take();
+        match self.sender.take() {
+            None if self.was_armed => self.last_stop.take().unwrap_or(Stopped::Confirmed),
+            None => Stopped::NeverArmed,
+            Some(sender) => {
+                let error = sender.last_error();
+                let stats = sender.stop();
+                if stats.stop_confirmed() {
+                    Stopped::Confirmed
+                } else {
+                    Stopped::NotSent(error.unwrap_or_else(|| "the link took none".to_string()))
+                }
+            }
+        }
+    }
+
+    /// Zero at once, and hold it until the keys are let go and pressed again.
+    fn halt(&mut self) {
+        if let Some(sender) = &self.sender {
+            sender.halt();
+        }
+        self.needs_release = true;
+    }
+
+    /// Takes what the robot reports: an E-stop, a latched fault or RC override blocks driving (zero at
+    /// once, said on screen) until it clears and a key is pressed again. Returns a message when that changes.
+    fn observe(&mut self, status: &RobotStatus) -> Option<String> {
+        let blocked =
+            status.fresh_system(BLOCK_STATUS_AGE).and_then(|(state, wire)| live::not_drivable(&state, wire));
+        if blocked == self.blocked {
+            return None;
+        }
+        let message = match (&self.blocked, &blocked) {
+            (_, Some(reason)) if self.armed() => {
+                self.halt();
+                format!("zero sent: {reason}; press a key again once it is clear")
+            }
+            (_, Some(reason)) => format!("driving blocked: {reason}"),
+            (Some(_), None) => "clear again: press a key to drive".to_string(),
+            (None, None) => return None,
+        };
+        self.blocked = blocked;
+        Some(message)
+    }
+
+    /// Checks the sender for a gap in its clock (the process was suspended) or a watchdog trip since the
+    /// last look: every key counts as released, and input queued meanwhile is stale. True when one happened.
+    fn gap_since_last_look(&mut self) -> Option<String> {
+        let stats = self.sender.as_ref()?.stats();
+        let gap = stats.gaps > self.seen_gaps;
+        let watchdog = stats.watchdog_trips > self.seen_watchdog;
+        self.seen_gaps = stats.gaps;
+        self.seen_watchdog = stats.watchdog_trips;
+        if gap {
+            self.needs_release = true;
+            let seconds = stats.last_gap.unwrap_or_default().as_secs_f64();
+            return Some(format!(
+                "suspended for {seconds:.2} s: zero sent, keys released; press again to drive"
+            ));
+        }
+        if watchdog {
+            self.needs_release = true;
+            return Some(format!(
+                "input stalled over {} ms: zero sent, keys released; press again to drive",
+                WATCHDOG.as_millis()
+            ));
+        }
+        None
+    }
+
+    /// The target for this tick. Keys held through a halt, a gap or a block must be let go first: the
+    /// keyboard quiet for [`RELEASE_QUIET`] with nothing held. Then a fresh press ends the hold.
+    fn command(&mut self, requested: (f64, f64), anything_held: bool, fresh_press: bool, quiet: Duration) {
+        let Some(sender) = &self.sender else { return };
+        if self.needs_release && !anything_held && self.blocked.is_none() && quiet >= RELEASE_QUIET {
+            self.needs_release = false;
+        }
+        let gated = self.needs_release || self.blocked.is_some();
+        if fresh_press && !gated && sender.stats().hold.is_some() {
+            sender.resume();
+        }
+        let requested = if gated { (0.0, 0.0) } else { requested };
+        // A change (a press, a release, a deadline that expired) leaves at once rather than at the next tick.
+        if requested != self.last_requested {
+            sender.set_target_now(requested.0, requested.1);
+        } else {
+            sender.set_target(requested.0, requested.1);
+        }
+        self.last_requested = requested;
+    }
+
+    fn blocked_now(&self) -> bool {
+        self.blocked.is_some()
+    }
+
+    fn suspend(&self) {
+        if let Some(stopper) = self.slot.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            stopper.suspend(SUSPEND_WAIT);
+        }
+    }
+}
+
+fn drive_loop(
+    mut screen: Screen,
+    session: &Session,
+    limits: Limits,
+    color: bool,
+    watch: bool,
+) -> Result<(End, Stopped)> {
+    let watch_only = match (session.kind == LinkKind::Replay, watch) {
+        (true, _) => Some("--replay is read-only"),
+        (false, true) => Some("--watch"),
+        (false, false) => None,
+    };
     let mode = if screen.key_release { ReleaseMode::Events } else { ReleaseMode::Deadline };
     let mut teleop = Teleop::new(mode);
-    let sender = if can_drive {
-        Some(MotionSender::start(session.tx.clone(), Codec::new(session.wire()), limits, WATCHDOG)?)
-    } else {
-        None
+    let slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
+    let signal = {
+        let (on_signal, on_suspend) = (Arc::clone(&slot), Arc::clone(&slot));
+        signals::listen_suspendable(
+            move |_| {
+                if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                    stopper.stop_now();
+                }
+            },
+            move || {
+                if let Some(stopper) = on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                    stopper.suspend(SUSPEND_WAIT);
+                }
+                // Give the terminal back while stopped; the loop takes it again after SIGCONT.
+                crate::dashboard::terminal::restore();
+            },
+        )?
     };
-    let stopper = sender.as_ref().map(MotionSender::stopper);
-    let signal = signals::listen(move |_| {
-        if let Some(stopper) = &stopper {
-            stopper.stop_now();
-        }
-    })?;
+    let mut driving = Driving {
+        session,
+        limits,
+        sender: None,
+        slot,
+        watch_only,
+        was_armed: false,
+        needs_release: false,
+        blocked: None,
+        seen_gaps: 0,
+        seen_watchdog: 0,
+        last_requested: (0.0, 0.0),
+        last_stop: None,
+    };
     let done = Arc::new(AtomicBool::new(false));
     let input = spawn_input(Arc::clone(&done))?;
 
     let mut app = App::new(&session.name, limits, color);
+    app.set_arming(if watch_only.is_some() { Arming::WatchOnly } else { Arming::Watching });
     let epoch = Instant::now();
     let mut lights_step = 0usize;
     let mut last_update = Instant::now() - UPDATE_EVERY;
     let mut last_draw = Instant::now() - MIN_REDRAW;
     let mut drawn: Option<u64> = None;
     let mut next_tick = Instant::now();
+    let mut last_loop = Instant::now();
+    // After a gap, drive keys are not fresh until the terminal's backlog has surely been read.
+    let mut settle_until = Instant::now();
+    // No drive key yet: the keyboard has been quiet "forever".
+    let mut last_drive_key = Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now);
     let end = 'run: loop {
         if let (Some(status), name) = (signal.exit_status(), signal.name()) {
             break End::Signal(status, name);
         }
+        if last_loop.elapsed() > GAP_LIMIT {
+            // After SIGTSTP or Ctrl-Z the terminal was given back: take it again.
+            if screen.take_back()? {
+                drawn = None;
+            }
+            // Let the sender take its tick first: it alone tells a suspension from a slow redraw, and the
+            // input that piled up meanwhile must not be read as fresh presses before it has.
+            if driving.armed() {
+                std::thread::sleep(LOOP * 2);
+            }
+        }
+        last_loop = Instant::now();
+        // The sender's own clock jumped (the process was stopped, or the machine stalled; a slow redraw of
+        // this loop alone does not count): what the terminal queued meanwhile is stale, every key counts as
+        // released, and the quiet that makes a press fresh counts from here.
+        if let Some(text) = driving.gap_since_last_look() {
+            while input.try_recv().is_ok() {}
+            teleop.release_all();
+            last_drive_key = Instant::now();
+            settle_until = Instant::now() + GAP_SETTLE;
+            app.set_message(text, Instant::now());
+        }
         // Wait for input until the next tick, so a key acts at once.
-        let mut kick = false;
+        let mut fresh_press = false;
         let wait = next_tick.saturating_duration_since(Instant::now());
         let mut first = match input.recv_timeout(wait) {
             Ok(input) => Some(input),
@@ -116,57 +359,43 @@ fn drive_loop(mut screen: Screen, session: &Session, limits: Limits, color: bool
                 Input::Event(Event::Resize(..)) => drawn = None,
                 Input::Event(Event::FocusLost) => teleop.release_all(),
                 Input::Event(Event::Key(key)) => {
-                    if let Some((driving, action)) = driving_key(&key) {
-                        teleop.key(now, driving, action);
-                        kick |= action == KeyAction::Press;
+                    let was_held = !teleop.held(now).is_empty();
+                    let overlay = app.prompt() != Prompt::None || app.help_shown();
+                    if let Some((driving_key, action)) = driving_key(&key) {
+                        if overlay || !driving.armed() {
+                            // A dialog owns the keyboard; watching, a drive key asks to arm. Neither drives.
+                            if action == KeyAction::Press {
+                                handle(&mut app, &mut driving, &mut teleop, Action::AskArm, &mut lights_step);
+                            }
+                            continue;
+                        }
+                        // A press right after a quiet keyboard is fresh; check the quiet before this key.
+                        let quiet = last_drive_key.elapsed();
+                        last_drive_key = Instant::now();
+                        teleop.key(now, driving_key, action);
+                        let fresh = action == KeyAction::Press
+                            && !was_held
+                            && quiet >= RELEASE_QUIET
+                            && Instant::now() >= settle_until;
+                        if driving.needs_release && fresh && !driving.blocked_now() {
+                            driving.needs_release = false;
+                        }
+                        fresh_press |= fresh;
                         continue;
                     }
                     if key.kind != KeyEventKind::Press {
                         continue;
                     }
-                    match action_for(&key, app.prompt()) {
+                    let action = action_for(&key, app.prompt(), app.help_shown(), driving.armed());
+                    match action {
                         Action::Quit => break 'run End::Quit,
-                        Action::Stop => {
-                            teleop.release_all();
-                            kick = true;
+                        Action::Suspend => {
+                            // Ctrl-Z in raw mode is a key: do what the shell's Ctrl-Z would, safely.
+                            driving.suspend();
+                            crate::dashboard::terminal::restore();
+                            let _ = signal_hook::low_level::raise(signal_hook::consts::SIGSTOP);
                         }
-                        Action::Faster => {
-                            teleop.faster();
-                        }
-                        Action::Slower => {
-                            teleop.slower();
-                        }
-                        Action::Help => app.toggle_help(),
-                        Action::AskClear => app.ask_clear_confirmation(),
-                        Action::CancelPrompt => app.cancel_prompt(),
-                        Action::Clear => {
-                            app.cancel_prompt();
-                            let frames = session.codec().clear_faults(ClearTarget::All);
-                            let sent =
-                                frames.iter().map(|frame| session.send(frame)).collect::<Result<Vec<_>>>();
-                            let text = match sent {
-                                Ok(_) => "fault clear sent (0x441 all): watch the faults panel".to_string(),
-                                Err(error) => format!("cannot send the fault clear: {error:#}"),
-                            };
-                            app.set_message(text, Instant::now());
-                        }
-                        Action::CommandMode => {
-                            if let Some(sender) = &sender {
-                                sender.request_mode_enable();
-                                app.set_message("command mode requested".to_string(), Instant::now());
-                            }
-                        }
-                        Action::Lights => {
-                            let (lights, name) = LIGHT_CYCLE[lights_step % LIGHT_CYCLE.len()];
-                            lights_step += 1;
-                            let frame = session.codec().lights(lights);
-                            let text = match session.send(&frame) {
-                                Ok(()) => format!("lights: {name}"),
-                                Err(error) => format!("cannot set the lights: {error:#}"),
-                            };
-                            app.set_message(text, Instant::now());
-                        }
-                        Action::None => {}
+                        action => handle(&mut app, &mut driving, &mut teleop, action, &mut lights_step),
                     }
                 }
                 Input::Event(_) => {}
@@ -176,13 +405,8 @@ fn drive_loop(mut screen: Screen, session: &Session, limits: Limits, color: bool
         let now = Instant::now();
         let request = teleop.request(epoch.elapsed());
         let requested = (request.0 * limits.max_linear, request.1 * limits.max_angular);
-        if let Some(sender) = &sender {
-            if kick {
-                sender.set_target_now(requested.0, requested.1);
-            } else {
-                sender.set_target(requested.0, requested.1);
-            }
-        }
+        let anything_held = !teleop.held(epoch.elapsed()).is_empty();
+        driving.command(requested, anything_held, fresh_press, last_drive_key.elapsed());
         if now.duration_since(last_update) >= UPDATE_EVERY {
             let status = session.status();
             if let Some(error) = status.link_error.clone() {
@@ -190,29 +414,25 @@ fn drive_loop(mut screen: Screen, session: &Session, limits: Limits, color: bool
                     break End::LinkLost(error);
                 }
             }
-            let stats = sender.as_ref().map(MotionSender::stats).unwrap_or_default();
+            if let Some(text) = driving.observe(&status) {
+                teleop.release_all();
+                app.set_message(text, Instant::now());
+            }
+            let stats = driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();
             app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
+            app.set_arming(match (driving.armed(), watch_only.is_some()) {
+                (true, _) => Arming::Armed,
+                (false, true) => Arming::WatchOnly,
+                (false, false) => Arming::Watching,
+            });
             let held = teleop.held(epoch.elapsed()).into_iter().map(key_name).collect();
-            let release_mode = match (can_drive, teleop.mode()) {
-                (false, _) => "driving off: --replay is read-only".to_string(),
-                (true, ReleaseMode::Events) => "key release: terminal events (kitty protocol)".to_string(),
-                (true, ReleaseMode::Deadline) => {
-                    let learned = |value: Duration| {
-                        if value.is_zero() {
-                            "not learned yet".to_string()
-                        } else {
-                            format!("{} ms", value.as_millis())
-                        }
-                    };
-                    let (delay, interval) = teleop.learned();
-                    format!(
-                        "key release: auto-repeat timeout (repeat delay {}, interval {})",
-                        learned(delay),
-                        learned(interval)
-                    )
-                }
-            };
-            app.set_teleop(TeleopView { release_mode, scale: teleop.scale(), held, requested });
+            let requested = if driving.armed() { driving.last_requested } else { (0.0, 0.0) };
+            app.set_teleop(TeleopView {
+                release_mode: release_mode_text(&teleop, watch_only),
+                scale: teleop.scale(),
+                held,
+                requested,
+            });
             last_update = now;
         }
         let fingerprint = app.fingerprint();
@@ -229,12 +449,130 @@ fn drive_loop(mut screen: Screen, session: &Session, limits: Limits, color: bool
         }
     };
     // Stop the robot first, then give the terminal back (Screen's drop), then stop the input thread.
-    if let Some(sender) = sender {
-        sender.stop();
-    }
+    let stopped = driving.disarm();
     drop(screen);
     done.store(true, Ordering::SeqCst);
-    Ok(end)
+    Ok((end, stopped))
+}
+
+/// Acts on a key that does not drive.
+fn handle(
+    app: &mut App,
+    driving: &mut Driving,
+    teleop: &mut Teleop,
+    action: Action,
+    lights_step: &mut usize,
+) {
+    let now = Instant::now();
+    match action {
+        Action::Quit | Action::Suspend | Action::None => {}
+        Action::Stop => {
+            teleop.release_all();
+            driving.halt();
+            if driving.armed() {
+                app.set_message("zero sent (Space): press a key again to drive".to_string(), now);
+            }
+        }
+        Action::Faster => {
+            teleop.faster();
+        }
+        Action::Slower => {
+            teleop.slower();
+        }
+        Action::Help => app.toggle_help(),
+        Action::Close => {
+            app.cancel_prompt();
+            app.hide_help();
+        }
+        Action::AskArm => match driving.watch_only {
+            Some(why) => app.set_message(format!("watch-only ({why}): nothing is sent to the robot"), now),
+            None => app.ask_arm_confirmation(),
+        },
+        Action::Arm => {
+            app.cancel_prompt();
+            teleop.release_all();
+            let text = driving.arm().unwrap_or_else(|error| format!("cannot arm: {error:#}"));
+            app.set_message(text, now);
+        }
+        Action::Disarm => {
+            teleop.release_all();
+            let text = match driving.disarm() {
+                Stopped::NotSent(why) => {
+                    let text = format!(
+                        "disarmed, but the stop frames could not be sent ({why}): the robot's own {} ms \
+                         command timeout stops it",
+                        COMMAND_TIMEOUT.as_millis()
+                    );
+                    driving.last_stop = Some(Stopped::NotSent(why));
+                    text
+                }
+                _ => "disarmed: zero sent; WATCHING (nothing is sent)".to_string(),
+            };
+            app.set_message(text, now);
+        }
+        Action::AskClear => app.ask_clear_confirmation(),
+        Action::Clear => {
+            app.cancel_prompt();
+            let frames = driving.session.codec().clear_faults(ClearTarget::All);
+            let sent = frames.iter().map(|frame| driving.session.send(frame)).collect::<Result<Vec<_>>>();
+            let text = match sent {
+                Ok(_) => {
+                    format!("fault clear sent ({}): watch the faults panel", clear_words(driving.session))
+                }
+                Err(error) => format!("cannot send the fault clear: {error:#}"),
+            };
+            app.set_message(text, now);
+        }
+        Action::CommandMode => {
+            if let Some(sender) = &driving.sender {
+                sender.request_mode_enable();
+                app.set_message("command mode requested".to_string(), now);
+            }
+        }
+        Action::Lights => {
+            let (lights, name) = LIGHT_CYCLE[*lights_step % LIGHT_CYCLE.len()];
+            *lights_step += 1;
+            let frame = driving.session.codec().lights(lights);
+            let text = match driving.session.send(&frame) {
+                Ok(()) => format!("lights: {name}"),
+                Err(error) => format!("cannot set the lights: {error:#}"),
+            };
+            app.set_message(text, now);
+        }
+    }
+}
+
+/// What a fault clear sends on this link, in words.
+fn clear_words(session: &Session) -> &'static str {
+    match session.wire() {
+        Wire::CanV2 => "0x441 all",
+        Wire::CanV1 => "V1 clear codes in 0x130",
+        Wire::Serial => "RS232 clear codes",
+    }
+}
+
+fn release_mode_text(teleop: &Teleop, watch_only: Option<&str>) -> String {
+    if let Some(why) = watch_only {
+        return format!("driving off: {why}");
+    }
+    match teleop.mode() {
+        ReleaseMode::Events => "key release: terminal events (kitty protocol)".to_string(),
+        ReleaseMode::Deadline => {
+            let learned = |value: Duration| {
+                if value.is_zero() {
+                    "not learned yet".to_string()
+                } else {
+                    format!("{} ms", value.as_millis())
+                }
+            };
+            let (delay, interval) = teleop.learned();
+            format!(
+                "key release: auto-repeat timeout (repeat delay {}, interval {})",
+                learned(delay),
+                learned(interval)
+            )
+        }
+    }
 }
 
 /// The light settings `l` cycles through.
@@ -318,40 +656,68 @@ fn driving_key(key: &KeyEvent) -> Option<(Key, KeyAction)> {
 #[derive(Debug, PartialEq, Eq)]
 enum Action {
     Quit,
+    Suspend,
     Stop,
     Faster,
     Slower,
     Help,
+    /// Close the prompt or overlay on screen (Esc, or any key a dialog does not take).
+    Close,
+    AskArm,
+    Arm,
+    Disarm,
     AskClear,
     Clear,
-    CancelPrompt,
     CommandMode,
     Lights,
     None,
 }
 
-/// What a (non-arrow) key press does, given the prompt on screen.
-fn action_for(key: &KeyEvent, prompt: Prompt) -> Action {
-    let ctrl_c = key.code == KeyCode::Char('c') && key.modifiers.contains(KeyModifiers::CONTROL);
-    if ctrl_c {
-        return Action::Quit;
+/// What a (non-arrow) key press does, given what is on screen and whether driving is armed. A prompt or the
+/// help owns the keyboard: its keys act on it, others close it; Esc closes and never quits. q, Ctrl-C and
+/// Space work everywhere.
+fn action_for(key: &KeyEvent, prompt: Prompt, help: bool, armed: bool) -> Action {
+    let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
+    match key.code {
+        KeyCode::Char('c') if ctrl => return Action::Quit,
+        KeyCode::Char('z') if ctrl => return Action::Suspend,
+        KeyCode::Char(' ') => return Action::Stop,
+        _ => {}
     }
-    if prompt == Prompt::ConfirmClear {
+    match prompt {
+        Prompt::ConfirmClear => {
+            return match key.code {
+                KeyCode::Char('y') | KeyCode::Char('Y') => Action::Clear,
+                _ => Action::Close,
+            }
+        }
+        Prompt::ConfirmArm => {
+            return match key.code {
+                KeyCode::Char('y') | KeyCode::Char('Y') => Action::Arm,
+                _ => Action::Close,
+            }
+        }
+        Prompt::None => {}
+    }
+    if help {
         return match key.code {
-            KeyCode::Char('y') | KeyCode::Char('Y') => Action::Clear,
-            KeyCode::Char(' ') => Action::Stop,
-            _ => Action::CancelPrompt,
+            KeyCode::Char('q') => Action::Quit,
+            _ => Action::Close,
         };
     }
+    // Watching: every key that would send something asks to arm first.
+    let sends = |action: Action| if armed { action } else { Action::AskArm };
     match key.code {
-        KeyCode::Char('q') | KeyCode::Esc => Action::Quit,
-        KeyCode::Char(' ') => Action::Stop,
+        KeyCode::Char('q') => Action::Quit,
+        KeyCode::Esc => Action::Close,
         KeyCode::Char('+') | KeyCode::Char('=') => Action::Faster,
         KeyCode::Char('-') | KeyCode::Char('_') => Action::Slower,
         KeyCode::Char('?') => Action::Help,
-        KeyCode::Char('c') => Action::AskClear,
-        KeyCode::Char('m') => Action::CommandMode,
-        KeyCode::Char('l') => Action::Lights,
+        KeyCode::Char('a') if armed => Action::Disarm,
+        KeyCode::Char('a') => Action::AskArm,
+        KeyCode::Char('c') => sends(Action::AskClear),
+        KeyCode::Char('m') => sends(Action::CommandMode),
+        KeyCode::Char('l') => sends(Action::Lights),
         _ => Action::None,
     }
 }
@@ -366,15 +732,42 @@ mod tests {
 
     #[test]
     fn keys_map_to_actions_and_the_prompt_takes_precedence() {
-        assert_eq!(action_for(&press(KeyCode::Char('q')), Prompt::None), Action::Quit);
-        assert_eq!(action_for(&press(KeyCode::Esc), Prompt::None), Action::Quit);
+        let armed = |code| action_for(&press(code), Prompt::None, false, true);
+        assert_eq!(armed(KeyCode::Char('q')), Action::Quit);
+        assert_eq!(armed(KeyCode::Esc), Action::Close, "Esc never quits");
         let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
-        assert_eq!(action_for(&ctrl_c, Prompt::ConfirmClear), Action::Quit, "Ctrl-C always quits");
-        assert_eq!(action_for(&press(KeyCode::Char('c')), Prompt::None), Action::AskClear);
-        assert_eq!(action_for(&press(KeyCode::Char('y')), Prompt::ConfirmClear), Action::Clear);
-        assert_eq!(action_for(&press(KeyCode::Char('q')), Prompt::ConfirmClear), Action::CancelPrompt);
-        assert_eq!(action_for(&press(KeyCode::Char(' ')), Prompt::ConfirmClear), Action::Stop);
+        assert_eq!(
+            action_for(&ctrl_c, Prompt::ConfirmClear, false, true),
+            Action::Quit,
+            "Ctrl-C always quits"
+        );
+        let ctrl_z = KeyEvent::new(KeyCode::Char('z'), KeyModifiers::CONTROL);
+        assert_eq!(action_for(&ctrl_z, Prompt::None, false, true), Action::Suspend);
+        assert_eq!(armed(KeyCode::Char('c')), Action::AskClear);
+        assert_eq!(armed(KeyCode::Char('a')), Action::Disarm);
+        assert_eq!(action_for(&press(KeyCode::Char('y')), Prompt::ConfirmClear, false, true), Action::Clear);
+        assert_eq!(action_for(&press(KeyCode::Char('q')), Prompt::ConfirmClear, false, true), Action::Close);
+        assert_eq!(action_for(&press(KeyCode::Esc), Prompt::ConfirmClear, false, true), Action::Close);
+        assert_eq!(action_for(&press(KeyCode::Char(' ')), Prompt::ConfirmClear, false, true), Action::Stop);
+        assert_eq!(
+            action_for(&press(KeyCode::Esc), Prompt::None, true, true),
+            Action::Close,
+            "Esc closes help"
+        );
+        assert_eq!(action_for(&press(KeyCode::Char('l')), Prompt::None, true, true), Action::Close);
         assert_eq!(driving_key(&press(KeyCode::Up)), Some((Key::Up, KeyAction::Press)));
         assert_eq!(driving_key(&press(KeyCode::Char('w'))), None);
+    }
+
+    #[test]
+    fn watching_every_key_that_sends_asks_to_arm_first() {
+        let watching = |code| action_for(&press(code), Prompt::None, false, false);
+        for code in [KeyCode::Char('a'), KeyCode::Char('c'), KeyCode::Char('m'), KeyCode::Char('l')] {
+            assert_eq!(watching(code), Action::AskArm, "{code:?}");
+        }
+        assert_eq!(watching(KeyCode::Char('+')), Action::Faster, "the scale sends nothing");
+        assert_eq!(action_for(&press(KeyCode::Char('y')), Prompt::ConfirmArm, false, false), Action::Arm);
+        assert_eq!(action_for(&press(KeyCode::Char('n')), Prompt::ConfirmArm, false, false), Action::Close);
+        assert_eq!(action_for(&press(KeyCode::Char(' ')), Prompt::None, false, false), Action::Stop);
     }
 }

@@ -236,7 +236,9 @@ fn execute_with(
     context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()).take();
     // The stderr reader is gone: nothing more can be said; the robot was stopped above.
     if let End::OutputGone(error) = &end {
-        return Err(Failure { code: FAILURE, message: format!("the status output went away ({error})") }.into());
+        return Err(
+            Failure { code: FAILURE, message: format!("the status output went away ({error})") }.into()
+        );
     }
     if overwrite {
         writeln!(out)?;
@@ -272,11 +274,9 @@ fn execute_with(
             ),
         }
         .into()),
-        End::Suspended(gap) => Err(Failure {
-            code: FAILURE,
-            message: format!("{}; {report}", suspended_message(gap)),
+        End::Suspended(gap) => {
+            Err(Failure { code: FAILURE, message: format!("{}; {report}", suspended_message(gap)) }.into())
         }
-        .into()),
         End::Watchdog => Err(Failure {
             code: FAILURE,
             message: format!(
@@ -403,7 +403,8 @@ impl Follow {
             }
         }
         let follows = |commanded: f64, measured: f64| {
-            commanded.abs() < MOVING_COMMAND || measured * commanded.signum() >= FOLLOW_SHARE * commanded.abs()
+            commanded.abs() < MOVING_COMMAND
+                || measured * commanded.signum() >= FOLLOW_SHARE * commanded.abs()
         };
         let commanding = sent.linear().abs() >= MOVING_COMMAND || sent.angular().abs() >= MOVING_COMMAND;
         if commanding && !(follows(sent.linear(), measured.0) && follows(sent.angular(), measured.1)) {
@@ -459,7 +460,7 @@ mod tests {
             suspended_message(Duration::from_millis(800)),
             "suspended for 0.80 s, longer than the robot's 500 ms command timeout: the robot stopped; drive ended"
         );
-        assert!(suspended_message(Duration::from_millis(150)).starts_with("suspended for 0.15 s (no command"));
+        assert!(suspended_message(Duration::from_millis(250)).starts_with("suspended for 0.25 s (no command"));
     }
 
     #[test]

@@ -13,6 +13,7 @@ use crate::candump;
 use crate::cli::{Cli, SendRawArgs};
 use crate::control::STOP_FRAMES;
 use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::link::{is_queue_full, QUEUE_FULL_MEANING};
 use crate::link::{Codec, FrameRx, FrameTx, LinkChoice, LinkFrame};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::can::{ProtocolHint, ID_V1_MOTION_COMMAND};
@@ -20,6 +21,8 @@ use crate::protocol::message::MotionCommand;
 use crate::protocol::serial::{self, SerialFrame, CMD_MOTION_CONTROL, FRAME_SIZE, TYPE_CONTROL};
 use crate::protocol::{self, FrameKind, Wire};
 use crate::{session, signals};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
 
 /// 0x111: motion command (V2).
 const ID_MOTION_COMMAND: u32 = 0x111;
@@ -98,10 +101,28 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
     let wire_ok = (link.wire == Wire::Serial) == serial_link;
     anyhow::ensure!(wire_ok, "{} is not the kind of link the frames were written for", link.name);
     let main = std::thread::current();
-    let flag = signals::listen(move |_| main.unpark())?;
+    let suspended = Arc::new(AtomicBool::new(false));
+    let stopped = Arc::new(AtomicBool::new(false));
+    let flag = {
+        let (main_too, suspended, stopped) = (main.clone(), Arc::clone(&suspended), Arc::clone(&stopped));
+        signals::listen_suspendable(
+            move |_| main.unpark(),
+            // SIGTSTP: the repeats end with zero frames before the process stops; after SIGCONT it does not
+            // carry on (a gap never resumes motion).
+            move || {
+                suspended.store(true, Ordering::SeqCst);
+                main_too.unpark();
+                let deadline = Instant::now() + Duration::from_millis(100);
+                while !stopped.load(Ordering::SeqCst) && Instant::now() < deadline {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            },
+        )?
+    };
     let mut rx = link.rx;
-    let stop = || flag.received().is_some();
+    let stop = || flag.received().is_some() || suspended.load(Ordering::SeqCst);
     let result = send(link.tx.as_ref(), Some(rx.as_mut()), &plan, args.repeat, period, &stop);
+    stopped.store(true, Ordering::SeqCst);
     let total = plan.len() as u64 * u64::from(args.repeat);
     let report = match result {
         Ok(report) => report,
@@ -126,8 +147,20 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         ),
         None => eprintln!("tracerctl: sent {} frame{} on {}", report.sent, plural(report.sent), link.name),
     }
+    if report.not_sent > 0 {
+        eprintln!(
+            "tracerctl: {} frame{} not sent ({QUEUE_FULL_MEANING})",
+            report.not_sent,
+            plural(report.not_sent)
+        );
+    }
     if report.stop_frames > 0 {
         eprintln!("tracerctl: then {} zero-velocity frames to stop the robot", report.stop_frames);
+    }
+    if suspended.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(anyhow::anyhow!(
+            "suspended (SIGTSTP): the repeats ended with zero-velocity frames; run send-raw again to send more"
+        ));
     }
     Ok(flag.exit_status().unwrap_or(SUCCESS))
 }
@@ -269,6 +302,8 @@ pub struct Report {
     pub sent: u64,
     /// Zero-velocity frames sent at the end.
     pub stop_frames: u64,
+    /// Frames not sent because the transmit queue was full (ENOBUFS): counted, and the repeats go on.
+    pub not_sent: u64,
 }
 
 /// A send that failed part way.
@@ -334,6 +369,7 @@ pub fn send(
     let mut guard = StopGuard::new(tx);
     let start = Instant::now();
     let mut sent = 0;
+    let mut not_sent = 0;
     'rounds: for round in 0..repeat {
         if round > 0 {
             let due = period.checked_mul(round).and_then(|offset| start.checked_add(offset));
@@ -348,16 +384,20 @@ pub fn send(
             if let Some(wire) = planned.moves_on {
                 guard.arm(wire);
             }
-            if let Err(error) = tx.send(&planned.frame) {
-                let error = anyhow::Error::new(error).context(format!("cannot send {}", planned.text));
-                let stop_frames = guard.stop();
-                return Err(SendFailure { error, sent, stop_frames });
+            match tx.send(&planned.frame) {
+                Ok(()) => sent += 1,
+                // A busy bus is not the end: this frame is lost (and counted), the next one is tried.
+                Err(error) if is_queue_full(&error) => not_sent += 1,
+                Err(error) => {
+                    let error = anyhow::Error::new(error).context(format!("cannot send {}", planned.text));
+                    let stop_frames = guard.stop();
+                    return Err(SendFailure { error, sent, stop_frames });
+                }
             }
-            sent += 1;
         }
     }
     let stop_frames = guard.stop();
-    Ok(Report { sent, stop_frames })
+    Ok(Report { sent, stop_frames, not_sent })
 }
 
 /// Waits until `due` (`None`: forever); false if `stop` asked to end first.
@@ -485,13 +525,21 @@ mod tests {
         count: Mutex<usize>,
         /// How long each send takes (a slow link).
         delay: Duration,
+        /// What the failing send reports.
+        error: std::io::ErrorKind,
     }
 
     impl Recorder {
         fn new(fail_at: Option<usize>) -> (Self, mpsc::Receiver<(Instant, LinkFrame)>) {
             let (sender, receiver) = mpsc::channel();
             (
-                Self { frames: Mutex::new(sender), fail_at, count: Mutex::new(0), delay: Duration::ZERO },
+                Self {
+                    frames: Mutex::new(sender),
+                    fail_at,
+                    count: Mutex::new(0),
+                    delay: Duration::ZERO,
+                    error: std::io::ErrorKind::BrokenPipe,
+                },
                 receiver,
             )
         }
@@ -503,7 +551,7 @@ mod tests {
             let mut count = self.count.lock().unwrap();
             *count += 1;
             if Some(*count) == self.fail_at {
-                return Err(std::io::Error::other("no buffer space"));
+                return Err(std::io::Error::from(self.error));
             }
             let _ = self.frames.lock().unwrap().send((Instant::now(), *frame));
             Ok(())
@@ -528,7 +576,7 @@ mod tests {
         let plan = [can_plan("111#0096000000000000")];
         let start = Instant::now();
         let report = send(&tx, None, &plan, 10, Duration::from_millis(20), &|| false).unwrap();
-        assert_eq!(report, Report { sent: 10, stop_frames: STOP_FRAMES as u64 });
+        assert_eq!(report, Report { sent: 10, stop_frames: STOP_FRAMES as u64, not_sent: 0 });
         let frames: Vec<(Instant, LinkFrame)> = frames.try_iter().collect();
         let speeds: Vec<Option<i16>> = frames.iter().map(|(_, f)| linear(f)).collect();
         assert_eq!(speeds[..10], [Some(150); 10]);
@@ -568,12 +616,23 @@ mod tests {
     }
 
     #[test]
+    fn a_full_transmit_queue_is_counted_and_the_repeats_go_on() {
+        // ENOBUFS on the 4th send, as on a busy SJA1000: today's send-raw stopped there.
+        let (mut tx, frames) = Recorder::new(Some(4));
+        tx.error = std::io::ErrorKind::WouldBlock;
+        let plan = [can_plan("111#0096000000000000")];
+        let report = send(&tx, None, &plan, 10, Duration::from_millis(1), &|| false).unwrap();
+        assert_eq!(report, Report { sent: 9, stop_frames: STOP_FRAMES as u64, not_sent: 1 });
+        assert_eq!(frames.try_iter().count(), 9 + STOP_FRAMES);
+    }
+
+    #[test]
     fn a_send_error_still_ends_with_zeros_and_nothing_else_moves_nothing() {
         let (tx, frames) = Recorder::new(Some(4));
         let plan = [can_plan("111#0096000000000000")];
         let failure = send(&tx, None, &plan, 10, Duration::from_millis(1), &|| false).unwrap_err();
         assert_eq!((failure.sent, failure.stop_frames), (3, STOP_FRAMES as u64));
-        assert!(format!("{:#}", failure.error).contains("cannot send 111#0096000000000000: no buffer space"));
+        assert!(format!("{:#}", failure.error).contains("cannot send 111#0096000000000000: broken pipe"));
         let speeds: Vec<Option<i16>> = frames.try_iter().map(|(_, f)| linear(&f)).collect();
         assert_eq!(speeds, [Some(150), Some(150), Some(150), Some(0), Some(0), Some(0)]);
 
@@ -581,7 +640,7 @@ mod tests {
         let (tx, frames) = Recorder::new(None);
         let plan = [can_plan("421#01"), can_plan("121#01031E0000000005"), can_plan("111#0000000000000000")];
         let report = send(&tx, None, &plan, 2, Duration::from_millis(1), &|| false).unwrap();
-        assert_eq!(report, Report { sent: 6, stop_frames: 0 });
+        assert_eq!(report, Report { sent: 6, stop_frames: 0, not_sent: 0 });
         assert_eq!(frames.try_iter().count(), 6);
 
         // RS232 motion is stopped with RS232 zero frames; V1 motion with V1 ones.

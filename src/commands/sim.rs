@@ -81,6 +81,8 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
 
     let started = Instant::now();
     let mut last_report = String::new();
+    // Reported at 1, 10, 100, ... frames: a flooded bus must not flood stderr too.
+    let mut next_not_sent_report = 1;
     let mut stderr = std::io::stderr().lock();
     while signal.received().is_none() && args.duration.is_none_or(|d| started.elapsed() < d) {
         if running.has_ended() {
@@ -99,6 +101,16 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
                 Err(error) => writeln!(stderr, "sim: {error}")?,
             }
         }
+        let not_sent = running.not_sent();
+        if not_sent >= next_not_sent_report {
+            writeln!(
+                stderr,
+                "sim {:7.2} s: {not_sent} feedback frames not sent so far ({}); still running",
+                started.elapsed().as_secs_f64(),
+                crate::link::QUEUE_FULL_MEANING
+            )?;
+            next_not_sent_report = not_sent.saturating_mul(10).max(1);
+        }
         let report = summary(&running.state());
         if report != last_report {
             writeln!(stderr, "sim {:7.2} s: {report}", started.elapsed().as_secs_f64())?;
@@ -106,7 +118,11 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         }
         std::thread::sleep(Duration::from_millis(20));
     }
+    let not_sent = running.not_sent();
     running.stop().context("the simulator stopped")?;
+    if not_sent > 0 {
+        writeln!(stderr, "sim: {not_sent} feedback frames not sent ({})", crate::link::QUEUE_FULL_MEANING)?;
+    }
     Ok(SUCCESS)
 }
 

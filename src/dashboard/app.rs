@@ -70,6 +70,20 @@ pub enum Prompt {
     None,
     /// "Clear faults? y / any other key cancels".
     ConfirmClear,
+    /// "Arm driving? y / any other key keeps watching".
+    ConfirmArm,
+}
+
+/// Whether the dashboard may send: it opens watching and sends nothing until the operator arms it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Arming {
+    /// Nothing is sent; a drive key asks to arm.
+    #[default]
+    Watching,
+    /// Nothing is sent, and arming is not possible (--watch, a replay).
+    WatchOnly,
+    /// Command mode requested and motion commands sent at 50 Hz.
+    Armed,
 }
 
 /// Where the battery voltage stands against the manual's thresholds.
@@ -443,6 +457,7 @@ pub struct App {
     pub(super) teleop: TeleopView,
     pub(super) help: bool,
     pub(super) prompt: Prompt,
+    pub(super) arming: Arming,
     pub(super) message: Option<(String, Instant)>,
     battery_sampled: Option<Instant>,
     odometry: DeadReckoning,
@@ -458,6 +473,7 @@ impl App {
             teleop: TeleopView::default(),
             help: false,
             prompt: Prompt::None,
+            arming: Arming::Watching,
             message: None,
             battery_sampled: None,
             odometry: DeadReckoning::default(),
@@ -570,6 +586,27 @@ impl App {
         self.help = !self.help;
     }
 
+    pub fn hide_help(&mut self) {
+        self.help = false;
+    }
+
+    pub fn help_shown(&self) -> bool {
+        self.help
+    }
+
+    pub fn set_arming(&mut self, arming: Arming) {
+        self.arming = arming;
+    }
+
+    pub fn arming(&self) -> Arming {
+        self.arming
+    }
+
+    pub fn ask_arm_confirmation(&mut self) {
+        self.help = false;
+        self.prompt = Prompt::ConfirmArm;
+    }
+
     pub fn ask_clear_confirmation(&mut self) {
         self.help = false;
         self.prompt = Prompt::ConfirmClear;
@@ -594,6 +631,7 @@ impl App {
         self.shown.hash(&mut hasher);
         self.help.hash(&mut hasher);
         self.prompt.hash(&mut hasher);
+        self.arming.hash(&mut hasher);
         self.message.as_ref().map(|(text, _)| text).hash(&mut hasher);
         self.color.hash(&mut hasher);
         let teleop = &self.teleop;

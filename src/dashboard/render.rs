@@ -14,7 +14,7 @@ use ratatui::widgets::{Block, Clear, Gauge, Paragraph, RenderDirection, Row, Spa
 use ratatui::Frame;
 
 use super::app::{
-    id_label, id_name, scale_percent, severity_rank, speed_text, App, BatteryZone, FaultLine, Prompt,
+    id_label, id_name, scale_percent, severity_rank, speed_text, App, Arming, BatteryZone, FaultLine, Prompt,
     StatusAge, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_GAUGE_TOP_DV, BATTERY_WARNING_DV,
 };
 use crate::commands::live::{mode_name, not_drivable};
@@ -128,11 +128,13 @@ pub fn render(frame: &mut Frame, app: &App) {
         render_link(frame, link, app, theme, compact);
 
         frame.render_widget(Paragraph::new(Line::styled(release_text(app), theme.dim())), release);
-        frame.render_widget(Paragraph::new(keys_line(keys.width, theme)), keys);
+        frame.render_widget(Paragraph::new(keys_line(keys.width, theme, app.arming)), keys);
         frame.render_widget(Paragraph::new(message_line(app, theme)), message);
     }
     if app.prompt == Prompt::ConfirmClear {
         render_confirm(frame, area, app, theme);
+    } else if app.prompt == Prompt::ConfirmArm {
+        render_confirm_arm(frame, area, theme);
     } else if app.help {
         render_help(frame, area, app, theme);
     }
@@ -164,11 +166,18 @@ fn separator(theme: Theme) -> Span<'static> {
     Span::styled(" · ", theme.dim())
 }
 
-/// `tracerctl · can0 · CAN V2 · NORMAL · mode can · status <0.1 s`
+/// `tracerctl · ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s`
 fn header_line(app: &App, theme: Theme) -> Line<'static> {
     let shown = &app.shown;
+    let arming = match app.arming {
+        Arming::Armed => Span::styled("ARMED", theme.alarm()),
+        Arming::Watching => Span::styled("WATCHING", theme.ok().add_modifier(Modifier::BOLD)),
+        Arming::WatchOnly => Span::styled("WATCH ONLY", theme.ok().add_modifier(Modifier::BOLD)),
+    };
     let mut spans = vec![
         Span::styled("tracerctl", theme.bold()),
+        separator(theme),
+        arming,
         separator(theme),
         Span::raw(shown.link_name.clone()),
         separator(theme),
@@ -289,7 +298,13 @@ fn alert_text(app: &App) -> (Tone, String) {
             "[warning] ready to drive, with warnings: see Faults and Battery".to_string(),
         );
     }
-    (Tone::Ok, "ready to drive: command mode, no faults".to_string())
+    match app.arming {
+        Arming::Armed => (Tone::Ok, "ready to drive: command mode, no faults".to_string()),
+        Arming::Watching => {
+            (Tone::Ok, "watching: nothing is sent; an arrow key or a asks to arm driving".to_string())
+        }
+        Arming::WatchOnly => (Tone::Ok, "watch only: nothing is sent to the robot".to_string()),
+    }
 }
 
 fn fault_name(fault: &FaultLine) -> String {
@@ -810,10 +825,16 @@ fn release_text(app: &App) -> String {
 }
 
 /// The key summary, long or short to fit.
-fn keys_line(width: u16, theme: Theme) -> Line<'static> {
-    const LONG: [(&str, &str); 8] = [
+fn keys_line(width: u16, theme: Theme, arming: Arming) -> Line<'static> {
+    let arm = match arming {
+        Arming::Armed => ("a", "disarm"),
+        Arming::Watching => ("a", "arm"),
+        Arming::WatchOnly => ("", ""),
+    };
+    let long = [
         ("↑↓←→", "drive"),
         ("Space", "stop"),
+        arm,
         ("+/-", "scale"),
         ("l", "lights"),
         ("c", "clear faults"),
@@ -821,20 +842,30 @@ fn keys_line(width: u16, theme: Theme) -> Line<'static> {
         ("?", "help"),
         ("q", "quit"),
     ];
-    const SHORT: [(&str, &str); 8] = [
+    let short = [
         ("↑↓←→", "drive"),
         ("Space", "stop"),
+        arm,
         ("+/-", "scale"),
         ("l", "lights"),
         ("c", "clear"),
-        ("m", "cmd mode"),
+        ("m", "mode"),
         ("?", "help"),
         ("q", "quit"),
     ];
+    let long: Vec<(&str, &str)> = long.into_iter().filter(|(key, _)| !key.is_empty()).collect();
+    let short: Vec<(&str, &str)> = short.into_iter().filter(|(key, _)| !key.is_empty()).collect();
     let length = |keys: &[(&str, &str)]| -> usize {
         keys.iter().map(|(k, d)| k.chars().count() + 1 + d.len()).sum::<usize>() + 2 * (keys.len() - 1)
     };
-    let keys = if length(&LONG) <= usize::from(width) { &LONG } else { &SHORT };
+    let mut keys = if length(&long) <= usize::from(width) { long } else { short };
+    // Still too wide: drop the least needed, so stopping, arming, help and quitting always show.
+    for least in ["m", "l", "+/-", "c"] {
+        if length(&keys) <= usize::from(width) {
+            break;
+        }
+        keys.retain(|(key, _)| *key != least);
+    }
     let mut spans = Vec::new();
     for (index, (key, description)) in keys.iter().enumerate() {
         if index > 0 {
@@ -877,7 +908,7 @@ fn render_small(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
         speed_text(f64::from(app.shown.sent.1) / 1000.0)
     )));
     lines.push(Line::styled(release_text(app), theme.dim()));
-    lines.push(keys_line(area.width, theme));
+    lines.push(keys_line(area.width, theme, app.arming));
     lines.push(Line::styled(
         format!("terminal {}x{}: 80x24 or larger shows the full dashboard", area.width, area.height),
         theme.warning(),
@@ -894,17 +925,19 @@ fn centered(area: Rect, width: u16, height: u16) -> Rect {
 }
 
 fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
-    let keys: [(&str, String); 10] = [
+    let keys: [(&str, String); 12] = [
         ("↑ ↓", "drive forward / backward (linear speed)".to_string()),
         ("← →", "turn left / right (angular speed)".to_string()),
         ("↑← ↑→ ...", "combined: drive and turn at once".to_string()),
-        ("Space", "stop at once".to_string()),
+        ("Space", "zero at once, no ramp; press a key again to drive".to_string()),
+        ("a", "arm driving (asks first) / disarm: zero, then nothing is sent".to_string()),
         ("+ -", format!("speed scale up / down (now {} %)", scale_percent(app.teleop.scale))),
         ("l", "cycle the lights (on, breathing, custom, off, firmware)".to_string()),
         ("c", "clear faults (asks first)".to_string()),
         ("m", "enable command mode".to_string()),
-        ("?", "show / hide this help".to_string()),
-        ("q Esc ^C", "stop the robot and quit".to_string()),
+        ("?  Esc", "show / close this help".to_string()),
+        ("^Z", "zero, then suspend (after fg: press again to drive)".to_string()),
+        ("q  ^C", "stop the robot and quit".to_string()),
     ];
     let mut lines: Vec<Line> = keys
         .into_iter()
@@ -912,13 +945,43 @@ fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
         .collect();
     lines.push(Line::raw(""));
     lines.push(Line::styled(release_text(app), theme.dim()));
-    lines.push(Line::styled("Every way out sends zero-velocity frames first.", theme.dim()));
+    lines.push(Line::styled(
+        "Opens WATCHING: nothing is sent until armed. Releasing a key brakes (--decel); an E-stop, a \
+         latched fault or RC override sends zero until a fresh press. Every way out sends zero-velocity \
+         frames first.",
+        theme.dim(),
+    ));
     let width = 70.min(area.width.saturating_sub(4)).max(20);
     let height = (lines.len() as u16 + 2).min(area.height);
     let popup = centered(area, width, height);
     frame.render_widget(Clear, popup);
     frame.render_widget(
         Paragraph::new(lines).wrap(Wrap { trim: false }).block(block("Keys · ? closes", theme)),
+        popup,
+    );
+}
+
+fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
+    let lines = vec![
+        Line::raw("Arm driving? The dashboard then sends command mode (0x421)"),
+        Line::raw("and motion commands at 50 Hz: it takes control from ROS"),
+        Line::raw("or an RC transmitter. Until then nothing is sent."),
+        Line::raw(""),
+        Line::from(vec![
+            Span::styled("y", theme.key()),
+            Span::raw(" arm   "),
+            Span::styled("any other key", theme.key()),
+            Span::raw(" keep watching"),
+        ]),
+    ];
+    let width = 64.min(area.width.saturating_sub(4)).max(20);
+    let height = (lines.len() as u16 + 2).min(area.height);
+    let popup = centered(area, width, height);
+    frame.render_widget(Clear, popup);
+    frame.render_widget(
+        Paragraph::new(lines)
+            .wrap(Wrap { trim: false })
+            .block(block("Arm driving?", theme).border_style(theme.warning())),
         popup,
     );
 }
@@ -1098,6 +1161,7 @@ mod tests {
             }
         });
         app.set_teleop(kitty(0.6, vec!["up"], (0.3, 0.0)));
+        app.set_arming(Arming::Armed);
         app
     }
 
@@ -1138,7 +1202,7 @@ mod tests {
         assert_contains(
             &screen,
             &[
-                "tracerctl · can0 · CAN V2 · NORMAL · mode can · status <0.1 s",
+                "tracerctl · ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s",
                 "ready to drive: command mode, no faults",
                 "25.9 V  ok",
                 "keys    +0.30   +0.00 ↑",
@@ -1327,12 +1391,12 @@ mod tests {
                 "drive forward / backward (linear speed)",
                 "turn left / right (angular speed)",
                 "combined: drive and turn at once",
-                "Space     stop at once",
+                "Space     zero at once, no ramp",
                 "speed scale up / down (now 60 %)",
                 "cycle the lights",
                 "clear faults (asks first)",
                 "enable command mode",
-                "q Esc ^C  stop the robot and quit",
+                "q  ^C     stop the robot and quit",
             ],
         );
         insta::assert_snapshot!(screen);
@@ -1400,6 +1464,30 @@ mod tests {
         let x = screen.lines().nth(row).unwrap()[..column].chars().count() as u16;
         assert_eq!(buffer[(x + 1, row as u16)].fg, Color::Red);
         assert!(buffer.content().iter().any(|cell| cell.fg == Color::Yellow), "warnings in yellow");
+    }
+
+    #[test]
+    fn watching_arming_prompt_and_watch_only_are_shown() {
+        let mut app = driving();
+        app.set_arming(Arming::Watching);
+        let shown = screen(&app, 100, 30);
+        assert_contains(&shown, &["tracerctl · WATCHING · can0", "watching: nothing is sent", "a arm"]);
+        app.ask_arm_confirmation();
+        assert_eq!(app.prompt(), Prompt::ConfirmArm);
+        let shown = screen(&app, 100, 30);
+        assert_contains(&shown, &["Arm driving?", "y arm", "keep watching", "Until then nothing is sent."]);
+        insta::assert_snapshot!(shown);
+        let mut app = driving();
+        app.set_arming(Arming::WatchOnly);
+        let shown = screen(&app, 100, 30);
+        assert_contains(&shown, &["WATCH ONLY", "watch only: nothing is sent to the robot"]);
+        assert!(!shown.contains("a arm"), "no arming key when it cannot arm:\n{shown}");
+        // The small layout keeps the state too.
+        assert_contains(&screen_small(&app), &["WATCH ONLY"]);
+    }
+
+    fn screen_small(app: &App) -> String {
+        screen(app, 50, 16)
     }
 
     #[test]

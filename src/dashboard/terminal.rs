@@ -79,6 +79,29 @@ impl Screen {
     }
 }
 
+impl Screen {
+    /// After the process was stopped with the terminal given back (SIGTSTP, Ctrl-Z): raw mode, the
+    /// keyboard flags and the alternate screen again, and a full redraw. True if it had to.
+    pub fn take_back(&mut self) -> Result<bool> {
+        if TERMINAL_ACTIVE.load(Ordering::SeqCst) {
+            return Ok(false);
+        }
+        terminal::enable_raw_mode().context("cannot put the terminal in raw mode again")?;
+        TERMINAL_ACTIVE.store(true, Ordering::SeqCst);
+        let mut out = io::stdout();
+        if self.key_release {
+            let flags = KeyboardEnhancementFlags::DISAMBIGUATE_ESCAPE_CODES
+                | KeyboardEnhancementFlags::REPORT_EVENT_TYPES;
+            if execute!(out, PushKeyboardEnhancementFlags(flags)).is_ok() {
+                FLAGS_PUSHED.store(true, Ordering::SeqCst);
+            }
+        }
+        execute!(out, EnterAlternateScreen, cursor::Hide).context("cannot switch to the alternate screen")?;
+        self.terminal.clear().context("cannot redraw the terminal")?;
+        Ok(true)
+    }
+}
+
 impl Drop for Screen {
     fn drop(&mut self) {
         restore();

@@ -99,7 +99,7 @@ impl ErrorTally {
             .filter(|(count, _)| **count > 0)
             .map(|(count, (_, name))| (*count, *name))
             .collect();
-        classes.sort_by(|a, b| b.0.cmp(&a.0));
+        classes.sort_by_key(|(count, _)| std::cmp::Reverse(*count));
         let controller: Vec<String> = self
             .controller
             .iter()
@@ -140,10 +140,7 @@ mod tests {
         tally.add(&ErrorFrame::from_frame(&CanFrame::new_error(0x40, &[]).unwrap()).unwrap());
         assert_eq!(tally.frames, 4);
         assert_eq!(tally.bus_off, 1);
-        assert_eq!(
-            tally.describe(),
-            "controller_problem x3 (rx_overflow x3), error_counters x3, bus_off x1"
-        );
+        assert_eq!(tally.describe(), "controller_problem x3 (rx_overflow x3), error_counters x3, bus_off x1");
         assert!(!tally.describe().contains("0x204"));
     }
 

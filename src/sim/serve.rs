@@ -2,7 +2,7 @@
 //! Used by `--sim` (an in-process channel) and by `tracerctl sim` (vcan, a real port or a pseudo-terminal).
 
 use std::io;
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -22,6 +22,7 @@ pub struct Running {
     stop: Arc<AtomicBool>,
     injections: Sender<FaultKind>,
     state: Arc<Mutex<SimState>>,
+    not_sent: Arc<AtomicU64>,
     thread: Option<JoinHandle<io::Result<()>>>,
 }
 
@@ -34,6 +35,11 @@ impl Running {
     /// The simulated robot's state as of its last step.
     pub fn state(&self) -> SimState {
         self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).clone()
+    }
+
+    /// Feedback frames the link could not take (a full transmit queue: a busy bus).
+    pub fn not_sent(&self) -> u64 {
+        self.not_sent.load(Ordering::Relaxed)
     }
 
     /// True when the simulator thread has ended (stopped, or failed: see [`Running::stop`]).
@@ -67,14 +73,15 @@ pub fn start(config: SimConfig, link: Link) -> anyhow::Result<Running> {
     let stop = Arc::new(AtomicBool::new(false));
     let (injections, inbox) = mpsc::channel();
     let state = Arc::new(Mutex::new(Chassis::new(config.clone()).state()));
+    let not_sent = Arc::new(AtomicU64::new(0));
     let thread = {
-        let (stop, state) = (Arc::clone(&stop), Arc::clone(&state));
+        let (stop, state, not_sent) = (Arc::clone(&stop), Arc::clone(&state), Arc::clone(&not_sent));
         std::thread::Builder::new()
             .name("tracerctl-sim".into())
-            .spawn(move || run(config, link, &stop, &inbox, &state))
+            .spawn(move || run(config, link, &stop, &inbox, &state, &not_sent))
             .context("cannot start the simulator thread")?
     };
-    Ok(Running { stop, injections, state, thread: Some(thread) })
+    Ok(Running { stop, injections, state, not_sent, thread: Some(thread) })
 }
 
 /// The simulator loop; returns when `stop` is set or the host end of an in-process link goes away.
@@ -84,6 +91,7 @@ pub fn run(
     stop: &AtomicBool,
     injections: &Receiver<FaultKind>,
     state: &Mutex<SimState>,
+    not_sent: &AtomicU64,
 ) -> io::Result<()> {
     let mut chassis = Chassis::new(config);
     let mut codec = Codec::new(link.wire);
@@ -119,8 +127,10 @@ pub fn run(
             let Ok(frame) = codec.encode(message) else { continue };
             match link.tx.send(&frame) {
                 Ok(()) => {}
-                // Nobody is listening on a pseudo-terminal or the bus is busy: a robot drops it too.
-                Err(error) if matches!(error.kind(), io::ErrorKind::TimedOut | io::ErrorKind::WouldBlock) => {
+                // Nobody is listening on a pseudo-terminal, or the bus is busy (ENOBUFS: the transmit queue
+                // is full): a robot drops the frame too, and goes on. Counted for the report.
+                Err(error) if crate::link::is_queue_full(&error) => {
+                    not_sent.fetch_add(1, Ordering::Relaxed);
                 }
                 Err(error) if error.kind() == io::ErrorKind::BrokenPipe && in_process => return Ok(()),
                 Err(error) if error.kind() == io::ErrorKind::BrokenPipe => {}
@@ -129,4 +139,41 @@ pub fn run(
         }
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::link::{FrameTx, LinkFrame};
+    use crate::protocol::Wire;
+
+    /// A bus whose transmit queue is full for the first `full` sends (ENOBUFS), then takes every frame.
+    struct BusyBus {
+        full: AtomicU64,
+        sent: AtomicU64,
+    }
+
+    impl FrameTx for BusyBus {
+        fn send(&self, _frame: &LinkFrame) -> io::Result<()> {
+            if self.full.load(Ordering::SeqCst) > 0 {
+                self.full.fetch_sub(1, Ordering::SeqCst);
+                return Err(io::Error::from_raw_os_error(105));
+            }
+            self.sent.fetch_add(1, Ordering::SeqCst);
+            Ok(())
+        }
+    }
+
+    #[test]
+    fn a_full_transmit_queue_is_a_busy_bus_not_the_end() {
+        let bus = Arc::new(BusyBus { full: AtomicU64::new(40), sent: AtomicU64::new(0) });
+        let (_host, robot) = crate::link::channel::pair(Wire::CanV2, LinkKind::SocketCan, "can0");
+        let link = Link { tx: Arc::clone(&bus) as Arc<dyn FrameTx>, ..robot };
+        let running = start(SimConfig::default(), link).unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        assert!(!running.has_ended(), "the simulator keeps running after ENOBUFS");
+        assert_eq!(running.not_sent(), 40, "every frame the queue refused is counted");
+        assert!(bus.sent.load(Ordering::SeqCst) > 20, "and it sends again once the queue drains");
+        running.stop().expect("no error ended it");
+    }
 }

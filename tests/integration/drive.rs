@@ -62,11 +62,14 @@ fn serial_frames_byte_for_byte_on_a_real_pseudo_terminal() {
         frames.iter().filter_map(|(at, f)| Some((*at, percent(f)?))).collect();
     let speeds: Vec<(i8, i8)> = timed.iter().map(|(_, speed)| *speed).collect();
     assert!(speeds.contains(&(20, -25)), "{speeds:?}");
-    // Ramped at 0.5 m/s² (33 % of full scale per second): a step never exceeds what the time between the
-    // frames allows (plus one percent of rounding), even when a loaded machine delays a tick.
+    // Ramped at 0.5 m/s² up (33 % of full scale per second) and braked at 1.5 m/s² (100 %/s): a step never
+    // exceeds what the time between the frames allows (plus one percent of rounding), even when a loaded
+    // machine delays a tick.
     for pair in timed.windows(2) {
         let dt = pair[1].0.duration_since(pair[0].0).as_secs_f64().max(0.02);
-        let allowed = 0.5 / 1.5 * 100.0 * dt + 1.0;
+        let braking = pair[1].1 .0.abs() < pair[0].1 .0.abs();
+        let rate = if braking { 1.5 } else { 0.5 };
+        let allowed = rate / 1.5 * 100.0 * dt + 1.0;
         let step = f64::from((pair[1].1 .0 - pair[0].1 .0).abs());
         assert!(step <= allowed, "a jump of {step} % in {dt} s: {speeds:?}");
     }

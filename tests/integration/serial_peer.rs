@@ -15,6 +15,7 @@ pub struct FakeRobot {
     /// The path the host opens (`--serial PATH`).
     pub path: String,
     received: Arc<Mutex<Vec<(Instant, SerialFrame)>>>,
+    status: Arc<Mutex<SystemState>>,
     stop: Arc<AtomicBool>,
     mute: Arc<AtomicBool>,
     thread: Option<JoinHandle<()>>,
@@ -28,10 +29,12 @@ impl FakeRobot {
         drop(slave);
         master.set_timeout(Duration::from_millis(5)).unwrap();
         let received = Arc::new(Mutex::new(Vec::new()));
+        let status = Arc::new(Mutex::new(status));
         let stop = Arc::new(AtomicBool::new(false));
         let mute = Arc::new(AtomicBool::new(false));
         let thread = {
             let (received, stop, mute) = (Arc::clone(&received), Arc::clone(&stop), Arc::clone(&mute));
+            let status = Arc::clone(&status);
             std::thread::spawn(move || {
                 let mut encoder = SerialEncoder::new();
                 let mut decoder = StreamDecoder::new();
@@ -39,7 +42,8 @@ impl FakeRobot {
                 let mut next_status = Instant::now();
                 while !stop.load(Ordering::SeqCst) {
                     if Instant::now() >= next_status && !mute.load(Ordering::SeqCst) {
-                        let bytes = encoder.encode_next(&Message::SystemState(status)).unwrap();
+                        let now_status = *status.lock().unwrap();
+                        let bytes = encoder.encode_next(&Message::SystemState(now_status)).unwrap();
                         // Nobody may have the terminal open yet: dropped, as on a real wire.
                         let _ = master.write_all(&bytes);
                         next_status += Duration::from_millis(20);
@@ -55,7 +59,12 @@ impl FakeRobot {
                 }
             })
         };
-        Self { path, received, stop, mute, thread: Some(thread) }
+        Self { path, received, status, stop, mute, thread: Some(thread) }
+    }
+
+    /// What the robot reports from now on (an E-stop pressed mid-drive, say).
+    pub fn set_status(&self, status: SystemState) {
+        *self.status.lock().unwrap() = status;
     }
 
     /// Stops sending status (the robot's feedback disappears); host frames are still recorded.

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Real SocketCAN tests for tracerctl in a tiny QEMU VM (the host kernel may have no CAN at all).
+# Two suites: vcan (the default: scenario.sh on vcan0/vcan1) and sja1000 (scenario-sja1000.sh on three emulated
+# Kvaser PCI boards, SJA1000 controllers driven by the kernel's real sja1000/kvaser_pci drivers).
 #
-# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [options]
+# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [--suite sja1000] [options]
 # See tests/vm/README.md for what it does and what each check proves.
 set -euo pipefail
 
@@ -9,13 +11,16 @@ usage() {
     cat <<'EOF'
 Usage: tests/vm/run.sh [options]
 
+  --suite NAME      vcan (default: scenario.sh on vcan0, vcan1) or sja1000 (scenario-sja1000.sh on can0-can2,
+                    emulated SJA1000 controllers with the kernel's sja1000/kvaser_pci drivers; two CPUs)
+                    (also: TRACERCTL_VM_SUITE)
   --bin PATH        use this tracerctl binary instead of building one (also: TRACERCTL_BIN)
   --work DIR        work and cache directory (default: <repo>/target/vm; also: TRACERCTL_VM_WORK)
   --checks LIST     run only these checks (comma-separated names, see tests/vm/README.md)
   --timeout SECS    kill the VM after this many seconds (default 600)
-  --smp N           virtual CPUs (default 1; also: TRACERCTL_VM_SMP)
+  --smp N           virtual CPUs (default 1 for vcan, 2 for sja1000; also: TRACERCTL_VM_SMP)
   --refresh-kernel  resolve and download the kernel package again (default: reuse the cached one)
-  --self-test[=BUGS] run the scenario against tests/vm/selftest/fake-tracerctl (can-utils posing as
+  --self-test[=BUGS] (vcan suite) run the scenario against tests/vm/selftest/fake-tracerctl (can-utils posing as
                     tracerctl; decode goes to the real binary) to prove the checks can pass; BUGS, a
                     comma-separated list of faults for the fake to inject, proves they fail
   -h, --help        this help
@@ -31,13 +36,16 @@ work=${TRACERCTL_VM_WORK:-$repo/target/vm}
 bin=${TRACERCTL_BIN:-}
 checks=${TRACERCTL_VM_CHECKS:-}
 vm_timeout=600
-smp=${TRACERCTL_VM_SMP:-1}
+smp=${TRACERCTL_VM_SMP:-}
+suite=${TRACERCTL_VM_SUITE:-vcan}
 refresh_kernel=0
 self_test=0
 fake_bugs=""
 
 while [ $# -gt 0 ]; do
     case $1 in
+        --suite) suite=${2:?--suite needs a name: vcan or sja1000}; shift 2 ;;
+        --suite=*) suite=${1#--suite=}; shift ;;
         --bin) bin=${2:?--bin needs a path}; shift 2 ;;
         --work) work=${2:?--work needs a directory}; shift 2 ;;
         --checks) checks=${2:?--checks needs a list}; shift 2 ;;
@@ -50,6 +58,36 @@ while [ $# -gt 0 ]; do
         *) echo "run.sh: unknown argument: $1" >&2; usage >&2; exit 2 ;;
     esac
 done
+# what differs between the suites: scenario, modules (insmod order), qemu devices, default CPUs, file names
+case $suite in
+    vcan)
+        scenario=scenario.sh
+        modules="can can-raw can-dev vcan"
+        qemu_devices=()
+        qemu_serial_extra=()
+        sfx=""
+        : "${smp:=1}"
+        ;;
+    sja1000)
+        scenario="scenario-sja1000.sh"
+        modules="can can-raw can-dev sja1000 kvaser_pci"
+        # one CAN bus (the name must not be canbus0: a property of another device model has that name),
+        # three controllers on it: can0 (tracerctl), can1 (the simulator, the witness candump), can2 (markers)
+        qemu_devices=(-object "can-bus,id=cbus0")
+        for _ in 1 2 3; do qemu_devices+=(-device "kvaser_pci,canbus=cbus0"); done
+        # ttyS2 (after the console ttyS0 and the artifacts' ttyS1): a terminal for the SIGTSTP checks
+        # (a job-control shell needs a controlling terminal)
+        qemu_serial_extra=(-serial null)
+        sfx=-sja1000
+        # two CPUs: a flooding sender on one outruns the receiver on the other (RX FIFO overruns)
+        : "${smp:=2}"
+        ;;
+    *) echo "run.sh: --suite takes vcan or sja1000, not '$suite'" >&2; exit 2 ;;
+esac
+if [ "$suite" != vcan ] && [ $self_test = 1 ]; then
+    echo "run.sh: --self-test exists for the vcan suite only" >&2
+    exit 2
+fi
 case $vm_timeout in '' | *[!0-9]*) echo "run.sh: --timeout needs a whole number of seconds" >&2; exit 2 ;; esac
 case $smp in '' | *[!0-9]* | 0) echo "run.sh: --smp needs a positive number" >&2; exit 2 ;; esac
 case $checks in *[!a-z0-9_,]*) echo "run.sh: --checks takes names like smoke_cansend,decode_captured" >&2; exit 2 ;; esac
@@ -102,7 +140,7 @@ log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 bu
 
 # ---------------------------------------------------------------- kernel (downloaded, never installed on the host)
 kdir=$work/kernel
-if [ $refresh_kernel -eq 1 ] || [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/version" ] || [ ! -s "$kdir/modules/vcan.ko" ]; then
+if [ $refresh_kernel -eq 1 ] || [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/version" ] || [ ! -s "$kdir/modules/vcan.ko" ] || [ ! -s "$kdir/modules/kvaser_pci.ko" ]; then
     rm -rf "$kdir" "$work/debs/unpacked"
     mkdir -p "$work/debs" "$kdir/modules"
     apt_update
@@ -143,11 +181,11 @@ if [ $refresh_kernel -eq 1 ] || [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/versio
     [ -f "${images[0]}" ] || die "no boot/vmlinuz-* in $kdeb"
     vmlinuz=${images[0]}
     cp "$vmlinuz" "$kdir/vmlinuz"
-    # The four modules, decompressed on the host (busybox insmod needs plain .ko)
-    for m in can can-raw can-dev vcan; do
+    # The modules both suites use, decompressed on the host (busybox insmod needs plain .ko)
+    for m in can can-raw can-dev vcan sja1000 kvaser_pci; do
         src=$(find "$work/debs/unpacked/lib/modules" "$work/debs/unpacked/usr/lib/modules" \
             \( -name "$m.ko" -o -name "$m.ko.xz" -o -name "$m.ko.zst" -o -name "$m.ko.gz" \) 2>/dev/null | head -1 || true)
-        [ -n "$src" ] || die "module $m.ko not found in $kdeb (kernel built without CONFIG_CAN / CONFIG_CAN_VCAN as modules?)"
+        [ -n "$src" ] || die "module $m.ko not found in $kdeb (kernel built without CONFIG_CAN / CONFIG_CAN_VCAN / CONFIG_CAN_KVASER_PCI as modules?)"
         case $src in
             *.ko) cp "$src" "$kdir/modules/$m.ko" ;;
             *.ko.gz) gzip -dc "$src" >"$kdir/modules/$m.ko" ;;
@@ -178,11 +216,11 @@ fi
 log "tracerctl: $bin ($("$bin" --version 2>/dev/null || echo 'version unknown'))"
 
 # ---------------------------------------------------------------- initramfs
-root=$work/initramfs
+root=$work/initramfs$sfx
 rm -rf "$root"
 mkdir -p "$root"/{bin,sbin,usr/bin,usr/sbin,proc,sys,dev,tmp,run,etc,lib/modules/can}
 cp /bin/busybox "$root/bin/busybox"
-cp "$kdir"/modules/*.ko "$root/lib/modules/can/"
+for m in $modules; do cp "$kdir/modules/$m.ko" "$root/lib/modules/can/"; done
 # the kernel opens /dev/console for init; /init reopens it from devtmpfs anyway, in case mknod is not allowed here
 mknod -m 600 "$root/dev/console" c 5 1 2>/dev/null || log "mknod not permitted: /init opens the console from devtmpfs"
 
@@ -207,8 +245,27 @@ else
 fi
 for p in candump cansend cangen canplayer; do add_prog "$(command -v $p)" "/usr/bin/$p"; done
 add_prog "$(command -v ip)" /usr/sbin/ip
-cp "$here/scenario.sh" "$root/scenario.sh"
+cp "$here/$scenario" "$root/scenario.sh"
 printf 'CHECKS=%s\nFAKE_BUGS=%s\n' "$checks" "$fake_bugs" >"$root/etc/scenario.env"
+echo "$modules" >"$root/etc/modules"
+# the interfaces the scenario starts with
+if [ "$suite" = vcan ]; then
+    cat >"$root/etc/net-setup" <<'EOF'
+for i in vcan0 vcan1; do
+    { ip link add dev $i type vcan && ip link set up $i; } || { echo "VM SETUP FAIL: cannot create $i"; halt_vm; }
+done
+echo "VM: vcan0 and vcan1 up at uptime $(cut -d' ' -f1 /proc/uptime)s"
+EOF
+else
+    # iproute2's ip by its path: busybox sh runs its own applets first, and busybox's ip knows no "type can"
+    cat >"$root/etc/net-setup" <<'EOF'
+for i in can0 can1 can2; do
+    { /usr/sbin/ip link set $i type can bitrate 500000 && /usr/sbin/ip link set $i up; } ||
+        { echo "VM SETUP FAIL: cannot set up $i at 500000 bit/s ($(/usr/sbin/ip -br link 2>&1 | tr '\n' ' '))"; halt_vm; }
+done
+echo "VM: can0, can1, can2 (sja1000, 500000 bit/s) up at uptime $(cut -d' ' -f1 /proc/uptime)s"
+EOF
+fi
 
 cat >"$root/init" <<'EOF'
 #!/bin/busybox sh
@@ -221,14 +278,11 @@ exec </dev/console >/dev/console 2>&1
 mount -t tmpfs tmpfs /tmp
 echo "VM: init at uptime $(cut -d' ' -f1 /proc/uptime)s, kernel $(uname -r), $(nproc) cpu"
 halt_vm() { echo "VM: poweroff at uptime $(cut -d' ' -f1 /proc/uptime)s"; sync; poweroff -f; }
-for m in can can-raw can-dev vcan; do
+for m in $(cat /etc/modules); do
     insmod /lib/modules/can/$m.ko || { echo "VM SETUP FAIL: insmod $m.ko"; halt_vm; }
 done
 ip link set lo up
-for i in vcan0 vcan1; do
-    { ip link add dev $i type vcan && ip link set up $i; } || { echo "VM SETUP FAIL: cannot create $i"; halt_vm; }
-done
-echo "VM: vcan0 and vcan1 up at uptime $(cut -d' ' -f1 /proc/uptime)s"
+. /etc/net-setup
 . /etc/scenario.env
 export CHECKS FAKE_BUGS
 sh /scenario.sh
@@ -242,31 +296,33 @@ halt_vm
 EOF
 chmod 755 "$root/init" "$root/scenario.sh"
 
-(cd "$root" && find . -print0 | cpio --null -o -H newc --quiet | gzip -1) >"$work/initrd.gz" || die "packing the initramfs failed"
-log "initramfs: $(du -h "$work/initrd.gz" | cut -f1)"
+(cd "$root" && find . -print0 | cpio --null -o -H newc --quiet | gzip -1) >"$work/initrd$sfx.gz" || die "packing the initramfs failed"
+log "initramfs: $(du -h "$work/initrd$sfx.gz" | cut -f1)"
 
 # ---------------------------------------------------------------- boot
-console=$work/console.log
-rm -f "$work/artifacts.tar.gz"
-rm -rf "$work/artifacts"
-log "booting the VM (TCG, timeout ${vm_timeout}s); console: $console"
+console=$work/console$sfx.log
+arts=$work/artifacts$sfx
+rm -f "$arts.tar.gz"
+rm -rf "$arts"
+log "booting the VM ($suite suite, TCG, $smp CPU, timeout ${vm_timeout}s); console: $console"
 t_vm=$(date +%s.%N)
 set +e
 timeout -k 10 "$vm_timeout" qemu-system-x86_64 -accel tcg -m 512 -smp "$smp" -nographic -no-reboot -nic none \
-    -serial mon:stdio -serial "file:$work/artifacts.tar.gz" \
-    -kernel "$kdir/vmlinuz" -initrd "$work/initrd.gz" -append "console=ttyS0 quiet panic=-1" \
+    ${qemu_devices[@]+"${qemu_devices[@]}"} \
+    -serial mon:stdio -serial "file:$arts.tar.gz" ${qemu_serial_extra[@]+"${qemu_serial_extra[@]}"} \
+    -kernel "$kdir/vmlinuz" -initrd "$work/initrd$sfx.gz" -append "console=ttyS0 quiet panic=-1" \
     </dev/null 2>&1 | tr -d '\r' | tee "$console"
 qemu_rc=${PIPESTATUS[0]}
 set -e
 vm_secs=$(awk -v a="$t_vm" -v b="$(date +%s.%N)" 'BEGIN {printf "%.1f", b - a}')
 
 # ---------------------------------------------------------------- verdict
-if [ -s "$work/artifacts.tar.gz" ] && mkdir -p "$work/artifacts" &&
-    tar -xzf "$work/artifacts.tar.gz" -C "$work/artifacts" 2>/dev/null; then
-    log "the VM's files (captures, outputs of every check): $work/artifacts/"
+if [ -s "$arts.tar.gz" ] && mkdir -p "$arts" &&
+    tar -xzf "$arts.tar.gz" -C "$arts" 2>/dev/null; then
+    log "the VM's files (captures, outputs of every check): $arts/"
 fi
 echo
-echo "================ VM suite summary"
+echo "================ VM suite summary ($suite)"
 grep -E '^CHECK [a-z0-9_]+: (PASS|FAIL)' "$console" || true
 n_pass=$(grep -cE '^CHECK [a-z0-9_]+: PASS' "$console" || true)
 n_fail=$(grep -cE '^CHECK [a-z0-9_]+: FAIL' "$console" || true)

@@ -560,6 +560,45 @@ mod tests {
         }
     }
 
+    /// What an SJA1000 sends when its RX FIFO overruns (class controller_problem + error counters, status
+    /// rx_overflow), read through a real session with foreign traffic: the report names the error frames by
+    /// class and never lists them as identifiers (the bug: "0x204 x153" among foreign IDs).
+    #[test]
+    fn error_frames_are_reported_by_class_never_as_identifiers() {
+        use crate::link::{channel, LinkFrame};
+        use crate::protocol::CanFrame;
+        use crate::session::Session;
+        let (host, robot) = channel::pair(Wire::CanV2, LinkKind::SocketCan, "can0");
+        let session = Session::from_link(host, ProtocolHint::Auto).unwrap();
+        let foreign = LinkFrame::Can(CanFrame::new(0x7A0, &[1, 2, 3]).unwrap());
+        let overrun = LinkFrame::Can(CanFrame::new_error(0x204, &[0, 0x01, 0, 0, 0, 0, 0, 0]).unwrap());
+        for _ in 0..5 {
+            robot.tx.send(&foreign).unwrap();
+        }
+        for _ in 0..153 {
+            robot.tx.send(&overrun).unwrap();
+        }
+        let status =
+            session.wait_for(Duration::from_secs(2), |s| (s.frames == 158).then(|| s.clone())).unwrap();
+        assert_eq!(status.id_counts, vec![(0x7A0, 5)], "error frames are not identifiers");
+        assert_eq!(status.error_tally.frames, 153);
+        let mut status = status;
+        status.rx.error_frames = 153; // the SocketCAN receiver counts them; the in-process channel does not
+        let seen = seen(&status, Wire::CanV2);
+        let protocol = protocol(&seen);
+        assert!(protocol.finding.contains("0x7A0 x5"), "{}", protocol.finding);
+        assert!(!protocol.finding.contains("0x204"), "{}", protocol.finding);
+        let frames = frames(&seen);
+        assert_eq!(frames.outcome, Outcome::Warn);
+        assert!(
+            frames.finding.contains(
+                "153 CAN error frames: controller_problem x153 (rx_overflow x153), error_counters x153"
+            ),
+            "{}",
+            frames.finding
+        );
+    }
+
     #[test]
     fn battery_thresholds_follow_the_manual() {
         let outcome = |decivolts| battery(&state(0, 1, decivolts, 0)).outcome;
