@@ -5,6 +5,10 @@ mod decode;
 mod docs;
 mod doctor;
 mod drive;
+#[cfg(target_os = "linux")]
+mod fault_peer;
+#[cfg(target_os = "linux")]
+mod faults;
 mod generated;
 mod monitor;
 mod plot;
