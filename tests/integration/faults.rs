@@ -283,8 +283,8 @@ impl Verdict {
 
     /// Runs one case of the scenario and keeps its failures and evidence.
     ///
-    /// The contract ends `drive` after any gap of more than 100 ms in the sender's own clock ("suspended for
-    /// 0.11 s (no command for more than 100 ms) ... drive ended"), and after its main loop stalls for more
+    /// The contract ends `drive` after any gap of more than 200 ms in the sender's own clock ("suspended for
+    /// 0.21 s (no command for more than 200 ms) ... drive ended"), and after its main loop stalls for more
     /// than 250 ms (the watchdog). On a loaded 2-core machine (a VM suite and builds next to this one) a
     /// debug binary is sometimes descheduled that long with nobody touching it. An attempt that failed *and*
     /// in which the binary reported such a stall, in a case that suspends nothing, is recorded and run
