@@ -322,11 +322,11 @@ fn drive_loop(
         if let (Some(status), name) = (signal.exit_status(), signal.name()) {
             break End::Signal(status, name);
         }
+        // After SIGTSTP or Ctrl-Z the terminal was given back: take it again (a cheap check of a flag).
+        if screen.take_back()? {
+            drawn = None;
+        }
         if last_loop.elapsed() > GAP_LIMIT {
-            // After SIGTSTP or Ctrl-Z the terminal was given back: take it again.
-            if screen.take_back()? {
-                drawn = None;
-            }
             // Let the sender take its tick first: it alone tells a suspension from a slow redraw, and the
             // input that piled up meanwhile must not be read as fresh presses before it has.
             if driving.armed() {

@@ -167,6 +167,7 @@ fn execute_with(
     let mut last_mode_request = Instant::now();
     let mut last_iteration = Instant::now();
     let mut follow = Follow::default();
+    let mut suspend_seen: Option<Instant> = None;
     let overwrite = std::io::stderr().is_terminal();
     let status_every = if overwrite { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE };
     let end = loop {
@@ -184,6 +185,14 @@ fn execute_with(
         match stats.hold {
             Some(Hold::Gap(gap)) => break End::Suspended(gap.max(stats.last_gap.unwrap_or_default())),
             Some(Hold::Watchdog) => break End::Watchdog,
+            // SIGTSTP sent zeros and stops the process; after SIGCONT the sender sees the gap. A SIGCONT so
+            // quick that no gap shows still ends the drive: the hold is never lifted by drive.
+            Some(Hold::Suspend) => {
+                let since = *suspend_seen.get_or_insert_with(Instant::now);
+                if since.elapsed() > GAP_LIMIT * 2 {
+                    break End::Suspended(since.elapsed());
+                }
+            }
             _ => {}
         }
         if args.duration.is_some_and(|duration| started.elapsed() >= duration) {
