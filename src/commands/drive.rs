@@ -51,6 +51,8 @@ enum End {
     LinkLost(String),
     /// The sender's clock jumped by this much: suspended, or the machine stalled.
     Suspended(Duration),
+    /// SIGTSTP sent zeros, and SIGCONT came before any gap showed.
+    SuspendResumed,
     /// The main loop stopped refreshing the target; the watchdog zeroed it.
     Watchdog,
     /// The robot's measured speed did not follow the command; why, as far as the status tells.
@@ -190,7 +192,7 @@ fn execute_with(
             Some(Hold::Suspend) => {
                 let since = *suspend_seen.get_or_insert_with(Instant::now);
                 if since.elapsed() > GAP_LIMIT * 2 {
-                    break End::Suspended(since.elapsed());
+                    break End::SuspendResumed;
                 }
             }
             _ => {}
@@ -291,6 +293,14 @@ fn execute_with(
         End::Suspended(gap) => {
             Err(Failure { code: FAILURE, message: format!("{}; {report}", suspended_message(gap)) }.into())
         }
+        End::SuspendResumed => Err(Failure {
+            code: FAILURE,
+            message: format!(
+                "suspended (SIGTSTP) after {elapsed:.2} s: zero frames were sent before stopping; drive ended \
+                 (after a suspension it never resumes by itself); {report}"
+            ),
+        }
+        .into()),
         End::Watchdog => Err(Failure {
             code: FAILURE,
             message: format!(
