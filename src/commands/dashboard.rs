@@ -147,6 +147,7 @@ impl<'a> Driving<'a> {
         self.seen_watchdog = stats.watchdog_trips;
         self.sender = Some(sender);
         self.was_armed = true;
+        self.last_requested = (0.0, 0.0);
         // Nothing moves until a key is pressed after arming (the key that asked does not drive).
         self.needs_release = true;
         Ok("ARMED: command mode requested; press an arrow key to drive, a to disarm".to_string())
