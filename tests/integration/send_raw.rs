@@ -209,3 +209,50 @@ fn sigint_during_repeats_stops_the_robot_at_once() {
     assert!(errors.contains("stopped by SIGINT after"), "{errors}");
     assert!(errors.contains("then 3 zero-velocity frames"), "{errors}");
 }
+
+/// Ctrl-Z (SIGTSTP) during repeats of a motion frame: zero-velocity frames first, and after SIGCONT the
+/// repeats do not carry on (a suspension never resumes motion).
+#[test]
+fn sigtstp_during_repeats_sends_zeros_and_never_resumes() {
+    let robot = PtyRobot::start();
+    let child = Command::new(env!("CARGO_BIN_EXE_tracerctl"))
+        .args([
+            "--serial",
+            &robot.path,
+            "send-raw",
+            "--force",
+            "--fix-checksum",
+            "--repeat",
+            "100",
+            "--period",
+            "20",
+        ])
+        .arg("5AA50A550102000A00000000")
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + Duration::from_secs(5);
+    while robot.frames.lock().unwrap().len() < 10 {
+        assert!(Instant::now() < deadline, "no frames arrived");
+        std::thread::sleep(Duration::from_millis(1));
+    }
+    let signalled = Instant::now();
+    signal(child.id(), libc::SIGTSTP);
+    std::thread::sleep(Duration::from_millis(500));
+    signal(child.id(), libc::SIGCONT);
+    let output = wait_with_timeout(child, Duration::from_secs(5));
+    let (frames, _) = robot.finish();
+    let percent = |frame: &SerialFrame| (frame.command, frame.payload[2] as i8, frame.payload[3] as i8);
+    let after: Vec<(Duration, (u8, i8, i8))> = frames
+        .iter()
+        .filter(|(at, _)| *at >= signalled)
+        .map(|(at, frame)| (at.duration_since(signalled), percent(frame)))
+        .collect();
+    let first_zero = after.iter().position(|(_, p)| *p == (1, 0, 0)).expect("zeros after SIGTSTP");
+    assert!(after[first_zero].0 < Duration::from_millis(50), "zeros {:?} after SIGTSTP", after[first_zero].0);
+    assert!(after[first_zero..].iter().all(|(_, p)| *p == (1, 0, 0)), "nothing moves after: {after:?}");
+    assert!(frames.len() < 60, "the 100 repeats did not carry on after SIGCONT: {} frames", frames.len());
+    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
+    assert!(stderr(&output).contains("suspended (SIGTSTP)"), "{}", stderr(&output));
+}
