@@ -201,16 +201,23 @@ pub struct SenderStats {
     pub last_gap: Option<Duration>,
     /// Why the sender holds zero now, if it does.
     pub hold: Option<Hold>,
-    /// Zero-velocity frames that left when the sender stopped; `None` while it runs.
+    /// Zero-velocity frames the link took when the sender stopped; `None` while it runs.
     pub stop_frames_sent: Option<usize>,
+    /// Frames still queued in the link's output a moment after the stop frames (where the link can tell):
+    /// more than none means the adapter is not sending, and the stop frames have not left.
+    pub stop_frames_queued: usize,
 }
 
 impl SenderStats {
-    /// True when the sender stopped and at least one stop frame reached the link.
+    /// True when the sender stopped, the link took at least one stop frame, and nothing of it is still
+    /// waiting in an output queue that does not drain.
     pub fn stop_confirmed(&self) -> bool {
-        self.stop_frames_sent.is_some_and(|sent| sent > 0)
+        self.stop_frames_sent.is_some_and(|sent| sent > 0) && self.stop_frames_queued == 0
     }
 }
+
+/// How long the stop frames may take to leave a queue the link reports, before they count as stuck.
+const STOP_DRAIN: Duration = Duration::from_millis(200);
 
 struct Shared {
     target: Mutex<Target>,
@@ -574,9 +581,17 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             }
         }
     }
+    // Where the link can tell (a serial driver's queue), see that they leave.
+    let drained_by = Instant::now() + STOP_DRAIN;
+    let mut queued = tx.pending().unwrap_or(0);
+    while queued > 0 && sent > 0 && Instant::now() < drained_by {
+        std::thread::sleep(Duration::from_millis(5));
+        queued = tx.pending().unwrap_or(0);
+    }
     let mut stats = shared.stats();
     stats.discarded += discarded as u64;
     stats.stop_frames_sent = Some(sent);
+    stats.stop_frames_queued = if sent > 0 { queued } else { 0 };
     if sent > 0 {
         stats.sent = MotionCommand::STOP;
         stats.sent_at = Some(Instant::now());
@@ -778,6 +793,8 @@ mod tests {
         fail_errno: Mutex<Option<i32>>,
         failures_left: std::sync::atomic::AtomicUsize,
         pending: Mutex<Option<usize>>,
+        /// A queue that never drains, whatever is discarded (an adapter that sends nothing).
+        stuck: Mutex<Option<usize>>,
         discards: Mutex<Vec<(Instant, usize)>>,
     }
 
@@ -800,7 +817,7 @@ mod tests {
         }
 
         fn pending(&self) -> Option<usize> {
-            *self.pending.lock().unwrap()
+            self.stuck.lock().unwrap().or(*self.pending.lock().unwrap())
         }
 
         fn discard_pending(&self) -> usize {
@@ -956,5 +973,18 @@ mod tests {
         assert_eq!(during, vec![Some(0); STOP_FRAMES], "only the stop frames, after the discard");
         let discarded_at = link.discards.lock().unwrap()[0].0;
         assert!(frames.iter().rev().take(STOP_FRAMES).all(|(at, _)| *at >= discarded_at));
+    }
+
+    #[test]
+    fn stop_frames_stuck_in_a_queue_that_never_drains_are_not_a_confirmed_stop() {
+        let link = Arc::new(FaultyLink::default());
+        let sender = start(&link, Limits::default());
+        keep_asking(&sender, 0.3, Duration::from_millis(60));
+        // The adapter stops sending: three frames stay queued whatever is discarded.
+        *link.stuck.lock().unwrap() = Some(3);
+        let stats = sender.stop();
+        assert_eq!(stats.stop_frames_sent, Some(STOP_FRAMES), "the link took them");
+        assert_eq!(stats.stop_frames_queued, 3, "but they did not leave");
+        assert!(!stats.stop_confirmed(), "so the stop is not reported as done");
     }
 }

@@ -164,6 +164,11 @@ impl<'a> Driving<'a> {
                 let stats = sender.stop();
                 if stats.stop_confirmed() {
                     Stopped::Confirmed
+                } else if stats.stop_frames_queued > 0 {
+                    Stopped::NotSent(format!(
+                        "{} frames still queued in the adapter, which is not sending",
+                        stats.stop_frames_queued
+                    ))
                 } else {
                     Stopped::NotSent(error.unwrap_or_else(|| "the link took none".to_string()))
                 }

@@ -369,6 +369,13 @@ fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> String {
             stats.sent.linear(),
             stats.sent.angular()
         ));
+    } else if stats.stop_frames_queued > 0 {
+        parts.push(format!(
+            "the stop frames are still queued in the adapter ({} frames waiting: it is not sending, or the \
+             peer does not read): the robot's own {} ms command timeout stops it",
+            stats.stop_frames_queued,
+            COMMAND_TIMEOUT.as_millis()
+        ));
     } else {
         let why = session_error(session).unwrap_or_else(|| "nothing was accepted by the link".to_string());
         parts.push(format!(

@@ -28,8 +28,9 @@ impl FrameTx for SerialTx {
             ));
         };
         let mut port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        port.write_all(&frame.to_bytes())?;
-        port.flush()
+        // No flush: serialport's flush is tcdrain, which waits (holding this lock) until a peer that does not
+        // read has taken everything, and the stop frames would wait behind it. The write times out instead.
+        port.write_all(&frame.to_bytes())
     }
 
     fn pending(&self) -> Option<usize> {
@@ -49,6 +50,20 @@ impl FrameTx for SerialTx {
 
 /// Bytes in one RS232 frame.
 const FRAME_LEN: usize = 13;
+/// At the end, how long what is queued may take to leave before it is dropped (so that closing the port
+/// does not wait the tty's 30 s closing time for a peer that does not read).
+const CLOSE_DRAIN: Duration = Duration::from_millis(300);
+
+impl Drop for SerialTx {
+    fn drop(&mut self) {
+        let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let deadline = std::time::Instant::now() + CLOSE_DRAIN;
+        while port.bytes_to_write().is_ok_and(|queued| queued > 0) && std::time::Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        let _ = port.clear(serialport::ClearBuffer::Output);
+    }
+}
 
 struct SerialRx {
     port: Box<dyn SerialPort>,
