@@ -675,6 +675,10 @@ ck_drive_sigstop_hw() { susp_check STOP 13; }
 # the robot after it read on) and the files written here: ser.rc, ser.err (drive), ser.vm (what the VM saw).
 SER=/dev/ttyS3
 ser_tx() { sed -n 's/^3: .* tx:\([0-9]*\).*/\1/p' /proc/tty/driver/serial; }
+# ser_threads PID: where each thread of PID waits in the kernel ("name:wchan ...")
+ser_threads() {
+    for t in /proc/$1/task/*; do printf '%s:%s ' "$(cat $t/comm 2>/dev/null)" "$(cat $t/wchan 2>/dev/null)"; done
+}
 ck_serial_stalled_peer() {
     rm -f $W/ser.*
     grep '^3: ' /proc/tty/driver/serial >$W/ser.port
@@ -710,8 +714,11 @@ ck_serial_stalled_peer() {
             t1=$(uptime_s)
             sleep 1
             tx2=$(ser_tx)
+            echo "threads during the stall: $(ser_threads $pid)" >$W/ser.threads
             kill -INT $pid 2>/dev/null
             t2=$(uptime_s)
+            usleep 300000
+            echo "threads 0.3 s after SIGINT: $(ser_threads $pid)" >>$W/ser.threads
             if [ "$tx2" = "$last" ]; then
                 echo "SIGINT during the stall: ttyS3 tx counter stuck at $last (from $tx0 at drive's start) for $(awk -v a="$t1" -v b="$t2" 'BEGIN {printf "%.1f", b - a + 0.4}') s;" >>$W/ser.vm
             else

@@ -201,7 +201,10 @@ def judge(args):
             t = at
         return t
 
-    found, skipped = frames(bytes(stream))
+    found, _ = frames(bytes(stream))
+    # bytes that are no frame after the resume: frames cut by the output flush (before it: the echo of a fresh
+    # port's default termios, before drive set it raw)
+    skipped = frames(bytes(stream[rx_at_resume:]))[1] if rx_at_resume is not None else 0
     motion = [(off, f) for off, f in found if is_motion(f)]
 
     def vm_file(name):
@@ -277,6 +280,8 @@ def judge(args):
         print("CHECK serial_stalled_peer: FAIL %s [%s]" % ("; ".join(fails), summary))
         evidence.append("drive's report: %s" % (report or "(none)"))
         evidence.append("robot: %s" % status_line)
+        for line in (vm_file("ser.threads") or "").splitlines():
+            evidence.append("drive's %s" % line.strip())
         evidence.append("motion frames from the guest after the resume (first 8, last 4):")
         shown = from_vm[:8] + ([(None, None)] if len(from_vm) > 12 else []) + from_vm[max(8, len(from_vm) - 4):]
         for off, f in shown:
