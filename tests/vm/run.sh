@@ -318,7 +318,7 @@ if [ "$suite" = sja1000 ]; then
     if want_check serial_stalled_peer; then
         robot_sock=$work/robot$sfx.sock
         rm -f "$robot_sock"
-        python3 "$here/serial-robot.py" serve --socket "$robot_sock" --log "$robot_log" --stall-after 50 --stall-for 3 \
+        python3 "$here/serial-robot.py" serve --socket "$robot_sock" --log "$robot_log" --stall-after 50 --stall-for "${TRACERCTL_VM_SERIAL_STALL:-3}" \
             >"$work/robot$sfx.out" 2>&1 &
         robot_pid=$!
         for _ in $(seq 100); do [ -S "$robot_sock" ] && break; sleep 0.05; done
