@@ -76,7 +76,8 @@ case $suite in
         qemu_devices=(-object "can-bus,id=cbus0")
         for _ in 1 2 3; do qemu_devices+=(-device "kvaser_pci,canbus=cbus0"); done
         # ttyS2 (after the console ttyS0 and the artifacts' ttyS1): a terminal for the SIGTSTP checks
-        # (a job-control shell needs a controlling terminal)
+        # (a job-control shell needs a controlling terminal); ttyS3: the RS232 robot (serial_stalled_peer),
+        # connected below when that check runs
         qemu_serial_extra=(-serial null)
         sfx=-sja1000
         # two CPUs: a flooding sender on one outruns the receiver on the other (RX FIFO overruns)
@@ -112,6 +113,8 @@ for pair in qemu-system-x86_64:qemu-system-x86 candump:can-utils cansend:can-uti
     cmd=${pair%%:*}
     command -v "$cmd" >/dev/null 2>&1 || need_pkgs+=("${pair#*:}")
 done
+# the sja1000 suite's RS232 robot (serial-robot.py) runs on the host
+if [ "$suite" = sja1000 ]; then command -v python3 >/dev/null 2>&1 || need_pkgs+=(python3-minimal); fi
 # a dynamic busybox (package "busybox") would not run in the VM without its libraries: insist on the static one
 if [ ! -x /bin/busybox ] || LC_ALL=C ldd /bin/busybox 2>&1 | grep -q '=>'; then need_pkgs+=(busybox-static); fi
 
@@ -304,6 +307,27 @@ console=$work/console$sfx.log
 arts=$work/artifacts$sfx
 rm -f "$arts.tar.gz"
 rm -rf "$arts"
+# The sja1000 suite's RS232 robot (check serial_stalled_peer): serial-robot.py listens on a Unix socket before
+# the VM starts, QEMU connects to it as the chardev of a fourth 16550 UART (ttyS3); run.sh judges its log after.
+robot_pid=""
+robot_log=$work/robot$sfx.log
+host_checks=$work/host-checks$sfx.log
+rm -f "$robot_log" "$host_checks"
+want_check() { [ -z "$checks" ] || case ",$checks," in *",$1,"*) return 0 ;; *) return 1 ;; esac; }
+if [ "$suite" = sja1000 ]; then
+    if want_check serial_stalled_peer; then
+        robot_sock=$work/robot$sfx.sock
+        rm -f "$robot_sock"
+        python3 "$here/serial-robot.py" serve --socket "$robot_sock" --log "$robot_log" --stall-after 50 --stall-for "${TRACERCTL_VM_SERIAL_STALL:-3}" \
+            >"$work/robot$sfx.out" 2>&1 &
+        robot_pid=$!
+        for _ in $(seq 100); do [ -S "$robot_sock" ] && break; sleep 0.05; done
+        [ -S "$robot_sock" ] || die "the RS232 robot (serial-robot.py) did not listen on $robot_sock: $(cat "$work/robot$sfx.out")"
+        qemu_serial_extra+=(-chardev "socket,id=robot,path=$robot_sock" -serial chardev:robot)
+    else
+        qemu_serial_extra+=(-serial null)
+    fi
+fi
 log "booting the VM ($suite suite, TCG, $smp CPU, timeout ${vm_timeout}s); console: $console"
 t_vm=$(date +%s.%N)
 set +e
@@ -321,11 +345,23 @@ if [ -s "$arts.tar.gz" ] && mkdir -p "$arts" &&
     tar -xzf "$arts.tar.gz" -C "$arts" 2>/dev/null; then
     log "the VM's files (captures, outputs of every check): $arts/"
 fi
+# checks judged on the host: the scenario ran them (a HOST-CHECK line) and left its files in the artifacts
+: >"$host_checks"
+if [ -n "$robot_pid" ]; then
+    kill "$robot_pid" 2>/dev/null || true
+    wait "$robot_pid" 2>/dev/null || true
+    if grep -q '^HOST-CHECK serial_stalled_peer:' "$console"; then
+        python3 "$here/serial-robot.py" judge --log "$robot_log" --vm-dir "$arts/scn" --stall-after 50 \
+            >"$host_checks" 2>&1 || true
+        log "serial_stalled_peer judged on the host from $robot_log and $arts/scn/ser.*"
+    fi
+fi
 echo
 echo "================ VM suite summary ($suite)"
-grep -E '^CHECK [a-z0-9_]+: (PASS|FAIL)' "$console" || true
-n_pass=$(grep -cE '^CHECK [a-z0-9_]+: PASS' "$console" || true)
-n_fail=$(grep -cE '^CHECK [a-z0-9_]+: FAIL' "$console" || true)
+grep -hE '^CHECK [a-z0-9_]+: (PASS|FAIL)' "$console" "$host_checks" || true
+n_pass=$(cat "$console" "$host_checks" | grep -cE '^CHECK [a-z0-9_]+: PASS' || true)
+n_fail=$(cat "$console" "$host_checks" | grep -cE '^CHECK [a-z0-9_]+: FAIL' || true)
+n_host_fail=$(grep -cE '^CHECK [a-z0-9_]+: FAIL' "$host_checks" || true)
 echo "checks: $n_pass passed, $n_fail failed; VM ran ${vm_secs}s (qemu exit $qemu_rc); total $(($(date +%s) - t_start))s"
 grep -E '^VM: (init|poweroff)' "$console" || true
 
@@ -333,11 +369,15 @@ if [ "$n_fail" -gt 0 ]; then
     echo
     echo "================ failed checks and their evidence"
     awk '/^CHECK [a-z0-9_]+: FAIL/ {show = 1; print; next}
-         /^CHECK |^SCENARIO |^== / {show = 0}
-         show && /^  [|] / {print}' "$console"
+         /^CHECK |^HOST-CHECK |^SCENARIO |^== / {show = 0}
+         show && /^  [|] / {print}' "$console" "$host_checks"
 fi
 if grep -q '^VM SETUP FAIL' "$console"; then
     die "the VM could not set up SocketCAN: $(grep '^VM SETUP FAIL' "$console" | head -1)"
+fi
+if grep -qx 'SCENARIO PASS' "$console" && [ "$n_host_fail" -gt 0 ]; then
+    echo "VM SUITE FAIL: judged on the host: $(grep -E '^CHECK [a-z0-9_]+: FAIL' "$host_checks" | cut -d: -f1 | sed 's/^CHECK //' | tr '\n' ' ')"
+    exit 1
 fi
 if grep -qx 'SCENARIO PASS' "$console"; then
     echo "VM SUITE PASS"

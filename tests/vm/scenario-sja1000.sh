@@ -30,6 +30,7 @@ W=/tmp/scn
 mkdir -p $W
 N_PASS=0
 N_FAIL=0
+N_HOST=0 # checks whose verdict run.sh gives on the host (serial_stalled_peer)
 FAILED=""
 CHECKS=${CHECKS:-}
 
@@ -64,6 +65,7 @@ ev_file() {
 VERDICT=""
 pass() { VERDICT="PASS $*"; }
 fail() { VERDICT="FAIL $*"; }
+host() { VERDICT="HOST $*"; } # judged by run.sh on the host, from the VM's files and a host-side log
 
 check() {
     want "$1" || return 0
@@ -72,9 +74,14 @@ check() {
     t0=$(uptime_s)
     "ck_$1"
     [ -n "$VERDICT" ] || VERDICT="FAIL the check reached no verdict"
-    echo "CHECK $1: $VERDICT [at ${t0}s, took $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}')s]"
+    took="[at ${t0}s, took $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}')s]"
+    case $VERDICT in
+        HOST*) echo "HOST-CHECK $1: ${VERDICT#HOST } $took" ;;
+        *) echo "CHECK $1: $VERDICT $took" ;;
+    esac
     case $VERDICT in
         PASS*) N_PASS=$((N_PASS + 1)) ;;
+        HOST*) N_HOST=$((N_HOST + 1)) ;;
         *)
             N_FAIL=$((N_FAIL + 1))
             FAILED="$FAILED $1"
@@ -656,6 +663,86 @@ susp_check() { # SIG CODE
 ck_drive_sigtstp_hw() { susp_check TSTP 14; }
 ck_drive_sigstop_hw() { susp_check STOP 13; }
 
+# ------------------------------------------------------------------------------------------- RS232, stalled peer
+
+# ttyS3 is a fourth 16550 UART whose QEMU chardev is a Unix socket to tests/vm/serial-robot.py on the host (the
+# robot: system status every 20 ms). After 50 non-zero motion frames the robot stops reading for 3 s (a stalled
+# USB-serial adapter): QEMU cannot write, the 16550 keeps its 16-byte FIFO full, and the 8250 driver keeps what is
+# written in its 4 KiB transmit buffer, which TIOCOUTQ reports and TCOFLUSH empties. The scenario sees the stall
+# in the port's transmit counter (/proc/tty/driver/serial "tx:", bytes moved into the UART) standing still while
+# drive runs, sends SIGINT 1 s later, and waits for the exit (close waits for the output to drain, i.e. for the
+# robot to read on). The verdict is given on the host by `serial-robot.py judge` from the robot's log (what reached
+# the robot after it read on) and the files written here: ser.rc, ser.err (drive), ser.vm (what the VM saw).
+SER=/dev/ttyS3
+ser_tx() { sed -n 's/^3: .* tx:\([0-9]*\).*/\1/p' /proc/tty/driver/serial; }
+# ser_threads PID: where each thread of PID waits in the kernel ("name:wchan ...")
+ser_threads() {
+    for t in /proc/$1/task/*; do printf '%s:%s ' "$(cat $t/comm 2>/dev/null)" "$(cat $t/wchan 2>/dev/null)"; done
+}
+ck_serial_stalled_peer() {
+    rm -f $W/ser.*
+    grep '^3: ' /proc/tty/driver/serial >$W/ser.port
+    if ! grep -q 'uart:16550A' $W/ser.port; then
+        echo "ttyS3 is not a 16550A: $(cat $W/ser.port)" >$W/ser.vm
+        host "ttyS3 missing: $(cat $W/ser.port)"
+        return
+    fi
+    stty -F $SER 115200 raw -echo clocal -crtscts -ixon -ixoff 2>$W/ser.stty
+    # the robot answers: a system-status frame within 10 s
+    timeout 10 head -c 40 $SER 2>/dev/null | od -An -tx1 | tr -d '\n' >$W/ser.probe
+    if ! grep -q '5a a5 0a aa 01' $W/ser.probe; then
+        echo "the robot on ttyS3 did not answer within 10 s (read: '$(cat $W/ser.probe)')" >$W/ser.vm
+        host "$(cat $W/ser.vm)"
+        return
+    fi
+    (
+        pid=$(wait_pidfile $W/ser.pid)
+        tx0=$(ser_tx)
+        last=$tx0
+        same=0
+        i=0
+        # the stall: the counter has moved since drive started and then stands still for 0.4 s
+        while [ $i -lt 200 ] && alive "$pid"; do
+            usleep 100000
+            now=$(ser_tx)
+            if [ "$now" = "$last" ] && [ "$now" != "$tx0" ]; then same=$((same + 1)); else same=0; fi
+            last=$now
+            [ $same -ge 4 ] && break
+            i=$((i + 1))
+        done
+        if [ $same -ge 4 ]; then
+            t1=$(uptime_s)
+            sleep 1
+            tx2=$(ser_tx)
+            echo "threads during the stall: $(ser_threads $pid)" >$W/ser.threads
+            kill -INT $pid 2>/dev/null
+            t2=$(uptime_s)
+            usleep 300000
+            echo "threads 0.3 s after SIGINT: $(ser_threads $pid)" >>$W/ser.threads
+            if [ "$tx2" = "$last" ]; then
+                echo "SIGINT during the stall: ttyS3 tx counter stuck at $last (from $tx0 at drive's start) for $(awk -v a="$t1" -v b="$t2" 'BEGIN {printf "%.1f", b - a + 0.4}') s;" >>$W/ser.vm
+            else
+                echo "the stall ended before SIGINT (tx $last -> $tx2);" >>$W/ser.vm
+            fi
+        else
+            kill -INT $pid 2>/dev/null
+            echo "no stall seen in 20 s (tx $tx0 -> $last): sent SIGINT anyway;" >>$W/ser.vm
+        fi
+        tsig=$(uptime_s)
+        if ! wait_gone "$pid" 15; then
+            echo "still running 15 s after SIGINT: killed;" >>$W/ser.vm
+            kill -KILL $pid
+        fi
+        echo "exited $(awk -v a="$tsig" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}') s after SIGINT, tx $(ser_tx) in all" >>$W/ser.vm
+    ) &
+    helper=$!
+    fg_run $W/ser.pid $W/ser.out $W/ser.err $T --serial $SER drive --linear 0.3
+    rc=$?
+    wait $helper
+    echo $rc >$W/ser.rc
+    host "drive exit status $rc; $(tr '\n' ' ' <$W/ser.vm)report: $(grep -E '^stopped after|motion frames sent' $W/ser.err | tail -n 1 | head -c 300)"
+}
+
 # ------------------------------------------------------------------------------------------- phase B checks
 
 # --- RX FIFO overruns: cangen on CPU0 floods from can0; the interrupt of can1 (the receiver) is served by CPU1
@@ -926,6 +1013,7 @@ check drive_sighup_hw
 check drive_sigtstp_hw
 check drive_sigstop_hw
 [ -n "$SIM_PID" ] && sim_stop
+check serial_stalled_peer
 
 # phase B: two CPUs; the interrupt of can0 (the flooding sender) on CPU0, that of can1 and can2 on CPU1
 if [ -e /sys/devices/system/cpu/cpu1/online ]; then
@@ -941,8 +1029,8 @@ check enobufs_survived_drive
 check enobufs_survived_send_raw
 [ -n "$SIM_PID" ] && sim_stop
 
-echo "SCENARIO END at uptime $(uptime_s)s: $N_PASS passed, $N_FAIL failed"
-if [ $N_FAIL = 0 ] && [ $N_PASS -gt 0 ]; then
+echo "SCENARIO END at uptime $(uptime_s)s: $N_PASS passed, $N_FAIL failed, $N_HOST to be judged on the host"
+if [ $N_FAIL = 0 ] && [ $((N_PASS + N_HOST)) -gt 0 ]; then
     echo "SCENARIO PASS"
 else
     [ $N_FAIL = 0 ] && echo "no check was selected (CHECKS=$CHECKS)"
