@@ -216,8 +216,9 @@ impl SenderStats {
     }
 }
 
-/// How long the stop frames may take to leave a queue the link reports, before they count as stuck.
-const STOP_DRAIN: Duration = Duration::from_millis(200);
+/// How long the stop frames may take to leave a queue the link reports (a serial adapter that has stopped
+/// sending: a stalled USB adapter may recover), before they count as stuck and the command ends saying so.
+const STOP_DRAIN: Duration = Duration::from_secs(2);
 
 struct Shared {
     target: Mutex<Target>,
