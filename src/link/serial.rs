@@ -58,10 +58,15 @@ impl Drop for SerialTx {
     fn drop(&mut self) {
         let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         let deadline = std::time::Instant::now() + CLOSE_DRAIN;
-        while port.bytes_to_write().is_ok_and(|queued| queued > 0) && std::time::Instant::now() < deadline {
+        let queued = || port.bytes_to_write().is_ok_and(|queued| queued > 0);
+        while queued() && std::time::Instant::now() < deadline {
             std::thread::sleep(Duration::from_millis(5));
         }
-        let _ = port.clear(serialport::ClearBuffer::Output);
+        // Only a queue the driver reports as stuck: a pseudo-terminal reports none, and what it still holds
+        // (the stop frames, for a peer that reads later) must not be thrown away.
+        if queued() {
+            let _ = port.clear(serialport::ClearBuffer::Output);
+        }
     }
 }
 
