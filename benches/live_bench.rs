@@ -245,76 +245,27 @@ fn monitor_flood(frames: usize) {
 }
 
 fn dashboard(seconds: u64) {
-    let (mut robot, robot_path) = pty();
-    let (terminal, terminal_path) = terminal_pty();
-    let arrivals_rx = record_motion_frames(robot.try_clone().unwrap());
-    let slave = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
-    let mut child = Command::new(binary())
-        .args(["--serial", &robot_path, "dashboard"])
-        .env("TERM", "xterm-256color")
-        .stdin(slave())
-        .stdout(slave())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    // Drain what the dashboard draws (a terminal that is not read would block it), counting bytes.
-    let drawn = std::sync::Arc::new(std::sync::atomic::AtomicU64::new(0));
-    let mut screen = terminal.try_clone().unwrap();
-    {
-        let drawn = std::sync::Arc::clone(&drawn);
-        std::thread::spawn(move || {
-            let mut buffer = [0u8; 65536];
-            screen.set_timeout(Duration::from_millis(200)).unwrap();
-            loop {
-                match screen.read(&mut buffer) {
-                    Ok(read) => drop(drawn.fetch_add(read as u64, std::sync::atomic::Ordering::Relaxed)),
-                    Err(error) if error.kind() == std::io::ErrorKind::TimedOut => {}
-                    Err(error) if error.kind() == std::io::ErrorKind::BrokenPipe => return,
-                    Err(_) => return,
-                }
-            }
-        });
-    }
-    let mut keys = terminal;
-    let mut encoder = SerialEncoder::new();
-    let mut next_feedback = Instant::now();
-    let mut feed_until = |until: Instant, robot: &mut serialport::TTYPort| {
-        while Instant::now() < until {
-            let _ = robot.write_all(&feedback(&mut encoder));
-            next_feedback += Duration::from_millis(20);
-            std::thread::sleep(next_feedback.saturating_duration_since(Instant::now()));
-        }
-    };
-    // Start-up (the terminal is asked whether it reports key releases; this one never answers: 2 s), then
-    // arm driving (the dashboard opens watching: a, then y).
-    feed_until(Instant::now() + Duration::from_secs(4), &mut robot);
-    keys.write_all(b"a").unwrap();
-    feed_until(Instant::now() + Duration::from_millis(300), &mut robot);
-    keys.write_all(b"y").unwrap();
-    feed_until(Instant::now() + Duration::from_millis(500), &mut robot);
-    let (cpu0, drawn0, t0) =
-        (cpu_seconds(child.id()), drawn.load(std::sync::atomic::Ordering::Relaxed), Instant::now());
-    feed_until(Instant::now() + Duration::from_secs(seconds), &mut robot);
+    use std::sync::atomic::Ordering;
+    let mut dash = Dash::start(false);
+    let pid = dash.child.id();
+    let (cpu0, drawn0, t0) = (cpu_seconds(pid), dash.drawn.load(Ordering::Relaxed), Instant::now());
+    std::thread::sleep(Duration::from_secs(seconds));
     let elapsed = t0.elapsed().as_secs_f64();
-    let cpu = (cpu_seconds(child.id()) - cpu0) / elapsed * 100.0;
-    let drawn_per_s = (drawn.load(std::sync::atomic::Ordering::Relaxed) - drawn0) as f64 / elapsed;
-    let _: Vec<(Instant, i8)> = arrivals_rx.try_iter().collect();
+    let cpu = (cpu_seconds(pid) - cpu0) / elapsed * 100.0;
+    let drawn_per_s = (dash.drawn.load(Ordering::Relaxed) - drawn0) as f64 / elapsed;
+    dash.frames();
 
     // Key to frame: one Up (legacy terminals send ESC [ A), then let it expire and the ramp settle.
     let mut latencies = Vec::new();
     for _ in 0..15 {
         let pressed = Instant::now();
-        keys.write_all(b"\x1b[A").unwrap();
-        feed_until(pressed + Duration::from_millis(2500), &mut robot);
-        let first = arrivals_rx.try_iter().find(|(at, speed)| *at >= pressed && *speed != 0);
+        dash.type_keys(b"\x1b[A", 2500);
+        let first = dash.frames().into_iter().find(|(at, speed)| *at >= pressed && *speed != 0);
         if let Some((at, _)) = first {
             latencies.push(at.duration_since(pressed).as_secs_f64() * 1000.0);
         }
     }
-    keys.write_all(b"q").unwrap();
-    feed_until(Instant::now() + Duration::from_millis(500), &mut robot);
-    let _ = child.kill();
-    let _ = child.wait();
+    dash.quit();
     latencies.sort_by(f64::total_cmp);
     println!(
         "dashboard: CPU {cpu:.2} % of one core with 50 Hz feedback ({drawn_per_s:.0} bytes drawn per second); \
@@ -333,6 +284,8 @@ struct Dash {
     keys: serialport::TTYPort,
     arrivals: std::sync::mpsc::Receiver<(Instant, i8)>,
     done: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    /// Bytes the dashboard has drawn so far.
+    drawn: std::sync::Arc<std::sync::atomic::AtomicU64>,
 }
 
 impl Dash {
@@ -352,15 +305,19 @@ impl Dash {
             .spawn()
             .unwrap();
         let done = Arc::new(AtomicBool::new(false));
-        // The screen: drained; the keyboard-protocol query (CSI ? u) answered when `kitty`.
+        let drawn = Arc::new(std::sync::atomic::AtomicU64::new(0));
+        // The screen: drained (a terminal that is not read would block the dashboard), bytes counted; the
+        // keyboard-protocol query (CSI ? u) answered when `kitty`.
         {
             let (mut screen, mut answer, done) =
                 (terminal.try_clone().unwrap(), terminal.try_clone().unwrap(), Arc::clone(&done));
+            let drawn = Arc::clone(&drawn);
             std::thread::spawn(move || {
                 let mut buffer = [0u8; 65536];
                 screen.set_timeout(Duration::from_millis(100)).unwrap();
                 while !done.load(Ordering::SeqCst) {
                     if let Ok(read) = screen.read(&mut buffer) {
+                        drawn.fetch_add(read as u64, Ordering::Relaxed);
                         let text = &buffer[..read];
                         if kitty && text.windows(4).any(|w| w == b"\x1b[?u") {
                             // Flags 0 (none pushed yet), then the primary device attributes.
@@ -382,7 +339,7 @@ impl Dash {
                 }
             });
         }
-        let mut dash = Self { child, keys: terminal, arrivals, done };
+        let mut dash = Self { child, keys: terminal, arrivals, done, drawn };
         std::thread::sleep(Duration::from_millis(if kitty { 1500 } else { 3500 }));
         dash.type_keys(b"a", 300);
         dash.type_keys(b"y", 500);

@@ -460,6 +460,41 @@ impl Drop for MotionSender {
     }
 }
 
+/// The stop sequence every sender shares (the 50 Hz sender, send-raw): discard what the link still holds for
+/// output, so the zeros are not queued behind stale motion, then [`STOP_FRAMES`] zero-velocity frames (each
+/// encoded anew, so RS232 frame ids keep rolling), each retried for up to [`STOP_RETRY`] while the transmit
+/// queue is full. Every attempt's result goes to `record`. Returns (stop frames sent, frames discarded).
+pub fn send_stop_frames(
+    tx: &dyn FrameTx,
+    codec: &mut Codec,
+    mut record: impl FnMut(std::io::Result<()>),
+) -> (usize, usize) {
+    let discarded = tx.discard_pending();
+    let deadline = Instant::now() + STOP_RETRY;
+    let mut sent = 0;
+    for _ in 0..STOP_FRAMES {
+        let frame = codec.motion(MotionCommand::STOP);
+        loop {
+            match tx.send(&frame) {
+                Ok(()) => {
+                    sent += 1;
+                    record(Ok(()));
+                    break;
+                }
+                Err(error) if is_queue_full(&error) && Instant::now() < deadline => {
+                    record(Err(error));
+                    std::thread::sleep(Duration::from_millis(2));
+                }
+                Err(error) => {
+                    record(Err(error));
+                    break;
+                }
+            }
+        }
+    }
+    (sent, discarded)
+}
+
 fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limits, watchdog: Duration) {
     let mut next_tick = Instant::now();
     let mut current = (0.0, 0.0);
@@ -556,32 +591,8 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             std::thread::park_timeout(next_tick - now);
         }
     }
-    // Every way out of the loop ends here: discard what the link still holds, then zero velocity, several
-    // times (each frame encoded anew, so RS232 frame ids keep rolling), retried while the queue is full.
-    let discarded = tx.discard_pending();
-    let deadline = Instant::now() + STOP_RETRY;
-    let mut sent = 0;
-    for _ in 0..STOP_FRAMES {
-        let frame = codec.motion(MotionCommand::STOP);
-        loop {
-            let result = tx.send(&frame);
-            match result {
-                Ok(()) => {
-                    sent += 1;
-                    record(Ok(()), false);
-                    break;
-                }
-                Err(error) if is_queue_full(&error) && Instant::now() < deadline => {
-                    record(Err(error), false);
-                    std::thread::sleep(Duration::from_millis(2));
-                }
-                Err(error) => {
-                    record(Err(error), false);
-                    break;
-                }
-            }
-        }
-    }
+    // Every way out of the loop ends here.
+    let (sent, discarded) = send_stop_frames(tx, codec, |result| record(result, false));
     // Where the link can tell (a serial driver's queue), see that they leave.
     let drained_by = Instant::now() + STOP_DRAIN;
     let mut queued = tx.pending().unwrap_or(0);

@@ -15,7 +15,7 @@ use super::live;
 use crate::cli::{Cli, DriveArgs};
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{Failure, FAILURE, NOT_DONE, SUCCESS};
-use crate::link::{Codec, QUEUE_FULL_MEANING};
+use crate::link::{queue_full_meaning, Codec};
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT, MODE_CAN};
 use crate::protocol::Wire;
 use crate::session::{RobotStatus, Session};
@@ -250,13 +250,7 @@ fn execute_with(
         (end, _) => end,
     };
     context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()).take();
-    // The stderr reader is gone: nothing more can be said; the robot was stopped above.
-    if let End::OutputGone(error) = &end {
-        return Err(
-            Failure { code: FAILURE, message: format!("the status output went away ({error})") }.into()
-        );
-    }
-    if overwrite {
+    if overwrite && !matches!(end, End::OutputGone(_)) {
         writeln!(out)?;
     }
     let elapsed = started.elapsed().as_secs_f64();
@@ -314,7 +308,10 @@ fn execute_with(
             "stopped after {elapsed:.2} s: the link {} failed ({error}); {report}",
             session.name
         ),
-        End::OutputGone(_) => unreachable!("returned above"),
+        // The stderr reader is gone: nothing more can be said; the robot was stopped above.
+        End::OutputGone(error) => {
+            Err(Failure { code: FAILURE, message: format!("the status output went away ({error})") }.into())
+        }
     }
 }
 
@@ -344,7 +341,7 @@ fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> String {
         trouble.push(format!("{} send errors", stats.send_errors));
     }
     if stats.queue_full > 0 {
-        trouble.push(format!("{} not sent ({QUEUE_FULL_MEANING})", stats.queue_full));
+        trouble.push(format!("{} not sent ({})", stats.queue_full, queue_full_meaning(session.kind)));
     }
     if stats.held_back > 0 {
         trouble.push(format!("{} held back while the link's output was not draining", stats.held_back));

@@ -11,13 +11,11 @@ use anyhow::Result;
 
 use crate::candump;
 use crate::cli::{Cli, SendRawArgs};
-use crate::control::STOP_FRAMES;
 use crate::exit::{Failure, SUCCESS, USAGE};
-use crate::link::{is_queue_full, QUEUE_FULL_MEANING};
+use crate::link::{is_queue_full, queue_full_meaning};
 use crate::link::{Codec, FrameRx, FrameTx, LinkChoice, LinkFrame};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::can::{ProtocolHint, ID_V1_MOTION_COMMAND};
-use crate::protocol::message::MotionCommand;
 use crate::protocol::serial::{self, SerialFrame, CMD_MOTION_CONTROL, FRAME_SIZE, TYPE_CONTROL};
 use crate::protocol::{self, FrameKind, Wire};
 use crate::{session, signals};
@@ -149,9 +147,10 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
     }
     if report.not_sent > 0 {
         eprintln!(
-            "tracerctl: {} frame{} not sent ({QUEUE_FULL_MEANING})",
+            "tracerctl: {} frame{} not sent ({})",
             report.not_sent,
-            plural(report.not_sent)
+            plural(report.not_sent),
+            queue_full_meaning(link.kind)
         );
     }
     if report.stop_frames > 0 {
@@ -333,14 +332,12 @@ impl<'a> StopGuard<'a> {
         }
     }
 
-    /// Sends the zero-velocity frames now (errors are ignored: each frame is tried). Returns how many went out.
+    /// Sends the zero-velocity frames now, as the motion sender does (what is still queued discarded first,
+    /// retried while the queue is full). Returns how many went out.
     fn stop(&mut self) -> u64 {
         for codec in &mut self.codecs {
-            for _ in 0..STOP_FRAMES {
-                if self.tx.send(&codec.motion(MotionCommand::STOP)).is_ok() {
-                    self.sent += 1;
-                }
-            }
+            let (sent, _) = crate::control::send_stop_frames(self.tx, codec, |_| {});
+            self.sent += sent as u64;
         }
         self.codecs.clear();
         self.sent
@@ -428,6 +425,7 @@ fn wait_until(due: Option<Instant>, rx: &mut Option<&mut dyn FrameRx>, stop: &dy
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::control::STOP_FRAMES;
     use crate::link::{channel, LinkKind};
     use crate::protocol::CanFrame;
     use std::sync::atomic::{AtomicBool, Ordering};

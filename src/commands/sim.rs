@@ -65,6 +65,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         }
     };
 
+    let link_kind = link.kind;
     let running = serve::start(config, link)?;
     let signal = signals::listen(|_| {})?;
     let (lines, inbox) = mpsc::channel::<String>();
@@ -107,7 +108,7 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
                 stderr,
                 "sim {:7.2} s: {not_sent} feedback frames not sent so far ({}); still running",
                 started.elapsed().as_secs_f64(),
-                crate::link::QUEUE_FULL_MEANING
+                link::queue_full_meaning(link_kind)
             )?;
             next_not_sent_report = not_sent.saturating_mul(10).max(1);
         }
@@ -121,7 +122,11 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
     let not_sent = running.not_sent();
     running.stop().context("the simulator stopped")?;
     if not_sent > 0 {
-        writeln!(stderr, "sim: {not_sent} feedback frames not sent ({})", crate::link::QUEUE_FULL_MEANING)?;
+        writeln!(
+            stderr,
+            "sim: {not_sent} feedback frames not sent ({})",
+            link::queue_full_meaning(link_kind)
+        )?;
     }
     Ok(SUCCESS)
 }

@@ -82,10 +82,20 @@ pub fn is_queue_full(error: &io::Error) -> bool {
         || error.raw_os_error() == Some(ENOBUFS)
 }
 
-/// What a full transmit queue means, in words, for messages and reports.
-pub const QUEUE_FULL_MEANING: &str = "transmit queue full: the bus is busy, no other node acknowledges the \
-     frames, or the controller is bus-off (check that the robot is on, the bus wired and terminated, the \
-     bitrate 500000, and `ip -details -statistics link show` for the error state)";
+/// What a full transmit queue means on this kind of link, in words, for messages and reports.
+pub fn queue_full_meaning(kind: LinkKind) -> &'static str {
+    match kind {
+        LinkKind::Serial => {
+            "the serial port's output is full: nobody reads the other end (no peer connected, a stalled \
+             adapter, the robot off)"
+        }
+        _ => {
+            "transmit queue full: the bus is busy, no other node acknowledges the frames, or the controller \
+             is bus-off (check that the robot is on, the bus wired and terminated, the bitrate 500000, and \
+             `ip -details -statistics link show` for the error state)"
+        }
+    }
+}
 
 /// The receiving half, owned by one reader thread.
 pub trait FrameRx: Send {

@@ -169,7 +169,9 @@ pub fn explain_io(error: io::Error, iface: &str) -> io::Error {
                                  bitrate 500000` (a vcan: `sudo ip link set up IFACE`)"
                 .to_string()
         }
-        Some(libc::ENOBUFS) | Some(libc::EAGAIN) => format!("{name}: {}", super::QUEUE_FULL_MEANING),
+        Some(libc::ENOBUFS) | Some(libc::EAGAIN) => {
+            format!("{name}: {}", super::queue_full_meaning(LinkKind::SocketCan))
+        }
         Some(libc::ENODEV) | Some(libc::ENXIO) => format!("{name} has disappeared (adapter unplugged?)"),
         _ => return error,
     };

@@ -160,23 +160,7 @@ fn rs232_hex_with_a_computed_checksum_reaches_the_port_byte_for_byte() {
 #[test]
 fn sigint_during_repeats_stops_the_robot_at_once() {
     let robot = PtyRobot::start();
-    let child = Command::new(env!("CARGO_BIN_EXE_tracerctl"))
-        .args([
-            "--serial",
-            &robot.path,
-            "send-raw",
-            "--force",
-            "--fix-checksum",
-            "--repeat",
-            "50",
-            "--period",
-            "20",
-        ])
-        .arg("5AA50A550102000A00000000")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+    let child = repeat_motion(&robot, 50);
     // 300 ms after the first frame arrives.
     let deadline = Instant::now() + Duration::from_secs(5);
     let first = loop {
@@ -210,28 +194,33 @@ fn sigint_during_repeats_stops_the_robot_at_once() {
     assert!(errors.contains("then 3 zero-velocity frames"), "{errors}");
 }
 
-/// Ctrl-Z (SIGTSTP) during repeats of a motion frame: zero-velocity frames first, and after SIGCONT the
-/// repeats do not carry on (a suspension never resumes motion).
-#[test]
-fn sigtstp_during_repeats_sends_zeros_and_never_resumes() {
-    let robot = PtyRobot::start();
-    let child = Command::new(env!("CARGO_BIN_EXE_tracerctl"))
+/// `send-raw --force --repeat N --period 20` of a 10 % RS232 motion frame to `robot`.
+fn repeat_motion(robot: &PtyRobot, repeat: u32) -> std::process::Child {
+    Command::new(env!("CARGO_BIN_EXE_tracerctl"))
         .args([
             "--serial",
             &robot.path,
             "send-raw",
             "--force",
             "--fix-checksum",
-            "--repeat",
-            "100",
             "--period",
             "20",
+            "--repeat",
         ])
+        .arg(repeat.to_string())
         .arg("5AA50A550102000A00000000")
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
-        .unwrap();
+        .unwrap()
+}
+
+/// Ctrl-Z (SIGTSTP) during repeats of a motion frame: zero-velocity frames first, and after SIGCONT the
+/// repeats do not carry on (a suspension never resumes motion).
+#[test]
+fn sigtstp_during_repeats_sends_zeros_and_never_resumes() {
+    let robot = PtyRobot::start();
+    let child = repeat_motion(&robot, 100);
     let deadline = Instant::now() + Duration::from_secs(5);
     while robot.frames.lock().unwrap().len() < 10 {
         assert!(Instant::now() < deadline, "no frames arrived");
