@@ -293,7 +293,7 @@ fn space_sends_zero_at_once_and_a_held_key_needs_a_fresh_press() {
     let first_zero = after.iter().position(|(_, mm)| *mm == 0).expect("zero after Space");
     assert!(after[..first_zero].iter().all(|(_, mm)| *mm == 1500), "no ramp, straight to zero: {after:?}");
     assert!(after[first_zero].0 - space_at < 0.1, "zero within 0.1 s of Space: {after:?}");
-    assert!(after.iter().all(|(_, mm)| *mm == 0), "the held key did not resume: {after:?}");
+    assert!(after[first_zero..].iter().all(|(_, mm)| *mm == 0), "the held key did not resume: {after:?}");
     // Let go (the deadline passes), press again: it drives.
     std::thread::sleep(Duration::from_millis(800));
     let start = Instant::now();
