@@ -3,6 +3,25 @@
 //! The library holds everything; `main.rs` only parses the command line, runs it and maps errors to an
 //! exit code. `protocol` is pure (no I/O) and shared by every subcommand.
 
+/// `eprintln!` that cannot panic: a closed stderr (`tracerctl ... 2>&1 | head -1`) loses the message, not
+/// the run; the command goes on, and a moving robot is still stopped.
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr(), $($arg)*);
+    }};
+}
+
+/// `eprint!` that cannot panic (see [`say!`]).
+#[macro_export]
+macro_rules! say_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr(), $($arg)*);
+    }};
+}
+
 pub mod candump;
 pub mod cli;
 pub mod commands;

@@ -159,11 +159,11 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
         End::Eof => (SUCCESS, "end of the source".to_string()),
         End::Signal => (flag.exit_status().unwrap_or(exit::SIGNAL_BASE), flag.name().to_string()),
         End::LinkError(error) => {
-            eprintln!("tracerctl: the link {} failed: {error}", link.name);
+            crate::say!("tracerctl: the link {} failed: {error}", link.name);
             (FAILURE, "link failed".to_string())
         }
     };
-    eprint!("{}", monitor.summary(elapsed, stats, &why));
+    crate::say_raw!("{}", monitor.summary(elapsed, stats, &why));
     Ok(status)
 }
 

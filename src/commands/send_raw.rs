@@ -92,7 +92,7 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         )));
     }
     for planned in &plan {
-        eprintln!("tracerctl: {} = {}", planned.text, planned.meaning);
+        crate::say!("tracerctl: {} = {}", planned.text, planned.meaning);
     }
 
     let (link, simulator) = session::open_link(&choice, None)?;
@@ -126,7 +126,7 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         Ok(report) => report,
         Err(failure) => {
             if failure.stop_frames > 0 {
-                eprintln!("tracerctl: sent {} zero-velocity frames to stop the robot", failure.stop_frames);
+                crate::say!("tracerctl: sent {} zero-velocity frames to stop the robot", failure.stop_frames);
             }
             return Err(failure
                 .error
@@ -136,17 +136,17 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
     drop(simulator);
     let plural = |n: u64| if n == 1 { "" } else { "s" };
     match flag.received() {
-        Some(_) => eprintln!(
+        Some(_) => crate::say!(
             "tracerctl: stopped by {} after {} of {total} frame{} on {}",
             flag.name(),
             report.sent,
             plural(total),
             link.name
         ),
-        None => eprintln!("tracerctl: sent {} frame{} on {}", report.sent, plural(report.sent), link.name),
+        None => crate::say!("tracerctl: sent {} frame{} on {}", report.sent, plural(report.sent), link.name),
     }
     if report.not_sent > 0 {
-        eprintln!(
+        crate::say!(
             "tracerctl: {} frame{} not sent ({})",
             report.not_sent,
             plural(report.not_sent),
@@ -154,7 +154,7 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         );
     }
     if report.stop_frames > 0 {
-        eprintln!("tracerctl: then {} zero-velocity frames to stop the robot", report.stop_frames);
+        crate::say!("tracerctl: then {} zero-velocity frames to stop the robot", report.stop_frames);
     }
     if suspended.load(std::sync::atomic::Ordering::SeqCst) {
         return Err(anyhow::anyhow!(

@@ -56,7 +56,7 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
     if inputs.is_empty() && serial.is_empty() {
         if io::stdin().is_terminal() {
-            eprintln!(
+            crate::say!(
                 "tracerctl: no input: give a candump log, '-' for standard input, \
                  or a frame such as 211#00000103000000B1 (see tracerctl decode --help)"
             );
@@ -303,9 +303,9 @@ impl Decoder {
             return Err(Failure::data(format!("{location}: {message}")).into());
         }
         if self.stats.shown_rejects < MAX_SHOWN_REJECTS {
-            eprintln!("tracerctl: {location}: {message}");
+            crate::say!("tracerctl: {location}: {message}");
         } else if self.stats.shown_rejects == MAX_SHOWN_REJECTS {
-            eprintln!("tracerctl: further rejected input is only counted (see the totals at the end)");
+            crate::say!("tracerctl: further rejected input is only counted (see the totals at the end)");
         }
         self.stats.shown_rejects += 1;
         self.stats.reject(reason, || location);
@@ -319,7 +319,7 @@ impl Decoder {
                 out.flush()?;
                 let rejected = self.stats.rejected_total();
                 if rejected > 0 || self.stats.invalid_frames > 0 || self.stats.candump_dropped > 0 {
-                    eprintln!("tracerctl: {}", totals_line(&self.stats));
+                    crate::say!("tracerctl: {}", totals_line(&self.stats));
                 }
             }
             Sink::Summary(summary) => {

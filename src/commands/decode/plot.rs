@@ -244,7 +244,7 @@ impl Plot {
     /// Draws the panels and writes the SVG file; notes on standard error what could not be plotted.
     pub fn write(&self, path: &Path) -> Result<()> {
         if self.is_empty() {
-            eprintln!(
+            crate::say!(
                 "tracerctl: --plot: nothing to plot (no timestamped battery, speed or motor frames{}); \
                  writing empty panels to {}",
                 if self.untimed > 0 {
@@ -255,14 +255,14 @@ impl Plot {
                 path.display()
             );
         } else if self.untimed > 0 {
-            eprintln!("tracerctl: --plot: {} frames without timestamps were not plotted", self.untimed);
+            crate::say!("tracerctl: --plot: {} frames without timestamps were not plotted", self.untimed);
         }
         if self.markers_not_drawn > 0 {
-            eprintln!("tracerctl: --plot: {} further event markers were not drawn", self.markers_not_drawn);
+            crate::say!("tracerctl: --plot: {} further event markers were not drawn", self.markers_not_drawn);
         }
         let (svg, unlabeled) = self.render().context("cannot draw the plot")?;
         if unlabeled > 0 {
-            eprintln!(
+            crate::say!(
                 "tracerctl: --plot: {unlabeled} event labels left out where events crowd (every event still has \
                  its line: red E-stop, green E-stop released, orange fault)"
             );
