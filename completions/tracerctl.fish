@@ -30,11 +30,11 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s V -l version -d 'Print version'
@@ -63,11 +63,11 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected'
@@ -81,28 +81,28 @@ csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (hex, comma-separated)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages (comma-separated)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s, 2m); default: until Ctrl-C' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s, 2m; at most 30 days); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long (0 to 1h; 0: never)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines instead of decoding them'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ counter-clockwise)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms); default: until Ctrl-C' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (at most 1.5)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ counter-clockwise; -100 to 100, capped at --max-angular)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms; at most 24h); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
@@ -113,16 +113,16 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-faults -d 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot (100ms to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Output format' -r -f -a "text\t'One line per check, then the verdict'
 json\t'One JSON object (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
@@ -131,42 +131,42 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l probe -d 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l timeout -d 'How long to wait for the robot to confirm' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l timeout -d 'How long to wait for the robot to confirm (0 to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l timeout -d 'How long to watch the status afterwards' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l timeout -d 'How long to watch the status afterwards (0 to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s V -l version -d 'Print version'
@@ -180,18 +180,18 @@ on\t''
 breath\t''
 custom\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear-brightness -d 'Rear brightness for --rear custom, percent (0-100)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l timeout -d 'How long to wait for the light state to confirm' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l timeout -d 'How long to wait for the light state to confirm (0 to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l release -d 'Hand the lights back to the firmware'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -204,39 +204,39 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute the checksum of RS232 frames instead of requiring it'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; see docs/sim.md)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; TIME at most 30 days; see docs/sim.md)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l rc -d 'An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)' -r -f -a "top\t'SWB at the top: command mode allowed'
 middle\t'SWB in the middle: RC mode, commands are ignored'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l battery -d 'Starting battery voltage' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l drain -d 'Speed up battery drain by this factor (to see the low-battery warnings quickly)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l duration -d 'Stop after this long; default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l battery -d 'Starting battery voltage (18 to 30)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l drain -d 'Speed up battery drain by this factor (to see the low-battery warnings quickly; 0 to 1000000)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l duration -d 'Stop after this long (at most 30 days); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-linear -d 'Cap on the linear speed, m/s (at most 1.5)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
@@ -248,17 +248,17 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear -d 'Cap on the linear speed, m/s (at most 1.5)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-angular -d 'Cap on the angular speed, rad/s (at most 0.7853)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
@@ -270,11 +270,11 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -285,11 +285,11 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
 always\t''
 never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (2 = twice as fast; 0 = as fast as possible)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'

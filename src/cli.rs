@@ -1,6 +1,7 @@
 //! The command-line definition: the single source for parsing, `--help`, shell completions and man pages.
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
@@ -133,27 +134,27 @@ pub struct MonitorArgs {
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
 
-    /// Stop after this long (e.g. 10s, 2m); default: until Ctrl-C
-    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    /// Stop after this long (e.g. 10s, 2m; at most 30 days); default: until Ctrl-C
+    #[arg(long, value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(RUN_TIME))]
     pub duration: Option<std::time::Duration>,
 
-    /// Warn when the bus is silent this long
-    #[arg(long, value_name = "DURATION", default_value = "500ms", value_parser = parse_duration)]
+    /// Warn when the bus is silent this long (0 to 1h; 0: never)
+    #[arg(long, value_name = "DURATION", default_value = "500ms", allow_hyphen_values = true, value_parser = duration_in(SILENCE))]
     pub silence: std::time::Duration,
 }
 
 #[derive(Debug, Args)]
 pub struct DriveArgs {
-    /// Linear speed in m/s (+ forward)
-    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "M/S")]
+    /// Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "M/S", value_parser = number_in(SPEED))]
     pub linear: f64,
 
-    /// Angular speed in rad/s (+ counter-clockwise)
-    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "RAD/S")]
+    /// Angular speed in rad/s (+ counter-clockwise; -100 to 100, capped at --max-angular)
+    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "RAD/S", value_parser = number_in(SPEED))]
     pub angular: f64,
 
-    /// How long to drive (e.g. 2s, 1500ms); default: until Ctrl-C
-    #[arg(long = "for", value_name = "DURATION", value_parser = parse_duration)]
+    /// How long to drive (e.g. 2s, 1500ms; at most 24h); default: until Ctrl-C
+    #[arg(long = "for", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
     pub duration: Option<std::time::Duration>,
 
     #[command(flatten)]
@@ -167,28 +168,28 @@ pub struct DriveArgs {
 /// Caps and ramps of the commands that move the robot (drive, dashboard).
 #[derive(Debug, Args)]
 pub struct MotionLimitArgs {
-    /// Cap on the linear speed, m/s (at most 1.5)
-    #[arg(long, default_value_t = 0.5, value_name = "M/S")]
+    /// Cap on the linear speed, m/s (above 0; at most 1.5 is used)
+    #[arg(long, default_value_t = 0.5, value_name = "M/S", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub max_linear: f64,
 
-    /// Cap on the angular speed, rad/s (at most 0.7853)
-    #[arg(long, default_value_t = 0.5, value_name = "RAD/S")]
+    /// Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)
+    #[arg(long, default_value_t = 0.5, value_name = "RAD/S", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub max_angular: f64,
 
     /// Linear acceleration of the ramp, m/s²
-    #[arg(long, default_value_t = 0.5, value_name = "M/S2")]
+    #[arg(long, default_value_t = 0.5, value_name = "M/S2", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub accel: f64,
 
     /// Angular acceleration of the ramp, rad/s²
-    #[arg(long, default_value_t = 1.0, value_name = "RAD/S2")]
+    #[arg(long, default_value_t = 1.0, value_name = "RAD/S2", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub angular_accel: f64,
 
     /// Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s
-    #[arg(long, default_value_t = 1.5, value_name = "M/S2")]
+    #[arg(long, default_value_t = 1.5, value_name = "M/S2", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub decel: f64,
 
     /// Angular braking, rad/s²; at least --angular-accel
-    #[arg(long, default_value_t = 3.0, value_name = "RAD/S2")]
+    #[arg(long, default_value_t = 3.0, value_name = "RAD/S2", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub angular_decel: f64,
 }
 
@@ -204,6 +205,10 @@ impl MotionLimitArgs {
             angular_decel: self.angular_decel,
         }
         .validated()
+        // Limits that contradict each other are a command-line mistake, like a number out of range.
+        .map_err(|error| {
+            crate::exit::Failure { code: crate::exit::USAGE, message: format!("{error:#}") }.into()
+        })
     }
 }
 
@@ -222,8 +227,8 @@ pub struct ModeArgs {
     #[arg(value_enum)]
     pub mode: ModeChoice,
 
-    /// How long to wait for the robot to confirm
-    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    /// How long to wait for the robot to confirm (0 to 10m)
+    #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
     pub timeout: std::time::Duration,
 }
 
@@ -233,8 +238,8 @@ pub struct ClearErrorsArgs {
     #[arg(value_enum, default_value_t = crate::link::ClearTarget::All)]
     pub target: crate::link::ClearTarget,
 
-    /// How long to watch the status afterwards
-    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    /// How long to watch the status afterwards (0 to 10m)
+    #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
     pub timeout: std::time::Duration,
 }
 
@@ -269,8 +274,8 @@ pub struct LightsArgs {
     #[arg(long, conflicts_with_all = ["front", "brightness", "rear", "rear_brightness"])]
     pub release: bool,
 
-    /// How long to wait for the light state to confirm
-    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    /// How long to wait for the light state to confirm (0 to 10m)
+    #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
     pub timeout: std::time::Duration,
 }
 
@@ -332,8 +337,8 @@ pub struct DoctorArgs {
     #[arg(long)]
     pub probe: bool,
 
-    /// How long to listen to the robot
-    #[arg(long, value_name = "DURATION", default_value = "1s", value_parser = parse_duration)]
+    /// How long to listen to the robot (100ms to 10m)
+    #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(LISTEN))]
     pub listen: std::time::Duration,
 
     /// Output format
@@ -357,28 +362,28 @@ pub struct DashboardArgs {
 
 #[derive(Debug, Args)]
 pub struct SimArgs {
-    /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface
+    /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port
     #[arg(long)]
     pub pty: bool,
 
-    /// Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; see docs/sim.md)
-    #[arg(long = "fault", value_name = "SPEC")]
-    pub faults: Vec<String>,
+    /// Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; TIME at most 30 days; see docs/sim.md)
+    #[arg(long = "fault", value_name = "SPEC", value_parser = parse_fault)]
+    pub faults: Vec<crate::sim::ScheduledFault>,
 
     /// An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)
     #[arg(long, value_enum, value_name = "SWB")]
     pub rc: Option<RcSwitchChoice>,
 
-    /// Starting battery voltage
-    #[arg(long, value_name = "VOLTS")]
+    /// Starting battery voltage (18 to 30)
+    #[arg(long, value_name = "VOLTS", allow_negative_numbers = true, value_parser = number_in(BATTERY))]
     pub battery: Option<f64>,
 
-    /// Speed up battery drain by this factor (to see the low-battery warnings quickly)
-    #[arg(long, value_name = "FACTOR")]
+    /// Speed up battery drain by this factor (to see the low-battery warnings quickly; 0 to 1000000)
+    #[arg(long, value_name = "FACTOR", allow_negative_numbers = true, value_parser = number_in(DRAIN))]
     pub drain: Option<f64>,
 
-    /// Stop after this long; default: until Ctrl-C
-    #[arg(long, value_name = "DURATION", value_parser = parse_duration)]
+    /// Stop after this long (at most 30 days); default: until Ctrl-C
+    #[arg(long, value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(RUN_TIME))]
     pub duration: Option<std::time::Duration>,
 }
 
@@ -390,32 +395,117 @@ pub enum RcSwitchChoice {
     Middle,
 }
 
-/// A duration such as `2s`, `1500ms`, `1m30s`, or plain seconds (`2.5`).
-pub fn parse_duration(text: &str) -> Result<std::time::Duration, String> {
-    if let Ok(seconds) = text.parse::<f64>() {
-        if seconds.is_finite() && seconds >= 0.0 {
-            return Ok(std::time::Duration::from_secs_f64(seconds));
-        }
+/// The durations one option accepts, inclusive. Bounded so that no deadline (`Instant + d`) can overflow.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct DurationRange {
+    pub min: Duration,
+    pub max: Duration,
+}
+
+const fn secs(seconds: u64) -> Duration {
+    Duration::from_secs(seconds)
+}
+
+/// `drive --for`.
+pub const DRIVE_TIME: DurationRange = DurationRange { min: Duration::ZERO, max: secs(24 * 3600) };
+/// `monitor --duration`, `sim --duration`, `sim --fault NAME@TIME`.
+pub const RUN_TIME: DurationRange = DurationRange { min: Duration::ZERO, max: secs(30 * 24 * 3600) };
+/// `monitor --silence` (0: never warn).
+pub const SILENCE: DurationRange = DurationRange { min: Duration::ZERO, max: secs(3600) };
+/// `doctor --listen`: rates need some frames, and a technician waits minutes at most.
+pub const LISTEN: DurationRange = DurationRange { min: Duration::from_millis(100), max: secs(600) };
+/// `--timeout` of mode, clear-errors and lights.
+pub const TIMEOUT: DurationRange = DurationRange { min: Duration::ZERO, max: secs(600) };
+
+/// A duration such as `2s`, `1500ms`, `1m30s`, or plain seconds (`2.5`), within `range`.
+pub fn parse_duration(text: &str, range: DurationRange) -> Result<Duration, String> {
+    let show = |duration: Duration| humantime::format_duration(duration).to_string();
+    let accepted = format!("from {} to {}", show(range.min), show(range.max));
+    let out_of_range = || format!("'{text}' is out of range: give a duration {accepted} (e.g. 2s, 500ms)");
+    let duration = match text.trim().parse::<f64>() {
+        // NaN, inf and negatives are numbers too, just not durations.
+        Ok(seconds) if !(seconds >= 0.0 && seconds <= range.max.as_secs_f64()) => return Err(out_of_range()),
+        Ok(seconds) => Duration::from_secs_f64(seconds),
+        Err(_) => humantime::parse_duration(text.trim()).map_err(|error| {
+            if text.trim_start().starts_with('-') {
+                out_of_range()
+            } else {
+                format!("'{text}' is not a duration such as 2s or 500ms ({error}); accepted: {accepted}")
+            }
+        })?,
+    };
+    if duration < range.min || duration > range.max {
+        return Err(out_of_range());
     }
-    humantime::parse_duration(text)
-        .map_err(|error| format!("'{text}' is not a duration such as 2s or 500ms: {error}"))
+    Ok(duration)
+}
+
+/// A clap value parser for durations within `range`.
+pub fn duration_in(range: DurationRange) -> impl Fn(&str) -> Result<Duration, String> + Clone + Send + Sync {
+    move |text| parse_duration(text, range)
+}
+
+/// The numbers one option accepts, inclusive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NumberRange {
+    pub min: f64,
+    pub max: f64,
+}
+
+/// `drive --linear`, `--angular` (then capped by the limits).
+pub const SPEED: NumberRange = NumberRange { min: -100.0, max: 100.0 };
+/// Caps and accelerations: above zero.
+pub const LIMIT: NumberRange = NumberRange { min: 0.001, max: 100.0 };
+/// `--speed` of a replay (0: as fast as possible).
+pub const REPLAY_SPEED: NumberRange = NumberRange { min: 0.0, max: 1000.0 };
+/// `sim --battery`, volts: the TRACER's pack from empty to full.
+pub const BATTERY: NumberRange = NumberRange { min: 18.0, max: 30.0 };
+/// `sim --drain`.
+pub const DRAIN: NumberRange = NumberRange { min: 0.0, max: 1_000_000.0 };
+
+/// A finite number within `range`.
+pub fn parse_number(text: &str, range: NumberRange) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(number) if number >= range.min && number <= range.max => Ok(number),
+        _ => Err(format!("'{text}' is not a number from {} to {}", range.min, range.max)),
+    }
+}
+
+/// A clap value parser for numbers within `range`.
+pub fn number_in(range: NumberRange) -> impl Fn(&str) -> Result<f64, String> + Clone + Send + Sync {
+    move |text| parse_number(text, range)
+}
+
+/// `sim --fault NAME[@TIME]`: the name among the simulator's faults, the time within [`RUN_TIME`].
+fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
+    let fault: crate::sim::ScheduledFault = text.parse().map_err(|error| format!("{error}"))?;
+    if fault.at > RUN_TIME.max {
+        return Err(format!(
+            "'{text}': the time is out of range: give one from 0s to {}",
+            humantime::format_duration(RUN_TIME.max)
+        ));
+    }
+    Ok(fault)
 }
 
 /// How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
+///
+/// Options of one link are refused with another (`--iface` with `--sim`, `--baud` without `--serial`,
+/// `--speed` without `--replay`): clap checks them, so help and completions say the same.
 #[derive(Debug, Args)]
 #[command(next_help_heading = "Link")]
 pub struct LinkArgs {
-    /// SocketCAN interface
-    #[arg(long, global = true, env = "TRACERCTL_IFACE", default_value = "can0", value_name = "NAME")]
-    pub iface: String,
+    /// SocketCAN interface [default: $TRACERCTL_IFACE, else can0]
+    #[arg(long, global = true, value_name = "NAME", conflicts_with_all = ["serial", "sim", "replay"])]
+    pub iface: Option<String>,
 
     /// RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)
     #[arg(long, global = true, value_name = "PATH", conflicts_with_all = ["sim", "replay"])]
     pub serial: Vec<PathBuf>,
 
-    /// Serial baud rate
-    #[arg(long, global = true, default_value_t = 115_200, value_name = "BAUD")]
-    pub baud: u32,
+    /// Serial baud rate (with --serial) [default: 115200]
+    #[arg(long, global = true, value_name = "BAUD", requires = "serial", conflicts_with_all = ["sim", "replay", "iface"], value_parser = clap::value_parser!(u32).range(1..=4_000_000))]
+    pub baud: Option<u32>,
 
     /// Talk to an in-process virtual TRACER instead of a robot
     #[arg(long, global = true, conflicts_with = "replay")]
@@ -425,9 +515,68 @@ pub struct LinkArgs {
     #[arg(long, global = true, value_name = "FILE")]
     pub replay: Option<PathBuf>,
 
-    /// Replay speed factor (2 = twice as fast; 0 = as fast as possible)
-    #[arg(long, global = true, default_value_t = 1.0, value_name = "N")]
-    pub speed: f64,
+    /// Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]
+    #[arg(long, global = true, value_name = "N", requires = "replay", conflicts_with_all = ["sim", "serial", "iface"], allow_negative_numbers = true, value_parser = number_in(REPLAY_SPEED))]
+    pub speed: Option<f64>,
+}
+
+/// The environment variable that names the default SocketCAN interface.
+pub const IFACE_ENV: &str = "TRACERCTL_IFACE";
+/// The RS232 rate of the TRACER.
+pub const DEFAULT_BAUD: u32 = 115_200;
+
+impl LinkArgs {
+    /// The SocketCAN interface: `--iface`, else `$TRACERCTL_IFACE`, else can0. The variable is read here,
+    /// not by clap, so that a default set in the environment never conflicts with `--sim` or `--serial`.
+    pub fn iface(&self) -> String {
+        self.iface
+            .clone()
+            .or_else(|| std::env::var(IFACE_ENV).ok().filter(|name| !name.is_empty()))
+            .unwrap_or_else(|| "can0".to_string())
+    }
+
+    pub fn baud(&self) -> u32 {
+        self.baud.unwrap_or(DEFAULT_BAUD)
+    }
+
+    pub fn speed(&self) -> f64 {
+        self.speed.unwrap_or(1.0)
+    }
+}
+
+/// What each link option is for, added as a tip to clap's conflict and missing-argument errors.
+const LINK_TIPS: &[(&str, &str)] = &[
+    ("--speed", "--speed sets the replay speed and needs --replay; drive's speed is --linear (m/s) and --angular (rad/s)"),
+    ("--iface", "--iface names a SocketCAN interface; it does not apply with --serial, --sim or --replay"),
+    ("--baud", "--baud sets the rate of a --serial port; it does not apply to CAN, --sim or --replay"),
+];
+
+/// Parses the process's command line; on a usage error, prints clap's message (plus what the link
+/// options involved are for) and exits 2.
+pub fn parse() -> Cli {
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    match <Cli as clap::Parser>::try_parse_from(&args) {
+        Ok(cli) => cli,
+        Err(error) => with_tips(error, &args).exit(),
+    }
+}
+
+fn with_tips(mut error: clap::Error, args: &[std::ffi::OsString]) -> clap::Error {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if !matches!(error.kind(), ErrorKind::ArgumentConflict | ErrorKind::MissingRequiredArgument) {
+        return error;
+    }
+    let given = |flag: &str| {
+        args.iter()
+            .filter_map(|arg| arg.to_str())
+            .any(|arg| arg == flag || arg.starts_with(&format!("{flag}=")))
+    };
+    let tips: Vec<clap::builder::StyledStr> =
+        LINK_TIPS.iter().filter(|(flag, _)| given(flag)).map(|(_, tip)| (*tip).into()).collect();
+    if !tips.is_empty() {
+        error.insert(ContextKind::Suggested, ContextValue::StyledStrs(tips));
+    }
+    error
 }
 
 #[derive(Debug, Args)]
@@ -532,8 +681,8 @@ mod tests {
         let Command::Drive(args) = cli.command else { panic!() };
         assert_eq!((args.linear, args.angular), (-0.5, -0.2));
         assert_eq!(args.duration, Some(std::time::Duration::from_millis(1500)));
-        assert_eq!(parse_duration("2.5"), Ok(std::time::Duration::from_millis(2500)));
-        assert!(parse_duration("soon").is_err());
+        assert_eq!(parse_duration("2.5", DRIVE_TIME), Ok(std::time::Duration::from_millis(2500)));
+        assert!(parse_duration("soon", DRIVE_TIME).is_err());
         assert!(Cli::try_parse_from(["tracerctl", "lights"]).is_err(), "lights needs --front or --release");
         assert!(
             Cli::try_parse_from(["tracerctl", "lights", "--front", "custom", "--brightness", "101"]).is_err()
@@ -548,5 +697,112 @@ mod tests {
         assert!(parse_id("zz").is_err());
         assert_eq!(parse_msg_name("odometry"), Ok("odometry"));
         assert!(parse_msg_name("odometer").unwrap_err().contains("known: motion_command"));
+    }
+
+    fn usage_error(args: &[&str]) -> String {
+        use clap::Parser;
+        let error = Cli::try_parse_from(args).expect_err("a usage error");
+        assert_eq!(error.exit_code(), 2, "{error}");
+        error.to_string()
+    }
+
+    #[test]
+    fn durations_out_of_range_are_usage_errors_that_give_the_range() {
+        // Each of these panicked (Duration::from_secs_f64 or Instant + d overflowing).
+        for (args, range) in [
+            (&["tracerctl", "drive", "--for", "1e20"][..], "from 0s to 1day"),
+            (&["tracerctl", "sim", "--duration", "1e20"], "from 0s to 30days"),
+            (&["tracerctl", "doctor", "--listen", "1e20"], "from 100ms to 10m"),
+            (&["tracerctl", "monitor", "--duration", "1e19"], "from 0s to 30days"),
+            (&["tracerctl", "doctor", "--listen", "1e19"], "from 100ms to 10m"),
+            (&["tracerctl", "mode", "can", "--timeout", "1e20"], "from 0s to 10m"),
+            (&["tracerctl", "clear-errors", "--timeout", "inf"], "from 0s to 10m"),
+            (&["tracerctl", "lights", "--release", "--timeout", "nan"], "from 0s to 10m"),
+            (&["tracerctl", "monitor", "--silence", "-1"], "from 0s to 1h"),
+            (&["tracerctl", "drive", "--for", "-2s"], "from 0s to 1day"),
+            (&["tracerctl", "drive", "--for", "25h"], "from 0s to 1day"),
+            (&["tracerctl", "doctor", "--listen", "10ms"], "from 100ms to 10m"),
+        ] {
+            let message = usage_error(args);
+            assert!(
+                message.contains(&format!("out of range: give a duration {range}")),
+                "{args:?}: {message}"
+            );
+        }
+        assert!(usage_error(&["tracerctl", "drive", "--for", "soon"]).contains("accepted: from 0s to 1day"));
+        assert_eq!(parse_duration("24h", DRIVE_TIME), Ok(Duration::from_secs(86_400)));
+        assert_eq!(parse_duration("0", DRIVE_TIME), Ok(Duration::ZERO));
+        assert_eq!(parse_duration("100ms", LISTEN), Ok(Duration::from_millis(100)));
+    }
+
+    #[test]
+    fn numbers_out_of_range_are_usage_errors() {
+        for (args, expected) in [
+            (&["tracerctl", "drive", "--linear", "nan"][..], "'nan' is not a number from -100 to 100"),
+            (&["tracerctl", "drive", "--angular", "inf"], "'inf' is not a number from -100 to 100"),
+            (&["tracerctl", "drive", "--max-linear", "-1"], "'-1' is not a number from 0.001 to 100"),
+            (&["tracerctl", "dashboard", "--decel", "nan"], "'nan' is not a number from 0.001 to 100"),
+            (&["tracerctl", "sim", "--battery", "5"], "'5' is not a number from 18 to 30"),
+            (&["tracerctl", "sim", "--drain", "-1"], "'-1' is not a number from 0 to 1000000"),
+            (
+                &["tracerctl", "--replay", "x.log", "--speed", "nan", "monitor"],
+                "'nan' is not a number from 0 to 1000",
+            ),
+            (&["tracerctl", "--serial", "/dev/ttyUSB0", "--baud", "0", "monitor"], "0 is not in 1..=4000000"),
+        ] {
+            let message = usage_error(args);
+            assert!(message.contains(expected), "{args:?}: {message}");
+        }
+    }
+
+    #[test]
+    fn unknown_and_far_faults_are_usage_errors_naming_the_faults() {
+        let message = usage_error(&["tracerctl", "sim", "--fault", "bogus"]);
+        assert!(message.contains("known faults: estop, estop-release, motor1-overheat"), "{message}");
+        let message = usage_error(&["tracerctl", "sim", "--fault", "estop@99999999999"]);
+        assert!(message.contains("out of range: give one from 0s to 30days"), "{message}");
+        use clap::Parser;
+        let cli = Cli::try_parse_from(["tracerctl", "sim", "--fault", "estop@2s"]).unwrap();
+        let Command::Sim(args) = cli.command else { panic!() };
+        assert_eq!(args.faults[0].at, Duration::from_secs(2));
+    }
+
+    #[test]
+    fn link_options_of_another_link_are_usage_errors() {
+        for args in [
+            &["tracerctl", "--sim", "drive", "--speed", "0.3"][..],
+            &["tracerctl", "drive", "--speed", "0.3"],
+            &["tracerctl", "--iface", "can0", "--speed", "2", "monitor"],
+            &["tracerctl", "--sim", "--iface", "can1", "monitor"],
+            &["tracerctl", "--serial", "/dev/ttyUSB0", "--iface", "can1", "monitor"],
+            &["tracerctl", "--replay", "x.log", "--iface", "can1", "monitor"],
+            &["tracerctl", "--baud", "9600", "monitor"],
+            &["tracerctl", "--sim", "--baud", "9600", "monitor"],
+            &["tracerctl", "--replay", "x.log", "--baud", "9600", "monitor"],
+        ] {
+            usage_error(args);
+        }
+        use clap::Parser;
+        let ok =
+            |args: &[&str]| Cli::try_parse_from(args).unwrap_or_else(|error| panic!("{args:?}: {error}"));
+        let cli = ok(&["tracerctl", "--replay", "x.log", "--speed", "2", "monitor"]);
+        assert_eq!(cli.link.speed(), 2.0);
+        let cli = ok(&["tracerctl", "--serial", "/dev/ttyUSB0", "--baud", "9600", "monitor"]);
+        assert_eq!(cli.link.baud(), 9600);
+        assert_eq!(ok(&["tracerctl", "--sim", "monitor"]).link.baud(), DEFAULT_BAUD);
+        assert_eq!(ok(&["tracerctl", "--iface", "vcan0", "monitor"]).link.iface(), "vcan0");
+    }
+
+    #[test]
+    fn the_tip_says_what_the_option_is_for() {
+        use clap::Parser;
+        let args: Vec<std::ffi::OsString> =
+            ["tracerctl", "--sim", "drive", "--speed", "0.3"].iter().map(Into::into).collect();
+        let error = with_tips(Cli::try_parse_from(&args).unwrap_err(), &args).to_string();
+        assert!(
+            error.contains("--speed sets the replay speed and needs --replay; drive's speed is --linear"),
+            "{error}"
+        );
+        assert!(!error.contains("--baud sets"), "{error}");
     }
 }

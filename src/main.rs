@@ -1,9 +1,7 @@
 use std::process::ExitCode;
 
-use clap::Parser;
-
 fn main() -> ExitCode {
-    let cli = tracerctl::cli::Cli::parse();
+    let cli = tracerctl::cli::parse();
     match tracerctl::commands::run(cli) {
         Ok(code) => ExitCode::from(code),
         Err(error) => ExitCode::from(tracerctl::exit::report(&error)),

@@ -14,7 +14,7 @@ use anyhow::Result;
 use super::live;
 use crate::cli::{Cli, DriveArgs};
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
-use crate::exit::{Failure, FAILURE, NOT_DONE, SUCCESS};
+use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
 use crate::link::{queue_full_meaning, Codec};
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT, MODE_CAN};
 use crate::protocol::Wire;
@@ -63,10 +63,6 @@ enum End {
 
 pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
     let limits = args.limits.limits()?;
-    anyhow::ensure!(
-        args.linear.is_finite() && args.angular.is_finite(),
-        "--linear and --angular must be numbers"
-    );
     // Signals first: a Ctrl-C while the link opens or the robot is awaited must end the command cleanly.
     let sender_slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
     let suspended_early = Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -89,7 +85,15 @@ pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
     };
     let session = live::open(cli, true)?;
     let context = Context { signal, sender_slot, suspended_early };
-    execute_with(&session, args, limits, &mut std::io::stderr(), &context)
+    execute_with(&session, args, limits, &mut std::io::stderr(), &context).map_err(|error| {
+        // A broken pipe is a quiet success for output nobody reads any more (decode | head), not for the
+        // status of a robot being driven: whoever watched it must learn from the exit status that it is gone.
+        if exit::is_broken_pipe(&error) {
+            Failure { code: FAILURE, message: format!("the status output went away ({error:#})") }.into()
+        } else {
+            error
+        }
+    })
 }
 
 /// What `run` sets up before the session: the signal flag and where the sender's stopper goes.

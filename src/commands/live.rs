@@ -127,10 +127,10 @@ pub fn no_status_message(session: &Session, status: &RobotStatus) -> String {
     }
     if status.frames == 0 {
         return format!(
-            "nothing received on {} within {} s: is the robot switched on, and is this the right link \
-             (interface, bitrate 500000, wiring)?",
+            "nothing received on {} within {} s: {}",
             session.name,
-            STATUS_WAIT.as_secs_f64()
+            STATUS_WAIT.as_secs_f64(),
+            crate::link::silence_advice(session.wire())
         );
     }
     let seen = match status.detector.verdict() {

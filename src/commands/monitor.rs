@@ -540,9 +540,13 @@ impl<W: Write> Monitor<W> {
                 self.warnings.push(match self.last_frame {
                     Some(_) => format!("warning: {} is silent: no frame for {silence}", self.name),
                     None => format!(
-                        "warning: nothing received on {} for {silence}: is the robot switched on, and is this the \
-                         right link (interface, bitrate 500000, wiring)?",
-                        self.name
+                        "warning: nothing received on {} for {silence}: {}",
+                        self.name,
+                        crate::link::silence_advice(if self.serial {
+                            protocol::Wire::Serial
+                        } else {
+                            protocol::Wire::CanV2
+                        })
                     ),
                 });
             }

@@ -9,9 +9,10 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
+use super::usage;
 use crate::candump;
 use crate::cli::{Cli, SendRawArgs};
-use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::exit::SUCCESS;
 use crate::link::{is_queue_full, queue_full_meaning};
 use crate::link::{Codec, FrameRx, FrameTx, LinkChoice, LinkFrame};
 use crate::output::{Event, EventWriter, Format, FrameRef};
@@ -162,10 +163,6 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         ));
     }
     Ok(flag.exit_status().unwrap_or(SUCCESS))
-}
-
-fn usage(message: String) -> anyhow::Error {
-    Failure { code: USAGE, message }.into()
 }
 
 /// Parses one frame for the link's wire and describes it.

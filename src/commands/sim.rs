@@ -13,17 +13,24 @@ use crate::cli::{Cli, RcSwitchChoice, SimArgs};
 use crate::exit::SUCCESS;
 use crate::link::{self, LinkChoice};
 use crate::signals;
-use crate::sim::{serve, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimState, SimWire};
+use crate::sim::{serve, FaultKind, RcSwitch, SimConfig, SimState, SimWire};
 
 pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
-    anyhow::ensure!(!cli.link.sim, "`sim` is the simulator itself: leave out --sim");
-    anyhow::ensure!(cli.link.replay.is_none(), "`sim` serves a link: --replay does not apply");
-    let mut config = SimConfig::default();
-    for spec in &args.faults {
-        let fault: ScheduledFault =
-            spec.parse().map_err(|error| anyhow::anyhow!("--fault {spec}: {error}"))?;
-        config.faults.push(fault);
+    if cli.link.sim {
+        return Err(super::usage("`sim` is the simulator itself: leave out --sim"));
     }
+    if cli.link.replay.is_some() {
+        return Err(super::usage("`sim` serves a link: --replay does not apply"));
+    }
+    // Not a clap conflict: clap does not check a subcommand's options against global ones given before it.
+    if args.pty && (cli.link.iface.is_some() || !cli.link.serial.is_empty()) {
+        return Err(super::usage(
+            "--pty serves on a new pseudo-terminal: leave out --iface and --serial (or drop --pty to serve on them)",
+        ));
+    }
+    let mut config = SimConfig::default();
+    // Parsed and range-checked by clap (`--fault`).
+    config.faults.extend(args.faults.iter().copied());
     if let Some(swb) = args.rc {
         config.rc_present = true;
         config.rc_swb = match swb {
@@ -31,12 +38,11 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
             RcSwitchChoice::Middle => RcSwitch::Middle,
         };
     }
+    // Ranges checked by clap (`--battery`, `--drain`).
     if let Some(volts) = args.battery {
-        anyhow::ensure!((18.0..=30.0).contains(&volts), "--battery {volts}: expected 18 to 30 V");
         config.battery_start_v = volts;
     }
     if let Some(factor) = args.drain {
-        anyhow::ensure!(factor.is_finite() && factor >= 0.0, "--drain must be 0 or positive");
         config.battery_drain_factor = factor;
     }
 
@@ -84,6 +90,8 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
     let mut last_report = String::new();
     // Reported at 1, 10, 100, ... frames: a flooded bus must not flood stderr too.
     let mut next_not_sent_report = 1;
+    // The status lines are for a person watching; with nobody reading them (a closed stderr) the simulator
+    // goes on serving.
     let mut stderr = std::io::stderr().lock();
     while signal.received().is_none() && args.duration.is_none_or(|d| started.elapsed() < d) {
         if running.has_ended() {
@@ -97,24 +105,26 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
             match line.parse::<FaultKind>() {
                 Ok(fault) => {
                     running.inject(fault);
-                    writeln!(stderr, "sim: injected {line}")?;
+                    let _ = writeln!(stderr, "sim: injected {line}");
                 }
-                Err(error) => writeln!(stderr, "sim: {error}")?,
+                Err(error) => {
+                    let _ = writeln!(stderr, "sim: {error}");
+                }
             }
         }
         let not_sent = running.not_sent();
         if not_sent >= next_not_sent_report {
-            writeln!(
+            let _ = writeln!(
                 stderr,
                 "sim {:7.2} s: {not_sent} feedback frames not sent so far ({}); still running",
                 started.elapsed().as_secs_f64(),
                 link::queue_full_meaning(link_kind)
-            )?;
+            );
             next_not_sent_report = not_sent.saturating_mul(10).max(1);
         }
         let report = summary(&running.state());
         if report != last_report {
-            writeln!(stderr, "sim {:7.2} s: {report}", started.elapsed().as_secs_f64())?;
+            let _ = writeln!(stderr, "sim {:7.2} s: {report}", started.elapsed().as_secs_f64());
             last_report = report;
         }
         std::thread::sleep(Duration::from_millis(20));
@@ -122,11 +132,11 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
     let not_sent = running.not_sent();
     running.stop().context("the simulator stopped")?;
     if not_sent > 0 {
-        writeln!(
+        let _ = writeln!(
             stderr,
             "sim: {not_sent} feedback frames not sent ({})",
             link::queue_full_meaning(link_kind)
-        )?;
+        );
     }
     Ok(SUCCESS)
 }

@@ -97,6 +97,22 @@ pub fn queue_full_meaning(kind: LinkKind) -> &'static str {
     }
 }
 
+/// What to check when nothing at all arrives, for this wire: RS232 advice on RS232 (baud, null-modem wiring,
+/// serial control mode), CAN advice on CAN. Every command's message and doctor's advice say the same.
+pub fn silence_advice(wire: Wire) -> &'static str {
+    match wire {
+        Wire::Serial => {
+            "switch the robot on and set it to serial control mode; check that this is the port wired to the \
+             robot's RS232, at 115200 baud 8N1 (--baud), wired null-modem (adapter TX to the robot's RX, adapter \
+             RX to the robot's TX) with GND connected"
+        }
+        Wire::CanV1 | Wire::CanV2 => {
+            "switch the robot on; check CAN_H/CAN_L wiring and termination (about 60 ohm between CAN_H and CAN_L \
+             with power off), the bitrate (500000), and that this interface is the one wired to the robot"
+        }
+    }
+}
+
 /// The receiving half, owned by one reader thread.
 pub trait FrameRx: Send {
     /// The next frame, or `None` when `timeout` passes first. `Err(UnexpectedEof)` when the source ended
@@ -255,15 +271,12 @@ impl LinkChoice {
             return Ok(Self::Sim);
         }
         if let Some(path) = &args.replay {
-            anyhow::ensure!(
-                args.speed >= 0.0 && args.speed.is_finite(),
-                "--speed must be 0 or a positive number"
-            );
-            return Ok(Self::Replay { path: path.clone(), speed: args.speed });
+            // The range is checked by clap (`--speed`).
+            return Ok(Self::Replay { path: path.clone(), speed: args.speed() });
         }
         match args.serial.as_slice() {
-            [] => Ok(Self::SocketCan { iface: args.iface.clone() }),
-            [path] => Ok(Self::Serial { path: path.clone(), baud: args.baud }),
+            [] => Ok(Self::SocketCan { iface: args.iface() }),
+            [path] => Ok(Self::Serial { path: path.clone(), baud: args.baud() }),
             _ => anyhow::bail!("give one --serial port for a live link"),
         }
     }

@@ -90,6 +90,9 @@ impl FrameRx for SerialRx {
             Ok(0) => return Ok(None),
             Ok(read) => read,
             Err(error) if error.kind() == io::ErrorKind::TimedOut => return Ok(None),
+            // A signal (Ctrl-C, SIGTERM, SIGHUP) interrupted the wait (poll is never restarted): not a link
+            // failure. The caller looks at its signal flag and ends with 128 + the signal.
+            Err(error) if error.kind() == io::ErrorKind::Interrupted => return Ok(None),
             // A pseudo-terminal with nobody on the other side reports a hang-up (EIO, or POLLHUP which
             // serialport turns into BrokenPipe): wait for a client instead of failing.
             Err(error)
@@ -162,7 +165,15 @@ pub fn open(path: &Path, baud: u32) -> anyhow::Result<Link> {
 
 fn open_error(name: &str, error: serialport::Error) -> anyhow::Error {
     use serialport::ErrorKind;
+    let exists = Path::new(name).exists();
     match error.kind() {
+        // serialport reports NoDevice for EBUSY (another program set TIOCEXCL) and for the flock it takes on
+        // the port: the port is there, and held.
+        ErrorKind::NoDevice if exists => anyhow::anyhow!(
+            "serial port {name} is busy: another program has it open ({error}); find it with `fuser -v {name}` \
+             or `lsof {name}`, and close it (a terminal program such as minicom or screen, ModemManager, \
+             another tracerctl)"
+        ),
         ErrorKind::NoDevice | ErrorKind::Io(io::ErrorKind::NotFound) => anyhow::anyhow!(
             "serial port {name} does not exist ({error}): plug in the adapter and look for it with \
              `ls /dev/ttyUSB* /dev/ttyACM*` and `dmesg | tail`"

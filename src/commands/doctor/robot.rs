@@ -144,19 +144,11 @@ pub fn frames(seen: &Observation) -> Check {
                 ),
                 "the robot sends 115200 baud 8N1: check --baud, and that this port is the robot's RS232",
             ),
-            Wire::Serial => Check::fail(
+            wire => Check::fail(
                 ID,
                 TITLE,
                 format!("nothing received on {} in {}", seen.link, seen.seconds()),
-                "switch the robot on; check the port is the robot's, and the crossover: adapter TX to the \
-                 robot's RX, adapter RX to the robot's TX, GND connected",
-            ),
-            _ => Check::fail(
-                ID,
-                TITLE,
-                format!("nothing received on {} in {}", seen.link, seen.seconds()),
-                "switch the robot on; check CAN_H/CAN_L wiring and termination (about 60 ohm between CAN_H and \
-                 CAN_L with power off), the bitrate (500000), and that this interface is the one wired to the robot",
+                crate::link::silence_advice(wire),
             ),
         };
     }
