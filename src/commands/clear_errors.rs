@@ -99,6 +99,20 @@ pub fn execute(session: &Session, args: &ClearErrorsArgs, out: &mut impl Write) 
     if after.is_empty() {
         return Ok(SUCCESS);
     }
+    // Warnings follow their cause (a battery getting low, a warm driver) and latch nothing: no clear can
+    // reset them, and they do not stop the robot. Only those left on a drivable robot is success.
+    let only_warnings = after.iter().all(|item| item.severity == Severity::Warning);
+    if only_warnings && live::not_drivable(&after_state, wire).is_none() {
+        let what = match after.len() {
+            1 => "the warning remains and clears itself".to_string(),
+            count => format!("{count} warnings remain and clear themselves"),
+        };
+        writeln!(
+            out,
+            "the robot can be driven: {what} once the cause goes (a fault clear cannot reset a warning)"
+        )?;
+        return Ok(SUCCESS);
+    }
     let reasons: Vec<String> = after
         .iter()
         .map(|item| format!("{}: {}", item.label, likely_reason(item, target, &status)))

@@ -18,5 +18,6 @@ mod robot_commands;
 mod send_raw;
 mod serial_peer;
 mod sim_command;
+mod usage;
 mod util;
 mod variants;
