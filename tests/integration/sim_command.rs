@@ -85,6 +85,6 @@ fn faults_from_the_command_line_are_reported_to_the_host() {
     assert_eq!(output.status.code(), Some(4));
     assert!(stderr(&output).contains("not driving: the E-stop is pressed"), "{}", stderr(&output));
     let bad = tracerctl().args(["sim", "--pty", "--fault", "warp-drive@1s"]).output().unwrap();
-    assert_eq!(bad.status.code(), Some(1));
+    assert_eq!(bad.status.code(), Some(2), "a usage error");
     assert!(stderr(&bad).contains("estop"), "the error lists the known faults: {}", stderr(&bad));
 }
