@@ -88,7 +88,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
             [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play a candump log back as a read-only source (monitor, dashboard)')
             [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
-            [CompletionResult]::new('--raw', '--raw', [CompletionResultType]::ParameterName, 'Print frames as candump -L lines instead of decoding them')
+            [CompletionResult]::new('--raw', '--raw', [CompletionResultType]::ParameterName, 'Print frames as candump -L lines instead of decoding them (so not with --format)')
             [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Talk to an in-process virtual TRACER instead of a robot')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')

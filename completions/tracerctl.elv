@@ -83,7 +83,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
             cand --replay 'Play a candump log back as a read-only source (monitor, dashboard)'
             cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
-            cand --raw 'Print frames as candump -L lines instead of decoding them'
+            cand --raw 'Print frames as candump -L lines instead of decoding them (so not with --format)'
             cand --sim 'Talk to an in-process virtual TRACER instead of a robot'
             cand -h 'Print help (see more with ''--help'')'
             cand --help 'Print help (see more with ''--help'')'

@@ -118,8 +118,8 @@ pub struct MonitorArgs {
     #[arg(long, short = 'f', value_enum, default_value_t = Format::Text)]
     pub format: Format,
 
-    /// Print frames as candump -L lines instead of decoding them
-    #[arg(long)]
+    /// Print frames as candump -L lines instead of decoding them (so not with --format)
+    #[arg(long, conflicts_with = "format")]
     pub raw: bool,
 
     /// Only frames with these identifiers (hex, comma-separated)
@@ -779,6 +779,7 @@ mod tests {
             &["tracerctl", "--baud", "9600", "monitor"],
             &["tracerctl", "--sim", "--baud", "9600", "monitor"],
             &["tracerctl", "--replay", "x.log", "--baud", "9600", "monitor"],
+            &["tracerctl", "monitor", "--raw", "--format", "json"],
         ] {
             usage_error(args);
         }
