@@ -427,7 +427,12 @@ pub fn parse_duration(text: &str, range: DurationRange) -> Result<Duration, Stri
         Ok(seconds) if !(seconds >= 0.0 && seconds <= range.max.as_secs_f64()) => return Err(out_of_range()),
         Ok(seconds) => Duration::from_secs_f64(seconds),
         Err(_) => humantime::parse_duration(text.trim()).map_err(|error| {
-            if text.trim_start().starts_with('-') {
+            // `-2s` is a negative duration; `--linear` (taken as the value) is no duration at all.
+            if text
+                .trim_start()
+                .strip_prefix('-')
+                .is_some_and(|rest| rest.starts_with(|c: char| c.is_ascii_digit()))
+            {
                 out_of_range()
             } else {
                 format!("'{text}' is not a duration such as 2s or 500ms ({error}); accepted: {accepted}")
@@ -730,6 +735,8 @@ mod tests {
             );
         }
         assert!(usage_error(&["tracerctl", "drive", "--for", "soon"]).contains("accepted: from 0s to 1day"));
+        assert!(usage_error(&["tracerctl", "drive", "--for", "--linear"])
+            .contains("'--linear' is not a duration"));
         assert_eq!(parse_duration("24h", DRIVE_TIME), Ok(Duration::from_secs(86_400)));
         assert_eq!(parse_duration("0", DRIVE_TIME), Ok(Duration::ZERO));
         assert_eq!(parse_duration("100ms", LISTEN), Ok(Duration::from_millis(100)));
