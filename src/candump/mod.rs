@@ -54,6 +54,8 @@ mod cansend_tests;
 #[cfg(test)]
 mod fixture_tests;
 #[cfg(test)]
+mod formats_tests;
+#[cfg(test)]
 mod line_tests;
 
 pub use cansend::parse_cansend;
