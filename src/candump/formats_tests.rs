@@ -309,3 +309,73 @@ fn peak_trc_1_1_remote_and_warning_lines() {
     assert_eq!(parsed[0], Parsed::Other("ErrorText".into()));
     assert_eq!(frame_of(&parsed[1]), CanFrame::new_remote(0x704, false, 1).unwrap());
 }
+
+mod never_panic {
+    use proptest::prelude::*;
+
+    use super::super::open_log;
+    use super::*;
+
+    const SEEDS: &[&str] = &[
+        "   0.090000 CANFD   1 Rx        221  Motion_State    1 0 8  8 00 96 00 00 00 00 00 00   102203  133   303000",
+        "   0.020000 1  18EBFF00x       Rx   d 8 00 00 01 03 00 00 00 B1  Length = 230000",
+        "      5        70.000 BI 1  12345678 Rx -  9    00 11 22 33 44 55 66 77 88 99 AA BB",
+        "     5)        70.1  Rx         0123  4  RTR",
+        "  can0  211   [8]  B1`00`00`00`03`01`00`00",
+        "  can0  211   [8]  00000000 00000000 00000001 00000011 00000000 00000000 00000000 10110001",
+        "<0x18eeff01> [8] 05 a0 be 1c 00 a0 a0 c0 ",
+        "\tcontroller-problem{tx-error-warning}",
+        ";$COLUMNS=N,O,T,B,I,d,R,L,D",
+    ];
+
+    fn mutated() -> impl Strategy<Value = Vec<u8>> {
+        (0..SEEDS.len(), proptest::collection::vec((any::<usize>(), any::<u8>()), 0..6), any::<usize>())
+            .prop_map(|(seed, edits, cut)| {
+                let mut line = SEEDS[seed].as_bytes().to_vec();
+                for (at, byte) in edits {
+                    let at = at % (line.len() + 1);
+                    match byte % 3 {
+                        0 => line.insert(at, byte),
+                        1 if at < line.len() => line[at] = b" 0189AFx`[]-;."[usize::from(byte) % 14],
+                        _ if at < line.len() => {
+                            line.remove(at);
+                        }
+                        _ => {}
+                    }
+                }
+                line.truncate(cut % (line.len() + 1) + line.len() / 2);
+                line
+            })
+    }
+
+    proptest! {
+        #[test]
+        fn no_line_parser_panics_on_mutated_lines(lines in proptest::collection::vec(mutated(), 1..8)) {
+            for format in [TextFormat::Candump, TextFormat::VectorAsc, TextFormat::PeakTrc { version: 10 },
+                TextFormat::PeakTrc { version: 11 }, TextFormat::PeakTrc { version: 20 }, TextFormat::PeakTrc { version: 21 }] {
+                let mut p = parser(format);
+                for line in &lines {
+                    let _ = p.parse(line);
+                }
+            }
+        }
+
+        #[test]
+        fn open_log_never_panics_and_keeps_every_byte(bytes in proptest::collection::vec(any::<u8>(), 0..300),
+                                                      text in proptest::collection::vec(mutated(), 0..4)) {
+            use std::io::Read;
+            for input in [bytes, text.join(&b'\n')] {
+                if let Ok((mut reader, _)) = open_log(&input[..], "x") {
+                    let mut out = Vec::new();
+                    if reader.read_to_end(&mut out).is_ok() && !input.starts_with(b"\x1f\x8b") {
+                        // Plain text comes back whole, less a leading BOM.
+                        let expected = input.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(&input);
+                        if !matches!(input.first(), Some(0x28 | 0xFD | b'B')) {
+                            prop_assert_eq!(&out[..], expected);
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
