@@ -140,7 +140,7 @@ impl From<FormatError> for crate::exit::Failure {
 /// reader.read_to_string(&mut text)?;
 /// assert_eq!(text, "(1.000000) can0 211#00\n");
 ///
-/// let refused = open_log(&b"LOGG\x90\x00\x00\x00"[..], "f.blf").unwrap_err();
+/// let Err(refused) = open_log(&b"LOGG\x90\x00\x00\x00"[..], "f.blf") else { panic!("BLF is refused") };
 /// assert!(refused.to_string().starts_with("f.blf is a Vector BLF log, which tracerctl does not read"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
