@@ -4,7 +4,7 @@
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
-use tracerctl::candump::{Line, LineParser, LineReader, RawLine};
+use tracerctl::candump::{Line, LineParser, LineReader, LogFormat, RawLine, TextFormat};
 use tracerctl::commands::decode::summary::Summary;
 use tracerctl::output::{Event, EventWriter, Format, FrameRef};
 use tracerctl::protocol::{decode, ProtocolHint};
@@ -53,6 +53,11 @@ const SAMPLE: &[&str] = &[
     " (1700000000.000700)  can0  251   [8]  0B B8 00 32 00 00 00 00",
     " (1700000000.000800)  \x1b[31mcan0\x1b[0m  231   [8]  01 01 00 00 00 00 00 05",
     "  can0  121   [8]  01 03 1E 00 00 00 00 05   '........'",
+    // candump -S and -i, Pengutronix canutils, a TAB-indented frame.
+    "  can0  211   [8]  B1`00`00`00`03`01`00`00",
+    "  can0  421   [1]  00000001",
+    "<0x211> [8] 00 00 01 03 00 00 00 b1 ",
+    "\t(1700000000.000900) can0 221#0096FE0C00000000",
 ];
 
 enum Sink {
@@ -106,6 +111,45 @@ fn decoding_allocates_nothing_per_line() {
         // The sample text itself is built before counting starts, so only decoding is measured.
         let small = allocations_for(1_000, &sink);
         let large = allocations_for(20_000, &sink);
+        assert_eq!(small, large, "{name}: {small} allocations for 1,000 lines, {large} for 20,000");
+    }
+}
+
+/// Allocations made while parsing `lines` lines of `sample` with a parser for `format`.
+fn parse_allocations(sample: &[&str], format: TextFormat, lines: usize) -> usize {
+    let text: String = sample.iter().cycle().take(lines).map(|line| format!("{line}\n")).collect();
+    let before = allocations_so_far();
+    let mut reader = LineReader::new(text.as_bytes());
+    let mut parser = LineParser::for_format(LogFormat { text: format, compression: None });
+    let mut frames = 0;
+    while let Some(raw) = reader.next_line().unwrap() {
+        let RawLine::Line { text, .. } = raw else { panic!("no line is too long") };
+        if let Ok(Line::Frame(_)) = parser.parse(text) {
+            frames += 1;
+        }
+    }
+    assert!(frames > 0);
+    allocations_so_far() - before
+}
+
+#[test]
+fn asc_and_trc_lines_allocate_nothing_per_line() {
+    let asc = [
+        "   0.020000 1  211             Rx   d 8 00 00 01 03 00 00 00 B1  Length = 230000",
+        "   0.050000 2  18FF0001x       Tx   d 2 01 02",
+        "   0.080000 1  ErrorFrame",
+        "   0.090000 CANFD   3 Rx  221  Name  1 0 8  8 00 96 00 00 00 00 00 00   102203  133   303000",
+    ];
+    let trc = [
+        "      1        20.500 DT 1      0211 Rx -  8    00 00 01 03 00 00 00 B1",
+        "      2        40.000 DT 12     0111 Tx -  8    00 96 00 00 00 00 00 00",
+        "      3        45.000 ST 1         - Rx -  4    00 00 00 08",
+    ];
+    for (name, sample, format) in
+        [("asc", &asc[..], TextFormat::VectorAsc), ("trc", &trc[..], TextFormat::PeakTrc { version: 21 })]
+    {
+        let small = parse_allocations(sample, format, 1_000);
+        let large = parse_allocations(sample, format, 20_000);
         assert_eq!(small, large, "{name}: {small} allocations for 1,000 lines, {large} for 20,000");
     }
 }

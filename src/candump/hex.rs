@@ -91,6 +91,41 @@ pub(crate) fn decimal_u64(text: &[u8], pos: usize) -> (u64, usize) {
     (value, count)
 }
 
+/// Whitespace-separated fields (spaces and TABs) with their start index, for the column formats (ASC, trc).
+pub(crate) fn fields(text: &[u8]) -> impl Iterator<Item = (usize, &[u8])> {
+    let mut pos = 0;
+    std::iter::from_fn(move || {
+        while matches!(text.get(pos), Some(b' ' | b'\t')) {
+            pos += 1;
+        }
+        let start = pos;
+        while matches!(text.get(pos), Some(byte) if !matches!(byte, b' ' | b'\t')) {
+            pos += 1;
+        }
+        (pos > start).then(|| (start, &text[start..pos]))
+    })
+}
+
+/// `secs[.frac]` in units of `unit_nanos` nanoseconds (1_000_000_000 for seconds, 1_000_000 for ms) as
+/// whole seconds and nanoseconds; `None` unless digits, an optional dot and digits (at most 9 after it).
+pub(crate) fn decimal_time(text: &[u8], unit_nanos: u64) -> Option<(u64, u32)> {
+    let (int, frac) = match memchr::memchr(b'.', text) {
+        Some(dot) => (&text[..dot], &text[dot + 1..]),
+        None => (text, &b""[..]),
+    };
+    let (whole, int_digits) = decimal_u64(int, 0);
+    let (fraction, frac_digits) = decimal_u64(frac, 0);
+    if int_digits == 0 || int_digits != int.len() || frac_digits != frac.len() || frac_digits > 9 {
+        return None;
+    }
+    // fraction / 10^digits units, in nanoseconds (exact: unit_nanos is a power of ten >= 10^digits or
+    // the remainder is dropped below a nanosecond).
+    let frac_nanos = u128::from(fraction) * u128::from(unit_nanos) / 10u128.pow(frac_digits as u32);
+    let total = u128::from(whole) * u128::from(unit_nanos) + frac_nanos;
+    let secs = u64::try_from(total / 1_000_000_000).ok()?;
+    Some((secs, (total % 1_000_000_000) as u32))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

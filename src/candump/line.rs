@@ -2,11 +2,14 @@
 
 use memchr::memchr;
 
+use super::asc::{self, AscState};
 use super::cansend::{classify_id, data_frame, parse_frame_text, FrameText, IdForm};
-use super::hex::{decimal_u64, hex_pair, hex_value, is_hex, skip_spaces, token_end};
+use super::hex::{decimal_u64, hex_pair, hex_u32, hex_value, is_hex, skip_spaces, token_end};
+use super::open::{LogFormat, TextFormat};
 use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
+use super::trc::{self, TrcState};
 use super::{LineError, Reason, Timestamp, TimestampKind};
-use crate::protocol::frame::{CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
+use crate::protocol::frame::{FrameKind, CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
 use crate::protocol::CanFrame;
 
 /// Longest interface name (IFNAMSIZ - 1).
@@ -44,17 +47,20 @@ pub enum Line<'a> {
     DropCount {
         dropped: u64,
     },
-    /// A TAB-started continuation line following a console ERRORFRAME (`-e`); any line starting with TAB.
+    /// A TAB-started continuation line following an error frame (`-e`), or the error / status lines of
+    /// other formats (ASC `ErrorFrame`, trc `ER`/`ST`/`EC`).
     ErrorText,
     /// A syntactically valid CAN XL frame (not decoded; the caller counts it).
     CanXl,
 }
 
-/// Parses candump text one line at a time.
+/// Parses candump text one line at a time (or, built with [`LineParser::for_format`], Vector ASC or PEAK
+/// trc lines).
 ///
-/// Every line is classified on its own, so log and console lines may be mixed. The parser is stateful
-/// only for two things: the reusable scratch buffer that coloured (`-c`) lines are copied into without
-/// their ANSI codes, and the running sum of `-t d` deltas.
+/// Every candump line is classified on its own, so log and console lines may be mixed. The parser is
+/// stateful only for: the reusable scratch buffer that coloured (`-c`) lines are copied into without
+/// their ANSI codes, the running sum of `-t d` deltas, whether the previous line was an error frame (TAB
+/// lines after one are its `-e` text), and the interface named by a Pengutronix `interface = ...` header.
 ///
 /// `-t d` and `-t z` print the same `(000.123456)` layout, so the parser cannot tell them apart: by default
 /// small stamps are taken as `-t z` (since the start). Call [`LineParser::with_delta_timestamps`] for
@@ -66,11 +72,30 @@ pub struct LineParser {
     scratch: Vec<u8>,
     deltas: bool,
     delta_sum: DeltaSum,
+    format: TextFormat,
+    after_error_frame: bool,
+    /// The interface of ASC/trc frames (`canN`) or of Pengutronix lines, borrowed by the records.
+    iface: Vec<u8>,
+    asc: AscState,
+    trc: TrcState,
 }
+
+/// Lines of the Pengutronix-era canutils candump (`<0x18eeff01> [8] 05 a0 ...`) name no interface: this one
+/// is used unless an `interface = can0, ...` header named it.
+const UNNAMED_IFACE: &str = "-";
 
 impl LineParser {
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// A parser for the format [`open_log`](super::open_log) recognised.
+    pub fn for_format(format: LogFormat) -> Self {
+        let trc = match format.text {
+            TextFormat::PeakTrc { version } => TrcState::for_version(version),
+            _ => TrcState::default(),
+        };
+        Self { format: format.text, trc, ..Self::default() }
     }
 
     /// Treats relative console stamps as `-t d` deltas and reports their running sum.
@@ -90,7 +115,18 @@ impl LineParser {
     /// shared lifetime. Error columns are 1-based byte columns; for coloured lines they count the text
     /// without its colour codes.
     pub fn parse<'a>(&'a mut self, line: &'a [u8]) -> Result<Line<'a>, LineError> {
+        let to_error = |(pos, reason): PosError| LineError { column: pos + 1, reason };
+        match self.format {
+            TextFormat::Candump => {}
+            TextFormat::VectorAsc => {
+                return asc::parse(line, &mut self.asc, &mut self.iface).map_err(to_error)
+            }
+            TextFormat::PeakTrc { .. } => {
+                return trc::parse(line, &mut self.trc, &mut self.iface).map_err(to_error)
+            }
+        }
         if let Some(record) = parse_log_fast(line) {
+            self.after_error_frame = false;
             return Ok(Line::Frame(record));
         }
         let text: &'a [u8] = if memchr(0x1B, line).is_some() {
@@ -99,9 +135,99 @@ impl LineParser {
         } else {
             line
         };
+        let after_error_frame = std::mem::replace(&mut self.after_error_frame, false);
         let deltas = self.deltas.then_some(&mut self.delta_sum);
-        parse_general(text, deltas).map_err(|(pos, reason)| LineError { column: pos + 1, reason })
+        if text.first() == Some(&b'\t') {
+            // candump -e continues an error frame's line with TAB-indented text; anything else that
+            // starts with a TAB is read as what it is.
+            let indent = text.iter().take_while(|b| matches!(b, b'\t' | b' ')).count();
+            return match parse_general(&text[indent..], deltas) {
+                Ok(Line::Frame(record)) => {
+                    self.after_error_frame = record.frame.kind() == FrameKind::Error;
+                    Ok(Line::Frame(record))
+                }
+                _ if after_error_frame => {
+                    self.after_error_frame = true;
+                    Ok(Line::ErrorText)
+                }
+                Ok(other) => Ok(other),
+                Err((_, Reason::NotCandump)) => Err(LineError { column: 1, reason: Reason::StrayErrorText }),
+                Err((pos, reason)) => Err(LineError { column: indent + pos + 1, reason }),
+            };
+        }
+        let start = skip_spaces(text, 0);
+        if text[start..].starts_with(b"<0x") {
+            let frame = parse_angle_frame(text, start).map_err(to_error)?;
+            let iface = match self.iface.is_empty() {
+                true => UNNAMED_IFACE,
+                false => std::str::from_utf8(&self.iface).unwrap_or(UNNAMED_IFACE),
+            };
+            return Ok(Line::Frame(Record { ts: None, iface, frame, dir: None }));
+        }
+        if let Some(rest) = text[start..].strip_prefix(b"interface = ") {
+            // The Pengutronix candump header: "interface = can0, family = 29, type = 3, proto = 1".
+            let name = &rest[..token_end(rest, 0)];
+            let name = name.strip_suffix(b",").unwrap_or(name);
+            if (1..=IFACE_MAX_LEN).contains(&name.len()) && name.iter().all(|b| (0x21..=0x7E).contains(b)) {
+                self.iface.clear();
+                self.iface.extend_from_slice(name);
+                return Ok(Line::Comment);
+            }
+        }
+        let line = parse_general(text, deltas).map_err(to_error)?;
+        if let Line::Frame(record) = &line {
+            self.after_error_frame = record.frame.kind() == FrameKind::Error;
+        }
+        Ok(line)
     }
+}
+
+/// A Pengutronix canutils candump line: `<0x18eeff01> [8] 05 a0 be 1c 00 a0 a0 c0 ` (`<0x123>` for
+/// standard identifiers), with `remote request` for remote frames.
+fn parse_angle_frame(text: &[u8], start: usize) -> Result<CanFrame, PosError> {
+    let text = trim_end(text);
+    let id_start = start + 3;
+    let close = memchr(b'>', &text[id_start..]).map(|i| id_start + i).ok_or((start, Reason::NotCandump))?;
+    let digits = &text[id_start..close];
+    if digits.is_empty() || digits.len() > 8 {
+        return Err((id_start, Reason::IdLength));
+    }
+    let id = hex_u32(digits).ok_or((id_start, Reason::NotHex))?;
+    let extended = digits.len() > 3 || id > SFF_MAX;
+    if id > EFF_MAX {
+        return Err((id_start, Reason::IdTooLarge));
+    }
+    let len_start = skip_spaces(text, close + 1);
+    if len_start == close + 1 {
+        return Err((len_start, Reason::ExpectedSpace));
+    }
+    let len = match parse_length_field(text, len_start)? {
+        (Length::Classic { len, raw_dlc: None }, after) => (len, after),
+        _ => return Err((len_start, Reason::BadLength)),
+    };
+    let (len, after) = len;
+    let body = skip_spaces(text, after);
+    if matches!(&text[body..], b"remote request" | b"rtr") {
+        return CanFrame::new_remote(id, extended, len as u8).map_err(|e| (len_start, e.into()));
+    }
+    let mut data = [0u8; CC_MAX_LEN];
+    let mut pos = after;
+    for slot in &mut data[..len] {
+        let start = skip_spaces(text, pos);
+        let end = token_end(text, start);
+        *slot = match &text[start..end] {
+            [] => return Err((start, Reason::LengthMismatch)),
+            [hi, lo] if start > pos => hex_pair(*hi, *lo).ok_or((start, Reason::ConsoleByte))?,
+            _ => return Err((start, Reason::ConsoleByte)),
+        };
+        pos = end;
+    }
+    if pos < text.len() {
+        return Err((skip_spaces(text, pos), Reason::LengthMismatch));
+    }
+    let frame =
+        if extended { CanFrame::new_extended(id, &data[..len]) } else { CanFrame::new(id, &data[..len]) };
+    frame.map_err(|e| (len_start, e.into()))
 }
 
 /// The fast path for the common log line `(1700000000.002500) can0 211#00000103000000B1[ R]`: standard
@@ -412,7 +538,14 @@ fn parse_console_frame(text: &[u8], id_start: usize, fd_bits: u8) -> Result<Fram
 
     let mut data = [0u8; FD_MAX_LEN];
     let mut pos = after;
-    for slot in data.iter_mut().take(len) {
+    let view = match other_byte_view(text, after, &mut data[..len])? {
+        Some(end) => {
+            pos = end;
+            0
+        }
+        None => len,
+    };
+    for slot in data.iter_mut().take(view) {
         // candump's own layout, " HH", first; anything else goes through the tolerant scan.
         if let Some(&[b' ', hi, lo]) = text.get(pos..pos + 3) {
             if let Some(byte) = hex_pair(hi, lo) {
@@ -461,6 +594,50 @@ fn parse_console_frame(text: &[u8], id_start: usize, fd_bits: u8) -> Result<Fram
     with_raw_dlc(frame, raw_dlc, len_start)
 }
 
+/// candump's `-S` (bytes in reverse order, joined by backticks: ``B1`00`03``) and `-i` (each byte as 8
+/// binary digits) views. Fills `out` and returns where the bytes end, or `None` for the ordinary view.
+fn other_byte_view(text: &[u8], after: usize, out: &mut [u8]) -> Result<Option<usize>, PosError> {
+    let start = skip_spaces(text, after);
+    let len = out.len();
+    if start == after || len == 0 {
+        return Ok(None);
+    }
+    if len >= 2 && text.get(start + 2) == Some(&b'`') {
+        let mut pos = start;
+        for index in (0..len).rev() {
+            if index + 1 < len {
+                if text.get(pos) != Some(&b'`') {
+                    return Err((pos, Reason::LengthMismatch));
+                }
+                pos += 1;
+            }
+            let pair = text.get(pos..pos + 2).ok_or((pos, Reason::LengthMismatch))?;
+            out[index] = hex_pair(pair[0], pair[1]).ok_or((pos, Reason::ConsoleByte))?;
+            pos += 2;
+        }
+        return Ok(Some(pos));
+    }
+    let is_bits = |at: usize| {
+        text.get(at..at + 8).is_some_and(|bits| bits.iter().all(|b| matches!(b, b'0' | b'1')))
+            && matches!(text.get(at + 8), None | Some(b' '))
+    };
+    if !is_bits(start) {
+        return Ok(None);
+    }
+    let mut pos = start;
+    for (index, slot) in out.iter_mut().enumerate() {
+        if index > 0 {
+            if text.get(pos) != Some(&b' ') || !is_bits(pos + 1) {
+                return Err((pos, Reason::LengthMismatch));
+            }
+            pos += 1;
+        }
+        *slot = text[pos..pos + 8].iter().fold(0u8, |acc, &bit| (acc << 1) | (bit - b'0'));
+        pos += 8;
+    }
+    Ok(Some(pos))
+}
+
 fn with_raw_dlc(frame: CanFrame, raw_dlc: Option<u8>, pos: usize) -> Result<FrameText, PosError> {
     match raw_dlc {
         Some(dlc) => frame.with_raw_dlc(dlc).map(FrameText::Can).map_err(|e| (pos, e.into())),
@@ -472,7 +649,9 @@ fn with_raw_dlc(frame: CanFrame, raw_dlc: Option<u8>, pos: usize) -> Result<Fram
 fn check_console_tail(text: &[u8], pos: usize, form: IdForm) -> Result<(), PosError> {
     let start = skip_spaces(text, pos);
     let tail = &text[start..];
-    let ascii = tail.len() >= 2 && tail.first() == Some(&b'\'') && tail.last() == Some(&b'\'');
+    // -a's ASCII column: '...' (or `...` with -S).
+    let quoted = |quote: u8| tail.len() >= 2 && tail.first() == Some(&quote) && tail.last() == Some(&quote);
+    let ascii = quoted(b'\'') || quoted(b'`');
     let error_tag = tail == b"ERRORFRAME" && form == IdForm::Error;
     if tail.is_empty() || (start > pos && (ascii || error_tag)) {
         return Ok(());

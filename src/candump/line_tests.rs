@@ -205,8 +205,8 @@ fn blank_comment_dropcount_and_error_text_lines() {
         kind_of("DROPCOUNT: dropped -1 CAN frames on 'can0' socket (total drops -1)"),
         Line::DropCount { dropped: u64::from(u32::MAX) }
     );
-    assert_eq!(kind_of("\tcontroller-problem{tx-error-warning}"), Line::ErrorText);
-    assert_eq!(kind_of("\terror-counter-tx-rx{{120}{0}}"), Line::ErrorText);
+    // TAB-indented error text is only text after an error frame (see console_error_frames_and_their_text).
+    assert_eq!(error("\tcontroller-problem{tx-error-warning}"), (1, Reason::StrayErrorText));
     assert_eq!(error("DROPCOUNT: lost some"), (1, Reason::BadDropCount));
     assert_eq!(error("DROPCOUNT: dropped many CAN frames"), (20, Reason::BadDropCount));
 }
@@ -388,7 +388,11 @@ fn console_error_frames_and_their_text() {
     assert_eq!((r.dir, r.ts.map(|t| t.kind)), (Some(Direction::Rx), Some(ABS)));
     let r = frame("  can0  20000080   [0]                                ERRORFRAME");
     assert_frame(&r.frame, 0x80, true, FrameKind::Error, &[]);
-    assert_eq!(kind_of("\tcontroller-problem{tx-error-warning}"), Line::ErrorText);
+    let mut parser = LineParser::new();
+    frame_with(&mut parser, "  can0  20000080   [0]                                ERRORFRAME");
+    for text in ["\tcontroller-problem{tx-error-warning}", "\terror-counter-tx-rx{{120}{0}}"] {
+        assert_eq!(parser.parse(text.as_bytes()), Ok(Line::ErrorText), "{text}");
+    }
     let line = "  can0  00000004   [1]  00   ERRORFRAME";
     assert_eq!(error(line), (col(line, "ERR"), Reason::TrailingGarbage));
 }

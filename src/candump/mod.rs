@@ -38,12 +38,15 @@
 //! # Ok::<(), std::io::Error>(())
 //! ```
 
+mod asc;
 mod cansend;
 mod hex;
 mod line;
+mod open;
 mod reader;
 mod reason;
 mod timestamp;
+mod trc;
 mod writer;
 
 #[cfg(test)]
@@ -51,10 +54,13 @@ mod cansend_tests;
 #[cfg(test)]
 mod fixture_tests;
 #[cfg(test)]
+mod formats_tests;
+#[cfg(test)]
 mod line_tests;
 
 pub use cansend::parse_cansend;
 pub use line::{Direction, Line, LineParser, Record};
+pub use open::{open_log, Compression, FormatError, LogFormat, TextFormat};
 pub use reader::{LineReader, RawLine, DEFAULT_BUFFER_CAPACITY, DEFAULT_MAX_LINE_LEN};
 pub use reason::{FrameSyntaxError, LineError, Reason};
 pub use timestamp::{Timestamp, TimestampKind, RELATIVE_LIMIT_SECS};

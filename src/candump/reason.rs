@@ -105,6 +105,17 @@ reasons! {
     EmptyFrame => "empty-frame", "empty frame";
     /// A `DROPCOUNT:` line in an unknown layout.
     BadDropCount => "bad-dropcount", "malformed DROPCOUNT line";
+    /// A TAB-started line that is not a frame and does not follow an error frame (`-e` continuation text
+    /// only ever follows an `ERRORFRAME` line).
+    StrayErrorText => "stray-error-text", "TAB-indented text that does not follow an error frame";
+    /// A Vector ASC line that is neither a header, a comment, an event nor a frame.
+    NotAsc => "not-asc", "not a Vector ASC line";
+    /// A Vector ASC event that tracerctl does not read (LIN, FlexRay, system variables, ...).
+    AscEvent => "asc-event", "Vector ASC event that is not a CAN frame";
+    /// A Vector ASC CAN line whose columns do not read.
+    AscFrame => "asc-frame", "malformed Vector ASC CAN frame line";
+    /// A PEAK trc line whose columns do not match the trace's layout.
+    TrcFrame => "trc-frame", "malformed PEAK trc frame line (columns do not match the file version)";
     /// Reported by callers for [`RawLine::TooLong`](super::RawLine::TooLong); the parser never sees such lines.
     LineTooLong => "line-too-long", "line too long";
 }

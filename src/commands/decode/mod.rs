@@ -13,7 +13,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::candump::{self, Line, LineParser, LineReader, RawLine, Reason};
+use crate::candump::{self, Line, LineParser, LineReader, LogFormat, RawLine, Reason};
 use crate::cli::{ColorChoice, DecodeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
@@ -148,13 +148,17 @@ impl Decoder {
 
     fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
-            return self.candump("<stdin>", io::stdin().lock(), None);
+            let (reader, format) = candump::open_log(io::stdin().lock(), "<stdin>").map_err(Failure::from)?;
+            return self.candump("<stdin>", reader, None, format);
         }
         let path = Path::new(input);
         if path.exists() {
             let file = File::open(path).with_context(|| format!("cannot open {input}"))?;
             let size = file.metadata().map(|m| m.len()).ok();
-            return self.candump(input, file, size);
+            let (reader, format) = candump::open_log(file, input).map_err(Failure::from)?;
+            // The progress bar counts text bytes: unknown for a compressed file.
+            let size = size.filter(|_| format.compression.is_none());
+            return self.candump(input, reader, size, format);
         }
         if input.contains('#') {
             let frame = candump::parse_cansend(input.as_bytes()).map_err(|error| Failure {
@@ -167,10 +171,10 @@ impl Decoder {
         bail!("{input}: no such file (frames are written like 211#00000103000000B1)")
     }
 
-    fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>) -> Result<()> {
+    fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>, format: LogFormat) -> Result<()> {
         let mut reader = LineReader::new(input);
-        let mut parser =
-            if self.delta_stamps { LineParser::new().with_delta_timestamps() } else { LineParser::new() };
+        let parser = LineParser::for_format(format);
+        let mut parser = if self.delta_stamps { parser.with_delta_timestamps() } else { parser };
         let bar = self.progress_bar(size);
         let mut consumed = 0u64;
         while let Some(raw) = reader.next_line().with_context(|| format!("cannot read {name}"))? {

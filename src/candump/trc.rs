@@ -1,0 +1,250 @@
+//! PEAK trace files (`.trc`: PCAN-View, PCAN-Explorer, PEAK-Converter, python-can's TRCWriter), versions
+//! 1.0 to 2.1.
+//!
+//! ```text
+//! ;$FILEVERSION=2.1                           header and comment lines start with ';': Comment
+//! ;$COLUMNS=N,O,T,B,I,d,R,L,D                 2.1 names its columns; older versions have fixed ones
+//!       1      2501.000 DT 2      00C8 Tx -  8    09 08 07 06 05 04 03 02
+//!      12)     48937.6  Rx         0704  1  RTR            (1.1)
+//! ```
+//!
+//! Columns: N message number, O time offset (ms), T type, B bus, I identifier (4 hex digits: standard,
+//! 8: extended), d direction, R reserved, L DLC, l data length, D data. Types: `DT` data, `FD`/`FB`/`FE`/`BI`
+//! CAN FD (with BRS/ESI), `RR` remote request; `ST` status, `EC` error counter, `ER` error frame and 1.x's
+//! `Warng`/`Error` are error text; `EV` events are comments. Stamps are relative to the start of the
+//! trace; bus `N` becomes the interface `canN` (`can1` for versions without a bus column).
+
+use super::asc::channel_iface;
+use super::hex::{decimal_time, decimal_u64, fields, hex_pair, hex_u32};
+use super::line::{Direction, Line, Record};
+use super::timestamp::PosError;
+use super::{Reason, Timestamp, TimestampKind};
+use crate::protocol::frame::{CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
+use crate::protocol::CanFrame;
+
+const FD_FDF: u8 = 0x4;
+const FD_BRS: u8 = 0x1;
+const FD_ESI: u8 = 0x2;
+const MAX_COLUMNS: usize = 12;
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Column {
+    Number,
+    Offset,
+    Type,
+    Bus,
+    Id,
+    Direction,
+    Reserved,
+    Dlc,
+    Length,
+    Data,
+}
+
+/// The column layout of the trace being read.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct TrcState {
+    columns: [Column; MAX_COLUMNS],
+    count: usize,
+}
+
+impl Default for TrcState {
+    fn default() -> Self {
+        Self::for_version(10)
+    }
+}
+
+impl TrcState {
+    /// The fixed layout of each version (2.1's default, before its `;$COLUMNS=` line).
+    pub(crate) fn for_version(version: u8) -> Self {
+        use Column::*;
+        let layout: &[Column] = match version {
+            11 => &[Number, Offset, Type, Id, Dlc, Data],
+            12 => &[Number, Offset, Bus, Type, Id, Dlc, Data],
+            13 => &[Number, Offset, Bus, Type, Id, Reserved, Dlc, Data],
+            20 => &[Number, Offset, Type, Id, Direction, Length, Data],
+            21 => &[Number, Offset, Type, Bus, Id, Direction, Reserved, Dlc, Data],
+            _ => &[Number, Offset, Id, Dlc, Data],
+        };
+        let mut state = Self { columns: [Data; MAX_COLUMNS], count: layout.len() };
+        state.columns[..layout.len()].copy_from_slice(layout);
+        state
+    }
+
+    /// `;$FILEVERSION=x.y` and `;$COLUMNS=...` lines change the layout; anything unknown keeps it.
+    fn header(&mut self, line: &[u8]) {
+        if let Some(version) = line.strip_prefix(b";$FILEVERSION=") {
+            let version = match version.trim_ascii() {
+                b"1.1" => 11,
+                b"1.2" => 12,
+                b"1.3" => 13,
+                b"2.0" => 20,
+                b"2.1" => 21,
+                _ => return,
+            };
+            *self = Self::for_version(version);
+        } else if let Some(names) = line.strip_prefix(b";$COLUMNS=") {
+            let mut state = Self { columns: [Column::Data; MAX_COLUMNS], count: 0 };
+            for name in names.trim_ascii().split(|&b| b == b',') {
+                let column = match name {
+                    b"N" => Column::Number,
+                    b"O" => Column::Offset,
+                    b"T" => Column::Type,
+                    b"B" => Column::Bus,
+                    b"I" => Column::Id,
+                    b"d" => Column::Direction,
+                    b"R" => Column::Reserved,
+                    b"L" => Column::Dlc,
+                    b"l" => Column::Length,
+                    b"D" => Column::Data,
+                    _ => return,
+                };
+                if state.count == MAX_COLUMNS {
+                    return;
+                }
+                state.columns[state.count] = column;
+                state.count += 1;
+            }
+            // Data must come last: everything after it is data bytes.
+            if state.count > 0 && state.columns[state.count - 1] == Column::Data {
+                *self = state;
+            }
+        }
+    }
+}
+
+/// What the type column says the line is.
+enum Kind {
+    Classic,
+    Fd(u8),
+    Remote,
+}
+
+pub(crate) fn parse<'a>(
+    text: &'a [u8],
+    state: &mut TrcState,
+    iface: &'a mut Vec<u8>,
+) -> Result<Line<'a>, PosError> {
+    let text = text.strip_suffix(b"\r").unwrap_or(text);
+    let trimmed = text.trim_ascii_start();
+    if trimmed.is_empty() {
+        return Ok(Line::Blank);
+    }
+    if trimmed.starts_with(b";") {
+        state.header(trimmed);
+        return Ok(Line::Comment);
+    }
+    let mut fields = fields(text);
+    let end = text.len();
+    let mut ts = None;
+    let mut bus: &[u8] = b"1";
+    let mut id = None;
+    let mut dir = None;
+    let mut kind = Kind::Classic;
+    let mut dlc = None;
+    let mut length = None;
+    let mut rtr_text = false;
+    let mut data = [0u8; FD_MAX_LEN];
+    let mut data_len = 0;
+    for &column in &state.columns[..state.count] {
+        if column == Column::Data {
+            for (at, token) in fields.by_ref() {
+                if token == b"RTR" && data_len == 0 {
+                    rtr_text = true; // 1.x remote frames
+                    continue;
+                }
+                let byte = match token {
+                    [hi, lo] if !rtr_text => hex_pair(*hi, *lo),
+                    _ => None,
+                };
+                let slot = data.get_mut(data_len).ok_or((at, Reason::FdTooManyBytes))?;
+                *slot = byte.ok_or((at, Reason::TrailingGarbage))?;
+                data_len += 1;
+            }
+            break;
+        }
+        let (at, token) = fields.next().ok_or((end, Reason::TrcFrame))?;
+        match column {
+            Column::Number => {}
+            Column::Offset => {
+                let (secs, nanos) = decimal_time(token, 1_000_000).ok_or((at, Reason::TrcFrame))?;
+                ts = Some(Timestamp { secs, nanos, kind: TimestampKind::Relative });
+            }
+            Column::Type => match token {
+                b"DT" | b"Rx" | b"Tx" => {
+                    kind = Kind::Classic;
+                    dir = dir.or(match token {
+                        b"Rx" => Some(Direction::Rx),
+                        b"Tx" => Some(Direction::Tx),
+                        _ => None,
+                    });
+                }
+                b"FD" => kind = Kind::Fd(FD_FDF),
+                b"FB" => kind = Kind::Fd(FD_FDF | FD_BRS),
+                b"FE" => kind = Kind::Fd(FD_FDF | FD_ESI),
+                b"BI" => kind = Kind::Fd(FD_FDF | FD_BRS | FD_ESI),
+                b"RR" => kind = Kind::Remote,
+                b"ST" | b"EC" | b"ER" | b"Warng" | b"Error" => return Ok(Line::ErrorText),
+                b"EV" => return Ok(Line::Comment),
+                _ => return Err((at, Reason::TrcFrame)),
+            },
+            Column::Bus => {
+                if token != b"-" {
+                    bus = token;
+                }
+            }
+            Column::Id => {
+                let value =
+                    (token.len() <= 8).then(|| hex_u32(token)).flatten().ok_or((at, Reason::NotHex))?;
+                let extended = token.len() > 4 || value > SFF_MAX;
+                if value > EFF_MAX {
+                    return Err((at, Reason::IdTooLarge));
+                }
+                id = Some((value, extended, at));
+            }
+            Column::Direction => {
+                dir = match token {
+                    b"Rx" => Some(Direction::Rx),
+                    b"Tx" => Some(Direction::Tx),
+                    _ => return Err((at, Reason::TrcFrame)),
+                }
+            }
+            Column::Reserved => {}
+            Column::Dlc | Column::Length => {
+                let (value, digits) = decimal_u64(token, 0);
+                if digits != token.len() || digits == 0 || value > 64 {
+                    return Err((at, Reason::BadLength));
+                }
+                match column {
+                    Column::Dlc => dlc = Some((value as usize, at)),
+                    _ => length = Some((value as usize, at)),
+                }
+            }
+            Column::Data => {}
+        }
+    }
+    let (id, extended, id_at) = id.ok_or((0, Reason::TrcFrame))?;
+    let iface = channel_iface(iface, bus).ok_or((0, Reason::TrcFrame))?;
+    if rtr_text {
+        kind = Kind::Remote;
+    }
+    // The length the line declares: a data length, or a DLC (0-15, FD lengths above 8).
+    let fd = matches!(kind, Kind::Fd(_));
+    let (declared, len_at) = match (length, dlc) {
+        (Some(length), _) => length,
+        (None, Some((dlc, at))) if fd => {
+            (*FD_LENGTHS.get(dlc).ok_or((at, Reason::BadFdLength))? as usize, at)
+        }
+        (None, Some((dlc, at))) => (dlc.min(CC_MAX_LEN), at),
+        (None, None) => (data_len, id_at),
+    };
+    let frame = match kind {
+        Kind::Remote => CanFrame::new_remote(id, extended, declared.min(CC_MAX_LEN) as u8),
+        _ if declared != data_len => return Err((len_at, Reason::LengthMismatch)),
+        Kind::Fd(bits) => CanFrame::new_fd(id, extended, bits, &data[..data_len]),
+        Kind::Classic if extended => CanFrame::new_extended(id, &data[..data_len]),
+        Kind::Classic => CanFrame::new(id, &data[..data_len]),
+    };
+    let frame = frame.map_err(|e| (len_at, e.into()))?;
+    Ok(Line::Frame(Record { ts, iface, frame, dir }))
+}
