@@ -43,6 +43,7 @@ mod hex;
 mod line;
 mod reader;
 mod reason;
+mod tally;
 mod timestamp;
 mod writer;
 
@@ -57,5 +58,6 @@ pub use cansend::parse_cansend;
 pub use line::{Direction, Line, LineParser, Record};
 pub use reader::{LineReader, RawLine, DEFAULT_BUFFER_CAPACITY, DEFAULT_MAX_LINE_LEN};
 pub use reason::{FrameSyntaxError, LineError, Reason};
+pub use tally::{RejectTally, Rejection, MAX_SHOWN_REJECTS};
 pub use timestamp::{Timestamp, TimestampKind, RELATIVE_LIMIT_SECS};
 pub use writer::{write_frame, write_log_line, write_log_record};

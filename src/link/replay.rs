@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
-use crate::candump::{Line, LineParser, LineReader, RawLine, Timestamp};
+use crate::candump::{Line, LineParser, LineReader, RawLine, RejectTally, Timestamp};
 use crate::protocol::Wire;
 
 struct ReadOnly;
@@ -26,7 +26,12 @@ struct ReplayRx {
     origin: Option<(Instant, Timestamp)>,
     pending: Option<Received>,
     stats: RxStats,
-    rejected_lines: u64,
+    /// The log's path, for `file:line` in messages.
+    name: String,
+    lines: u64,
+    rejected: RejectTally,
+    /// Messages about rejected lines not yet taken by the owner (at most the tally's first few).
+    notes: Vec<String>,
 }
 
 fn nanos(ts: &Timestamp) -> u128 {
@@ -34,13 +39,18 @@ fn nanos(ts: &Timestamp) -> u128 {
 }
 
 impl ReplayRx {
-    /// The next frame of the log, skipping non-frame lines (bad lines are counted).
+    /// The next frame of the log, skipping non-frame lines (bad lines are counted, the first few noted).
     fn next_frame(&mut self) -> io::Result<Option<Received>> {
         loop {
             let Some(raw) = self.reader.next_line()? else { return Ok(None) };
-            let RawLine::Line { text, .. } = raw else {
-                self.rejected_lines += 1;
-                continue;
+            self.lines += 1;
+            let (number, text) = match raw {
+                RawLine::Line { number, text } => (number, text),
+                RawLine::TooLong { number, len } => {
+                    let message = format!("line of {len} bytes is too long for a candump line");
+                    self.reject(number, &message, "line too long");
+                    continue;
+                }
             };
             match self.parser.parse(text) {
                 Ok(Line::Frame(record)) => {
@@ -48,8 +58,15 @@ impl ReplayRx {
                     return Ok(Some(Received { ts, frame: LinkFrame::Can(record.frame) }));
                 }
                 Ok(_) => {}
-                Err(_) => self.rejected_lines += 1,
+                Err(error) => self.reject(number, &error.to_string(), error.reason.as_str()),
             }
+        }
+    }
+
+    fn reject(&mut self, number: u64, message: &str, reason: &str) {
+        self.stats.rejected_lines += 1;
+        if let Some(note) = self.rejected.reject(&format!("{}:{number}", self.name), message, reason) {
+            self.notes.push(note);
         }
     }
 }
@@ -84,6 +101,19 @@ impl FrameRx for ReplayRx {
     fn stats(&self) -> RxStats {
         self.stats
     }
+
+    fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.notes)
+    }
+
+    /// `bus.log: replayed 12 frames from 40 lines; rejected 28: 28 x not a candump line (first at bus.log:1)`
+    fn report(&self) -> Option<String> {
+        let rejected = self.rejected.describe()?;
+        Some(format!(
+            "{}: replayed {} frames from {} lines; {rejected}",
+            self.name, self.stats.frames, self.lines
+        ))
+    }
 }
 
 /// Opens `path` for replay at `speed` (0 = as fast as possible).
@@ -97,7 +127,10 @@ pub fn open(path: &Path, speed: f64) -> anyhow::Result<Link> {
         origin: None,
         pending: None,
         stats: RxStats::default(),
-        rejected_lines: 0,
+        name: path.display().to_string(),
+        lines: 0,
+        rejected: RejectTally::default(),
+        notes: Vec::new(),
     };
     Ok(Link {
         name: path.display().to_string(),
