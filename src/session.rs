@@ -282,12 +282,9 @@ impl Session {
             let loss = recorder.close()?;
             Some(recorder.describe(&loss))
         });
-        Finished {
-            rx: reader.as_ref().map(|end| end.rx).unwrap_or_default(),
-            notes: reader.as_ref().map(|end| end.notes.clone()).unwrap_or_default(),
-            report: reader.and_then(|end| end.report),
-            recording,
-        }
+        let ReaderEnd { rx, notes, report } =
+            reader.unwrap_or(ReaderEnd { rx: RxStats::default(), notes: Vec::new(), report: None });
+        Finished { rx, notes, report, recording }
     }
 
     fn stop_reader(&mut self) -> Option<ReaderEnd> {

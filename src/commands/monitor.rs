@@ -212,13 +212,12 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
             status = FAILURE;
         }
     }
-    if matches!(end, End::Eof) && stats.frames == 0 && stats.rejected_lines > 0 {
-        crate::say!(
-            "tracerctl: nothing to replay: {} has no candump frames ({} lines rejected)",
-            link.name,
-            stats.rejected_lines
-        );
-        status = DATA_ERROR;
+    if let Some(nothing) = crate::link::replay::nothing_replayed(&link.name, &stats) {
+        // The whole log was read: a signal or --duration before its first frame proves nothing.
+        if matches!(end, End::Eof) {
+            crate::say!("tracerctl: {nothing}");
+            status = DATA_ERROR;
+        }
     }
     Ok(status)
 }
@@ -618,7 +617,7 @@ impl<W: Output> Monitor<W> {
                 if let Some(loss) = log.losses() {
                     self.log_warned = true;
                     self.warnings.push(format!(
-                        "warning: the log {} is losing frames: {} (counted; the exit status will be 1)",
+                        "warning: the recording {} is losing frames: {} (counted; the exit status will be 1)",
                         log.path().display(),
                         loss.reason
                     ));

@@ -116,6 +116,14 @@ impl FrameRx for ReplayRx {
     }
 }
 
+/// For a replayed log that gave no frame at all and had lines rejected, the words for it (the exit status is
+/// then 3, a data error).
+pub fn nothing_replayed(name: &str, stats: &RxStats) -> Option<String> {
+    (stats.frames == 0 && stats.rejected_lines > 0).then(|| {
+        format!("nothing to replay: {name} has no candump frames ({} lines rejected)", stats.rejected_lines)
+    })
+}
+
 /// Opens `path` for replay at `speed` (0 = as fast as possible).
 pub fn open(path: &Path, speed: f64) -> anyhow::Result<Link> {
     let file =
