@@ -20,7 +20,7 @@ use crate::cli::{Cli, MonitorArgs};
 use crate::exit::{self, DATA_ERROR, FAILURE, SUCCESS};
 use crate::link::{LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
-use crate::output::queue::{OutputQueue, Pushed, QUEUE_BLOCKS};
+use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
@@ -574,8 +574,9 @@ impl<W: Output> Monitor<W> {
             self.behind_warned = true;
             self.warnings.push(format!(
                 "warning: standard output is not keeping up (nobody reading it? a pager not scrolling?): frames \
-                 are still received and stamped as they arrive; output beyond {QUEUE_BLOCKS} queued blocks is \
-                 dropped and counted in the summary"
+                 are still received and stamped as they arrive; output beyond {} MiB queued is dropped and \
+                 counted in the summary",
+                QUEUE_BYTES >> 20
             ));
         }
     }

@@ -10,9 +10,10 @@ use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
-/// Blocks the queue holds: with the monitor's blocks (at most 64 KiB, usually one every 50 ms) that is
-/// seconds to minutes of output, and at most a few MiB.
-pub const QUEUE_BLOCKS: usize = 128;
+/// Bytes the queue holds before blocks are dropped: tens of seconds of the robot's feedback as JSON.
+pub const QUEUE_BYTES: usize = 4 * 1024 * 1024;
+/// Blocks it holds (a quiet bus makes small ones: a block per burst of frames).
+pub const QUEUE_BLOCKS: usize = 4096;
 
 struct Block {
     bytes: Vec<u8>,
@@ -23,8 +24,9 @@ struct Block {
 struct Shared {
     /// When the write in progress began, in microseconds after `origin`, plus one; 0 when idle.
     writing_since: AtomicU64,
-    /// Lines queued or being written.
+    /// Lines and bytes queued or being written.
     pending_lines: AtomicU64,
+    pending_bytes: AtomicU64,
     error: Mutex<Option<io::Error>>,
 }
 
@@ -42,6 +44,7 @@ pub struct OutputQueue {
     spares: Receiver<Vec<u8>>,
     shared: Arc<Shared>,
     origin: Instant,
+    max_bytes: u64,
     writer: Option<JoinHandle<()>>,
     /// Lines dropped because the queue was full, or still unwritten when `finish` gave up.
     pub dropped_lines: u64,
@@ -50,11 +53,16 @@ pub struct OutputQueue {
 impl OutputQueue {
     /// A queue to standard output.
     pub fn stdout() -> io::Result<Self> {
-        Self::start(QUEUE_BLOCKS, || io::stdout().lock())
+        Self::start(QUEUE_BLOCKS, QUEUE_BYTES, || io::stdout().lock())
     }
 
-    /// A queue of `capacity` blocks to the writer `open` returns (called on the writer thread).
-    pub fn start<W: Write>(capacity: usize, open: impl FnOnce() -> W + Send + 'static) -> io::Result<Self> {
+    /// A queue of up to `capacity` blocks and `max_bytes` to the writer `open` returns (called on the writer
+    /// thread).
+    pub fn start<W: Write>(
+        capacity: usize,
+        max_bytes: usize,
+        open: impl FnOnce() -> W + Send + 'static,
+    ) -> io::Result<Self> {
         let (blocks, inbox) = mpsc::sync_channel::<Block>(capacity);
         // Every buffer in circulation fits: the queue, the one being written, the producer's.
         let (spare, spares) = mpsc::sync_channel(capacity + 2);
@@ -70,6 +78,7 @@ impl OutputQueue {
                     let result = out.write_all(&block.bytes).and_then(|()| out.flush());
                     shared.writing_since.store(0, Ordering::SeqCst);
                     shared.pending_lines.fetch_sub(block.lines, Ordering::SeqCst);
+                    shared.pending_bytes.fetch_sub(block.bytes.len() as u64, Ordering::SeqCst);
                     if let Err(error) = result {
                         *shared.error.lock().unwrap_or_else(|poisoned| poisoned.into_inner()) = Some(error);
                         return;
@@ -79,27 +88,45 @@ impl OutputQueue {
                 }
             })?
         };
-        Ok(Self { blocks: Some(blocks), spares, shared, origin, writer: Some(writer), dropped_lines: 0 })
+        Ok(Self {
+            blocks: Some(blocks),
+            spares,
+            shared,
+            origin,
+            max_bytes: max_bytes as u64,
+            writer: Some(writer),
+            dropped_lines: 0,
+        })
     }
 
     /// Hands over the bytes in `buffer` (holding `lines` lines), leaving `buffer` empty; never waits. An
     /// error means the writer has stopped on one (a closed pipe: `BrokenPipe`).
     pub fn push(&mut self, buffer: &mut Vec<u8>, lines: u64) -> io::Result<Pushed> {
         let Some(blocks) = &self.blocks else { return Err(self.error()) };
+        let len = buffer.len() as u64;
+        let drop = |buffer: &mut Vec<u8>, dropped: &mut u64| {
+            *dropped += lines;
+            buffer.clear();
+            Ok(Pushed::Dropped)
+        };
+        if self.shared.pending_bytes.load(Ordering::SeqCst) + len > self.max_bytes {
+            return drop(buffer, &mut self.dropped_lines);
+        }
         let bytes = std::mem::replace(buffer, self.spares.try_recv().unwrap_or_default());
         self.shared.pending_lines.fetch_add(lines, Ordering::SeqCst);
+        self.shared.pending_bytes.fetch_add(len, Ordering::SeqCst);
         match blocks.try_send(Block { bytes, lines }) {
             Ok(()) => Ok(Pushed::Queued),
             Err(TrySendError::Full(block)) => {
                 self.shared.pending_lines.fetch_sub(lines, Ordering::SeqCst);
-                self.dropped_lines += lines;
+                self.shared.pending_bytes.fetch_sub(len, Ordering::SeqCst);
                 // Keep the bigger buffer.
                 *buffer = block.bytes;
-                buffer.clear();
-                Ok(Pushed::Dropped)
+                drop(buffer, &mut self.dropped_lines)
             }
             Err(TrySendError::Disconnected(_)) => {
                 self.shared.pending_lines.fetch_sub(lines, Ordering::SeqCst);
+                self.shared.pending_bytes.fetch_sub(len, Ordering::SeqCst);
                 self.blocks = None;
                 Err(self.error())
             }
@@ -175,7 +202,7 @@ mod tests {
         let open = Arc::new((Mutex::new(false), std::sync::Condvar::new()));
         let (out, written) = mpsc::channel();
         let gate = Gate { open: Arc::clone(&open), out };
-        let mut queue = OutputQueue::start(4, move || gate).unwrap();
+        let mut queue = OutputQueue::start(4, QUEUE_BYTES, move || gate).unwrap();
         let start = Instant::now();
         let mut dropped_blocks = 0;
         for n in 0..20u8 {
@@ -203,11 +230,26 @@ mod tests {
     }
 
     #[test]
+    fn the_byte_limit_drops_too() {
+        let open = Arc::new((Mutex::new(false), std::sync::Condvar::new()));
+        let (out, written) = mpsc::channel();
+        let gate = Gate { open: Arc::clone(&open), out };
+        let mut queue = OutputQueue::start(100, 10, move || gate).unwrap();
+        let pushed: Vec<Pushed> = (0..4).map(|_| queue.push(&mut b"1234\n".to_vec(), 1).unwrap()).collect();
+        assert_eq!(pushed, [Pushed::Queued, Pushed::Queued, Pushed::Dropped, Pushed::Dropped]);
+        *open.0.lock().unwrap() = true;
+        open.1.notify_all();
+        queue.finish(|| false).unwrap();
+        assert_eq!(written.try_iter().flatten().count(), 10);
+        assert_eq!(queue.dropped_lines, 2);
+    }
+
+    #[test]
     fn finish_gives_up_on_a_reader_that_never_reads_and_counts_what_was_left() {
         let open = Arc::new((Mutex::new(false), std::sync::Condvar::new()));
         let (out, _written) = mpsc::channel();
         let gate = Gate { open: Arc::clone(&open), out };
-        let mut queue = OutputQueue::start(4, move || gate).unwrap();
+        let mut queue = OutputQueue::start(4, QUEUE_BYTES, move || gate).unwrap();
         for _ in 0..3 {
             queue.push(&mut b"x\ny\n".to_vec(), 2).unwrap();
         }
@@ -229,7 +271,7 @@ mod tests {
                 Ok(())
             }
         }
-        let mut queue = OutputQueue::start(4, || Closed).unwrap();
+        let mut queue = OutputQueue::start(4, QUEUE_BYTES, || Closed).unwrap();
         queue.push(&mut b"x\n".to_vec(), 1).unwrap();
         let deadline = Instant::now() + Duration::from_secs(5);
         let error = loop {

@@ -14,6 +14,7 @@ mod faults;
 mod generated;
 mod monitor;
 mod plot;
+mod recording;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;
