@@ -153,7 +153,7 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
         monitor.print_warnings();
         if let Err(error) = step {
             if exit::is_broken_pipe(&error) {
-                return Ok(SUCCESS);
+                return Ok(monitor.close_log().unwrap_or(SUCCESS));
             }
             return Err(error);
         }
@@ -174,7 +174,7 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
     });
     if let Err(error) = written {
         if exit::is_broken_pipe(&error) {
-            return Ok(SUCCESS);
+            return Ok(monitor.close_log().unwrap_or(SUCCESS));
         }
         return Err(error);
     }
@@ -198,19 +198,12 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
             (FAILURE, "link failed".to_string())
         }
     };
-    let log_loss = monitor.log.as_mut().and_then(|log| {
-        let loss = log.close()?;
-        Some(log.describe(&loss))
-    });
     crate::say_raw!("{}", monitor.summary(elapsed, stats, &why));
     if let Some(report) = rx.report() {
         crate::say!("tracerctl: {report}");
     }
-    if let Some(loss) = log_loss {
-        crate::say!("tracerctl: {loss}");
-        if status == SUCCESS {
-            status = FAILURE;
-        }
+    if monitor.close_log().is_some() && status == SUCCESS {
+        status = FAILURE;
     }
     if let Some(nothing) = crate::link::replay::nothing_replayed(&link.name, &stats) {
         // The whole log was read: a signal or --duration before its first frame proves nothing.
@@ -739,6 +732,15 @@ impl<W: Output> Monitor<W> {
             ));
         }
         text
+    }
+
+    /// Writes out the `--log` file; if it lost frames, says how many and why, and gives the exit status 1.
+    /// (Also when standard output was closed: a quiet end for the output, not for the recording.)
+    pub fn close_log(&mut self) -> Option<u8> {
+        let log = self.log.as_mut()?;
+        let loss = log.close()?;
+        crate::say!("tracerctl: {}", log.describe(&loss));
+        Some(FAILURE)
     }
 
     /// Lines the output dropped.

@@ -100,6 +100,23 @@ fn monitor_log_on_a_full_disk_counts_every_lost_frame_and_exits_1() {
 }
 
 #[test]
+fn a_closed_stdout_is_a_quiet_end_but_not_for_a_recording_that_lost_frames() {
+    let mut child = Command::new(binary())
+        .args(["--sim", "monitor", "--log", "/dev/full"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 1];
+    child.stdout.as_mut().unwrap().read_exact(&mut first).unwrap();
+    drop(child.stdout.take()); // `| head -c1`
+    let output = super::monitor::wait_with_timeout(child, Duration::from_secs(10));
+    let errors = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{errors}");
+    assert!(errors.contains("tracerctl: the recording /dev/full lost"), "{errors}");
+}
+
+#[test]
 fn dashboard_record_on_a_full_disk_shows_the_loss_and_exits_1() {
     let command =
         format!("{} --sim dashboard --record /dev/full; echo EXIT=$?; sleep 30", binary().display());
