@@ -148,3 +148,52 @@ pub fn open(path: &Path, speed: f64) -> anyhow::Result<Link> {
         rx: Box::new(rx),
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::candump::DEFAULT_MAX_LINE_LEN;
+
+    #[test]
+    fn rejected_lines_are_noted_with_file_line_and_reason_and_totalled() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bus.log");
+        let long = "1".repeat(DEFAULT_MAX_LINE_LEN + 10);
+        let text = format!("{long}\nnot candump\n\n(1700000000.000000) can0 211#00000103000000B1\n");
+        std::fs::write(&path, text).unwrap();
+        let mut link = open(&path, 0.0).unwrap();
+        let received = link.rx.recv(Duration::from_secs(1)).unwrap().unwrap();
+        assert_eq!(
+            received.frame,
+            LinkFrame::Can(crate::protocol::CanFrame::new(0x211, &[0, 0, 1, 3, 0, 0, 0, 0xB1]).unwrap())
+        );
+        let name = path.display().to_string();
+        assert_eq!(
+            link.rx.take_notes(),
+            [
+                format!(
+                    "{name}:1: line of {} bytes is too long for a candump line",
+                    DEFAULT_MAX_LINE_LEN + 10
+                ),
+                format!("{name}:2: column 1: not a candump line"),
+            ]
+        );
+        assert!(link.rx.take_notes().is_empty(), "taken once");
+        assert_eq!(link.rx.stats().rejected_lines, 2);
+        assert_eq!(
+            link.rx.report().unwrap(),
+            format!(
+                "{name}: replayed 1 frames from 4 lines; rejected 2: 1 x line too long (first at {name}:1); \
+                 1 x not a candump line (first at {name}:2)"
+            )
+        );
+        let end = link.rx.recv(Duration::from_secs(1)).unwrap_err();
+        assert_eq!(end.kind(), io::ErrorKind::UnexpectedEof);
+        assert_eq!(nothing_replayed(&name, &link.rx.stats()), None, "a frame was replayed");
+        let stats = RxStats { rejected_lines: 3, ..RxStats::default() };
+        assert_eq!(
+            nothing_replayed("x.log", &stats).unwrap(),
+            "nothing to replay: x.log has no candump frames (3 lines rejected)"
+        );
+    }
+}
