@@ -30,6 +30,7 @@ pub mod exit;
 pub mod link;
 pub mod output;
 pub mod protocol;
+pub mod recorder;
 pub mod session;
 pub mod signals;
 

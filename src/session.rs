@@ -2,7 +2,6 @@
 //! codec for sending. Every live command (monitor aside, which reads frames itself) is built on it.
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -16,6 +15,7 @@ use crate::protocol::message::{
     Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, RcState, SystemState,
 };
 use crate::protocol::{CanFrame, Decoded, Message, ProtocolHint, Wire};
+use crate::recorder::{LogFile, RecordLoss, RecordQueue, Recorder};
 
 /// How many distinct identifiers `RobotStatus::id_counts` keeps.
 pub const MAX_COUNTED_IDS: usize = 64;
@@ -116,7 +116,7 @@ pub struct Session {
     codec: Mutex<Codec>,
     hint: ProtocolHint,
     shared: Arc<Shared>,
-    reader: Option<JoinHandle<()>>,
+    reader: Option<JoinHandle<ReaderEnd>>,
     recorder: Option<Recorder>,
     simulator: Option<crate::sim::serve::Running>,
 }
@@ -160,12 +160,8 @@ impl Session {
             changed: Condvar::new(),
             stop: AtomicBool::new(false),
         });
-        // candump lines allow interface names of up to 15 characters.
-        let record_name: String = link.name.chars().take(15).collect();
         let recorder = match record {
-            Some(path) => {
-                Some(Recorder::start(crate::commands::monitor::LogFile::create(path)?, record_name)?)
-            }
+            Some(path) => Some(Recorder::start(LogFile::create(path)?, &link.name)?),
             None => None,
         };
         let tx: Arc<dyn FrameTx> = match &recorder {
@@ -273,14 +269,46 @@ impl Session {
     pub fn simulator(&self) -> Option<&crate::sim::serve::Running> {
         self.simulator.as_ref()
     }
+
+    /// Frames the `--record` recording lost so far (a full disk, a disk slower than the bus).
+    pub fn recording_losses(&self) -> Option<RecordLoss> {
+        self.recorder.as_ref().and_then(Recorder::losses)
+    }
+
+    /// Ends the session: stops the reader, writes out the recording, and says what was lost or rejected.
+    pub fn finish(mut self) -> Finished {
+        let reader = self.stop_reader();
+        let recording = self.recorder.as_mut().and_then(|recorder| {
+            let loss = recorder.close()?;
+            Some(recorder.describe(&loss))
+        });
+        let ReaderEnd { rx, notes, report } =
+            reader.unwrap_or(ReaderEnd { rx: RxStats::default(), notes: Vec::new(), report: None });
+        Finished { rx, notes, report, recording }
+    }
+
+    fn stop_reader(&mut self) -> Option<ReaderEnd> {
+        self.shared.stop.store(true, Ordering::SeqCst);
+        self.reader.take().and_then(|reader| reader.join().ok())
+    }
+}
+
+/// What a finished session has to report.
+#[derive(Debug, Default)]
+pub struct Finished {
+    /// The link's final counters.
+    pub rx: RxStats,
+    /// What the source said about itself (a replay's first rejected lines), not yet shown.
+    pub notes: Vec<String>,
+    /// The source's closing line (a replay's totals, when lines were rejected).
+    pub report: Option<String>,
+    /// `the recording FILE lost N frames (why)`, when it lost any.
+    pub recording: Option<String>,
 }
 
 impl Drop for Session {
     fn drop(&mut self) {
-        self.shared.stop.store(true, Ordering::SeqCst);
-        if let Some(reader) = self.reader.take() {
-            let _ = reader.join();
-        }
+        self.stop_reader();
         // After the reader: everything received and sent is queued; write it all before going.
         if let Some(recorder) = self.recorder.as_mut() {
             recorder.close();
@@ -322,7 +350,7 @@ fn open_socketcan(_iface: &str) -> Result<link::Link> {
 
 /// The moment a frame stamped `ts` (wall clock, by the kernel) was received, on the monotonic clock. A
 /// stamp in the future (the wall clock stepped back) counts as now; one older than a minute as a minute.
-fn sent_at(ts: &crate::candump::Timestamp) -> Instant {
+pub(crate) fn sent_at(ts: &crate::candump::Timestamp) -> Instant {
     let now = Instant::now();
     let stamp = Duration::new(ts.secs, ts.nanos);
     let wall = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap_or(Duration::ZERO);
@@ -330,55 +358,16 @@ fn sent_at(ts: &crate::candump::Timestamp) -> Instant {
     now.checked_sub(age).unwrap_or(now)
 }
 
-enum Record {
-    Frame(link::Received),
-    Close,
-}
-
-/// Writes `--record` on a thread of its own: neither the 50 Hz sender nor the reader ever waits for the disk.
-struct Recorder {
-    queue: mpsc::Sender<Record>,
-    writer: Option<JoinHandle<()>>,
-}
-
-impl Recorder {
-    fn start(mut file: crate::commands::monitor::LogFile, name: String) -> Result<Self> {
-        let (queue, inbox) = mpsc::channel();
-        let writer = std::thread::Builder::new()
-            .name("tracerctl-record".into())
-            .spawn(move || {
-                while let Ok(Record::Frame(received)) = inbox.recv() {
-                    // Best effort: a full disk must not stop the robot from being commanded (or stopped).
-                    let _ = file.write(&received, &name);
-                }
-            })
-            .context("cannot start the recording thread")?;
-        Ok(Self { queue, writer: Some(writer) })
-    }
-
-    fn queue(&self) -> mpsc::Sender<Record> {
-        self.queue.clone()
-    }
-
-    /// Writes what is queued, then stops the writer.
-    fn close(&mut self) {
-        let _ = self.queue.send(Record::Close);
-        if let Some(writer) = self.writer.take() {
-            let _ = writer.join();
-        }
-    }
-}
-
 /// Sends, and queues what was sent for the recording.
 struct RecordingTx {
     inner: Arc<dyn FrameTx>,
-    queue: mpsc::Sender<Record>,
+    queue: RecordQueue,
 }
 
 impl FrameTx for RecordingTx {
     fn send(&self, frame: &LinkFrame) -> std::io::Result<()> {
         self.inner.send(frame)?;
-        let _ = self.queue.send(Record::Frame(link::Received { ts: link::now_timestamp(), frame: *frame }));
+        self.queue.push(link::Received { ts: link::now_timestamp(), frame: *frame });
         Ok(())
     }
 
@@ -391,22 +380,34 @@ impl FrameTx for RecordingTx {
     }
 }
 
+/// What the reader thread hands back when it stops.
+struct ReaderEnd {
+    rx: RxStats,
+    notes: Vec<String>,
+    report: Option<String>,
+}
+
 fn read_loop(
     mut rx: Box<dyn FrameRx>,
     codec: Codec,
     hint: ProtocolHint,
     shared: &Shared,
-    record: Option<mpsc::Sender<Record>>,
+    record: Option<RecordQueue>,
     kernel_stamps: bool,
-) {
+) -> ReaderEnd {
+    // Kept for the end: the dashboard's screen is no place for them (a replay notes a few lines at most).
+    let mut notes = Vec::new();
     while !shared.stop.load(Ordering::SeqCst) {
         let received = rx.recv(Duration::from_millis(20));
         let mut status = shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         status.rx = rx.stats();
+        if status.rx.rejected_lines > 0 {
+            notes.extend(rx.take_notes());
+        }
         match received {
             Ok(Some(received)) => {
                 if let Some(record) = &record {
-                    let _ = record.send(Record::Frame(received));
+                    record.push(received);
                 }
                 let now = if kernel_stamps { sent_at(&received.ts) } else { Instant::now() };
                 status.frames += 1;
@@ -431,10 +432,12 @@ fn read_loop(
             Err(error) => {
                 status.link_error = Some(error.to_string());
                 shared.changed.notify_all();
-                return;
+                break;
             }
         }
     }
+    notes.extend(rx.take_notes());
+    ReaderEnd { rx: rx.stats(), notes, report: rx.report() }
 }
 
 #[cfg(test)]

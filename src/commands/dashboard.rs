@@ -18,7 +18,7 @@ use crate::dashboard::app::{App, Arming, Prompt, Snapshot, TeleopView};
 use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
-use crate::exit::{Failure, FAILURE, SUCCESS, USAGE};
+use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
 use crate::link::{ClearTarget, Codec, LinkChoice, LinkKind};
 use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
 use crate::protocol::Wire;
@@ -86,11 +86,32 @@ pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
         End::TerminalLost(why) => (FAILURE, format!("the terminal went away ({why}): {robot}")),
         End::LinkLost(why) => (FAILURE, format!("the link {} failed ({why}): {robot}", session.name)),
     };
-    let status = match stopped {
+    let mut status = match stopped {
         Stopped::NotSent(_) if status == SUCCESS => FAILURE,
         _ => status,
     };
     let _ = writeln!(std::io::stderr(), "tracerctl: {message}");
+    // The robot is stopped: now the recording is written out, and what the screen could not list is said.
+    let (name, replay) = (session.name.clone(), session.kind == LinkKind::Replay);
+    let finished = session.finish();
+    for note in &finished.notes {
+        crate::say!("tracerctl: {note}");
+    }
+    if let Some(report) = &finished.report {
+        crate::say!("tracerctl: {report}");
+    }
+    if let Some(loss) = &finished.recording {
+        crate::say!("tracerctl: {loss}");
+        if status == SUCCESS {
+            status = FAILURE;
+        }
+    }
+    if let Some(nothing) =
+        replay.then(|| crate::link::replay::nothing_replayed(&name, &finished.rx)).flatten()
+    {
+        crate::say!("tracerctl: {nothing}");
+        status = DATA_ERROR;
+    }
     Ok(status)
 }
 
@@ -437,6 +458,7 @@ fn drive_loop(
             }
             let stats = driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();
             app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
+            app.set_recording_loss(session.recording_losses());
             app.set_arming(match (driving.armed(), watch_only.is_some()) {
                 (true, _) => Arming::Armed,
                 (false, true) => Arming::WatchOnly,

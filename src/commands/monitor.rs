@@ -2,28 +2,32 @@
 //! with warnings on stderr when an expected periodic frame goes stale or the bus falls silent, an optional
 //! candump -L log of every frame, and per-identifier counts and rates at the end.
 //!
-//! Frames are read on the main thread straight from the link (no session: every frame matters). Output goes
-//! to one reusable buffer, written out when the receive call finds no frame waiting, when the buffer passes
-//! 64 KiB, or when its oldest line is 50 ms old; so a flood costs one write per 64 KiB and a quiet bus sees
-//! each burst at once. Nothing is allocated per frame.
+//! Frames are received, stamped and checked on the main thread straight from the link (no session: every
+//! frame matters); what is printed goes through a bounded queue to a writer thread ([`OutputQueue`]), so a
+//! reader of standard output that does not keep up (`monitor | less`, not scrolling) delays nothing: stamps
+//! and silence warnings stay those of reception, and output beyond the queue is dropped and counted. Output
+//! goes to one reusable buffer, handed over when the receive call finds no frame waiting, when the buffer
+//! passes 64 KiB, or when its oldest line is 50 ms old; so a flood costs one block per 64 KiB and a quiet bus
+//! sees each burst at once. The `--log` file is written by the recorder's own thread. Nothing is allocated
+//! per frame.
 
-use std::fs::File;
 use std::io::{self, IsTerminal, Write};
-use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::candump;
 use crate::cli::{Cli, MonitorArgs};
-use crate::exit::{self, FAILURE, SUCCESS};
+use crate::exit::{self, DATA_ERROR, FAILURE, SUCCESS};
 use crate::link::{LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
-use crate::output::{number, Event, EventWriter, Format, FrameRef};
+use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
+use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
 use crate::protocol::frame::ERR_FLAG;
 use crate::protocol::{self, CanFrame, FrameKind, ProtocolHint};
+pub use crate::recorder::LogFile;
+use crate::recorder::{push_raw_line, Recorder};
 use crate::{session, signals};
 
 /// Output is written at the latest when the buffer holds this much...
@@ -40,6 +44,10 @@ const STALE_PERIODS: u32 = 5;
 const MAX_OTHER_IDS: usize = 256;
 /// Repeated problems (error frames, socket drops, serial checksum errors) are reported at most this often.
 const REPORT_EVERY: Duration = Duration::from_secs(1);
+/// A write to standard output blocked this long means output has fallen behind (said once).
+const BEHIND_AFTER: Duration = Duration::from_secs(1);
+/// After a signal, how long the output still queued may take to leave before it is given up (and counted).
+const OUTPUT_GRACE: Duration = Duration::from_secs(1);
 
 /// A frame the robot sends on a fixed period.
 #[derive(Clone, Copy, Debug)]
@@ -84,10 +92,9 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
     let log = args.log.as_deref().map(LogFile::create).transpose()?;
     let (link, simulator) = session::open_link(&choice, None)?;
     let flag = signals::listen(|_| {})?;
-    let stdout = io::stdout();
     let options = Options {
         format: args.format,
-        color: cli.color.enabled(stdout.is_terminal()),
+        color: cli.color.enabled(io::stdout().is_terminal()),
         raw: args.raw,
         filter: Filter::new(&args.ids, &args.messages),
         hint: cli.protocol.into(),
@@ -100,9 +107,12 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
         _ => link.name.clone(),
     };
     let mut rx = link.rx;
-    let mut monitor =
-        Monitor::new(&link.name, &iface, link.wire == protocol::Wire::Serial, options, stdout.lock());
-    monitor.log = log;
+    let output = OutputQueue::stdout().context("cannot start the output thread")?;
+    let mut monitor = Monitor::new(&link.name, &iface, link.wire == protocol::Wire::Serial, options, output);
+    monitor.log = log.map(|file| Recorder::start(file, &iface)).transpose()?;
+    // When a frame arrived: the kernel's receive stamp on SocketCAN, else now (this loop never waits for
+    // standard output, so now is when it was received).
+    let kernel_stamps = link.kind == LinkKind::SocketCan;
 
     let start = Instant::now();
     let deadline = args.duration.map(|duration| start + duration);
@@ -131,30 +141,55 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
             wait
         };
         let step = match rx.recv(wait) {
-            Ok(Some(received)) => monitor.frame(&received, Instant::now()),
+            Ok(Some(received)) => {
+                let now = if kernel_stamps { session::sent_at(&received.ts) } else { Instant::now() };
+                monitor.frame(&received, now)
+            }
             Ok(None) => monitor.flush(),
             Err(error) if error.kind() == io::ErrorKind::UnexpectedEof => break End::Eof,
             Err(error) => break End::LinkError(error),
         };
+        monitor.warnings.extend(rx.take_notes());
         monitor.print_warnings();
         if let Err(error) = step {
             if exit::is_broken_pipe(&error) {
-                return Ok(SUCCESS);
+                return Ok(monitor.close_log().unwrap_or(SUCCESS));
             }
             return Err(error);
         }
     };
     let elapsed = start.elapsed();
     drop(simulator);
-    if let Err(error) = monitor.flush() {
+    monitor.warnings.extend(rx.take_notes());
+    monitor.print_warnings();
+    // Standard output gets what is queued; after a signal (or a second one), only a moment more.
+    let mut grace: Option<Instant> = None;
+    let written = monitor.flush().and_then(|()| {
+        monitor
+            .out
+            .finish(|| {
+                flag.received().is_some() && grace.get_or_insert_with(Instant::now).elapsed() >= OUTPUT_GRACE
+            })
+            .context("cannot write to standard output")
+    });
+    if let Err(error) = written {
         if exit::is_broken_pipe(&error) {
-            return Ok(SUCCESS);
+            return Ok(monitor.close_log().unwrap_or(SUCCESS));
         }
         return Err(error);
     }
+    // Lines still queued when the grace ran out count as dropped too.
+    if monitor.out.dropped_lines > monitor.output_dropped {
+        monitor.output_dropped = monitor.out.dropped_lines;
+        monitor.fell_behind();
+    }
+    if let Some(stall) = monitor.out.stalled() {
+        monitor.output_stall = monitor.output_stall.max(stall);
+    }
+    monitor.print_warnings();
     // The totals below include drops and checksum errors not yet reported as warnings.
     let stats = rx.stats();
-    let (status, why) = match &end {
+    let (mut status, why) = match &end {
         End::Duration => (SUCCESS, "duration reached".to_string()),
         End::Eof => (SUCCESS, "end of the source".to_string()),
         End::Signal => (flag.exit_status().unwrap_or(exit::SIGNAL_BASE), flag.name().to_string()),
@@ -164,6 +199,19 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
         }
     };
     crate::say_raw!("{}", monitor.summary(elapsed, stats, &why));
+    if let Some(report) = rx.report() {
+        crate::say!("tracerctl: {report}");
+    }
+    if monitor.close_log().is_some() && status == SUCCESS {
+        status = FAILURE;
+    }
+    if let Some(nothing) = crate::link::replay::nothing_replayed(&link.name, &stats) {
+        // The whole log was read: a signal or --duration before its first frame proves nothing.
+        if matches!(end, End::Eof) {
+            crate::say!("tracerctl: {nothing}");
+            status = DATA_ERROR;
+        }
+    }
     Ok(status)
 }
 
@@ -188,46 +236,6 @@ pub struct Options {
     pub time_scale: Option<f64>,
     /// Warn when nothing arrives for this long (zero: never).
     pub silence: Duration,
-}
-
-/// The `--log` file: every frame, one candump -L line each, written as it arrives.
-pub struct LogFile {
-    file: File,
-    path: PathBuf,
-    line: Vec<u8>,
-}
-
-impl LogFile {
-    pub fn create(path: &Path) -> Result<Self> {
-        let file =
-            File::create(path).with_context(|| format!("cannot create the log file {}", path.display()))?;
-        Ok(Self { file, path: path.to_path_buf(), line: Vec::with_capacity(256) })
-    }
-
-    /// Appends one frame (a candump -L line, or an RS232 frame in hex) and writes it at once.
-    pub fn write(&mut self, received: &Received, iface: &str) -> Result<()> {
-        self.line.clear();
-        push_raw_line(&mut self.line, received, iface);
-        self.file
-            .write_all(&self.line)
-            .with_context(|| format!("cannot write the log file {}", self.path.display()))
-    }
-}
-
-/// A candump -L line for a CAN frame; for an RS232 frame, its 13 bytes in hex with the stamp and port in a
-/// comment (`5AA50AAA01... # (1700000000.002500) /dev/ttyUSB0`), which `decode --serial FILE` reads.
-fn push_raw_line(out: &mut Vec<u8>, received: &Received, iface: &str) {
-    match &received.frame {
-        LinkFrame::Can(frame) => candump::write_log_line(out, Some(received.ts), iface, frame),
-        LinkFrame::Serial(frame) => {
-            number::push_hex(out, &frame.to_bytes());
-            out.extend_from_slice(b" # (");
-            number::push_timestamp(out, &received.ts);
-            out.extend_from_slice(b") ");
-            out.extend_from_slice(iface.as_bytes());
-            out.push(b'\n');
-        }
-    }
 }
 
 /// Frames and the time span they were seen over, for one identifier.
@@ -362,9 +370,40 @@ impl Reported {
     }
 }
 
+/// Where the monitor's output goes: standard output through the writer thread; a `Vec` in tests.
+pub trait Output {
+    /// Takes the bytes in `buffer` (`lines` lines), leaving it empty; how many lines were dropped instead.
+    fn block(&mut self, buffer: &mut Vec<u8>, lines: u64) -> Result<u64>;
+
+    /// How long output has been waiting for its reader, if it is.
+    fn stalled(&self) -> Option<Duration> {
+        None
+    }
+}
+
+impl Output for Vec<u8> {
+    fn block(&mut self, buffer: &mut Vec<u8>, _lines: u64) -> Result<u64> {
+        self.append(buffer);
+        Ok(0)
+    }
+}
+
+impl Output for OutputQueue {
+    fn block(&mut self, buffer: &mut Vec<u8>, lines: u64) -> Result<u64> {
+        match self.push(buffer, lines).context("cannot write to standard output")? {
+            Pushed::Queued => Ok(0),
+            Pushed::Dropped => Ok(lines),
+        }
+    }
+
+    fn stalled(&self) -> Option<Duration> {
+        OutputQueue::stalled(self)
+    }
+}
+
 /// The monitor's state: output buffer, log, counters and warning trackers. Fed frames and clock ticks by
 /// `run` (or by tests, with made-up times).
-pub struct Monitor<W: Write> {
+pub struct Monitor<W: Output> {
     /// The link, for messages.
     name: String,
     /// The interface name printed in output lines.
@@ -373,8 +412,15 @@ pub struct Monitor<W: Write> {
     writer: EventWriter,
     out: W,
     buffer: Vec<u8>,
+    /// Lines in `buffer`.
+    unflushed_lines: u64,
     unflushed_since: Option<Instant>,
-    log: Option<LogFile>,
+    /// Lines the output could not take (its queue was full), and the longest wait for its reader seen.
+    output_dropped: u64,
+    output_stall: Duration,
+    behind_warned: bool,
+    log: Option<Recorder>,
+    log_warned: bool,
     detector: ProtocolDetector,
     /// An RS232 link: no CAN protocol version to report.
     serial: bool,
@@ -392,7 +438,7 @@ pub struct Monitor<W: Write> {
     warnings: Vec<String>,
 }
 
-impl<W: Write> Monitor<W> {
+impl<W: Output> Monitor<W> {
     pub fn new(name: &str, iface: &str, serial: bool, options: Options, out: W) -> Self {
         Self::starting_at(name, iface, serial, options, out, Instant::now())
     }
@@ -419,7 +465,12 @@ impl<W: Write> Monitor<W> {
             out,
             unflushed_since: (!buffer.is_empty()).then_some(started),
             buffer,
+            unflushed_lines: 0,
+            output_dropped: 0,
+            output_stall: Duration::ZERO,
+            behind_warned: false,
             log: None,
+            log_warned: false,
             detector: ProtocolDetector::default(),
             serial,
             counts: Counts::new(),
@@ -455,8 +506,8 @@ impl<W: Write> Monitor<W> {
             });
         }
         self.last_frame = Some(now);
-        if let Some(log) = &mut self.log {
-            log.write(received, &self.iface)?;
+        if let Some(log) = &self.log {
+            log.push(*received);
         }
         let secs = received.ts.as_secs_f64();
         let (frame, decoded) = match &received.frame {
@@ -485,6 +536,7 @@ impl<W: Write> Monitor<W> {
             } else {
                 self.writer.write(&mut self.buffer, &event);
             }
+            self.unflushed_lines += 1;
             self.printed += 1;
         }
         let old = self.unflushed_since.is_some_and(|since| now.duration_since(since) >= FLUSH_AGE);
@@ -494,14 +546,32 @@ impl<W: Write> Monitor<W> {
         Ok(())
     }
 
-    /// Writes out what is buffered.
+    /// Hands what is buffered to the output.
     pub fn flush(&mut self) -> Result<()> {
         if !self.buffer.is_empty() {
-            self.out.write_all(&self.buffer).context("cannot write to standard output")?;
+            let dropped = self.out.block(&mut self.buffer, self.unflushed_lines)?;
             self.buffer.clear();
+            self.unflushed_lines = 0;
+            if dropped > 0 {
+                self.output_dropped += dropped;
+                self.fell_behind();
+            }
         }
         self.unflushed_since = None;
-        self.out.flush().context("cannot write to standard output")
+        Ok(())
+    }
+
+    /// Says once that standard output does not keep up.
+    fn fell_behind(&mut self) {
+        if !self.behind_warned {
+            self.behind_warned = true;
+            self.warnings.push(format!(
+                "warning: standard output is not keeping up (nobody reading it? a pager not scrolling?): frames \
+                 are still received and stamped as they arrive; output beyond {} MiB queued is dropped and \
+                 counted in the summary",
+                QUEUE_BYTES >> 20
+            ));
+        }
     }
 
     fn error_frame(&mut self, frame: &CanFrame, now: Instant) {
@@ -528,8 +598,26 @@ impl<W: Write> Monitor<W> {
         }
     }
 
-    /// Periodic checks: stale identifiers, a silent bus, and the link's counters.
+    /// Periodic checks: stale identifiers, a silent bus, the link's counters, the output and the log.
     pub fn tick(&mut self, now: Instant, stats: RxStats) {
+        if let Some(stall) = self.out.stalled() {
+            self.output_stall = self.output_stall.max(stall);
+            if stall >= BEHIND_AFTER {
+                self.fell_behind();
+            }
+        }
+        if let Some(log) = &self.log {
+            if !self.log_warned {
+                if let Some(loss) = log.losses() {
+                    self.log_warned = true;
+                    self.warnings.push(format!(
+                        "warning: the recording {} is losing frames: {} (counted; the exit status will be 1)",
+                        log.path().display(),
+                        loss.reason
+                    ));
+                }
+            }
+        }
         if let Some(scale) = self.options.time_scale {
             let since = self.last_frame.unwrap_or(self.started);
             let silence = self.options.silence;
@@ -639,7 +727,29 @@ impl<W: Write> Monitor<W> {
         if !self.serial {
             text.push_str(&format!("  protocol: {}\n", self.detector.describe()));
         }
+        if self.behind_warned || self.output_dropped > 0 {
+            text.push_str(&format!(
+                "  output: standard output fell behind (a write waited up to {}); {} of {} lines not shown\n",
+                human(self.output_stall),
+                self.output_dropped,
+                self.printed
+            ));
+        }
         text
+    }
+
+    /// Writes out the `--log` file; if it lost frames, says how many and why, and gives the exit status 1.
+    /// (Also when standard output was closed: a quiet end for the output, not for the recording.)
+    pub fn close_log(&mut self) -> Option<u8> {
+        let log = self.log.as_mut()?;
+        let loss = log.close()?;
+        crate::say!("tracerctl: {}", log.describe(&loss));
+        Some(FAILURE)
+    }
+
+    /// Lines the output dropped.
+    pub fn output_dropped(&self) -> u64 {
+        self.output_dropped
     }
 }
 
@@ -697,6 +807,7 @@ mod tests {
     use super::*;
     use crate::candump::{Timestamp, TimestampKind};
     use crate::protocol::serial::SerialFrame;
+    use std::path::Path;
 
     /// The timestamp of a frame that arrived at `secs`.
     fn stamp(secs: f64) -> Timestamp {
@@ -948,14 +1059,73 @@ mod tests {
         let mut opts = options(Format::Text);
         opts.filter = Filter::new(&[0x999], &[]);
         let mut monitor = Monitor::starting_at("can0", "can0", false, opts, Vec::new(), start);
-        monitor.log = Some(LogFile::create(&path).unwrap());
+        monitor.log = Some(Recorder::start(LogFile::create(&path).unwrap(), "can0").unwrap());
         monitor.frame(&can(0x211, &STATE, T0), start).unwrap();
-        // Written at once, before any flush of standard output.
+        // Written by the recorder's thread, whatever standard output does.
+        assert_eq!(monitor.log.as_mut().unwrap().close(), None);
         assert_eq!(
             std::fs::read_to_string(&path).unwrap(),
             "(1700000000.000000) can0 211#00000103000000B1\n"
         );
         let error = LogFile::create(&dir.path().join("missing/bus.log")).err().unwrap();
         assert!(format!("{error:#}").contains("missing/bus.log"), "{error:#}");
+    }
+
+    #[test]
+    fn a_log_that_loses_frames_warns_once_and_counts_them() {
+        let start = Instant::now();
+        let mut monitor =
+            Monitor::starting_at("can0", "can0", false, options(Format::Text), Vec::new(), start);
+        monitor.log =
+            Some(Recorder::start(LogFile::create(Path::new("/dev/full")).unwrap(), "can0").unwrap());
+        for i in 0..10 {
+            monitor.frame(&can(0x211, &STATE, T0 + f64::from(i) * 0.02), start).unwrap();
+        }
+        let deadline = Instant::now() + Duration::from_secs(5);
+        while monitor.log.as_ref().unwrap().losses().is_none() && Instant::now() < deadline {
+            std::thread::sleep(Duration::from_millis(5));
+        }
+        monitor.tick(start, RxStats::default());
+        monitor.tick(start, RxStats::default());
+        let warnings: Vec<&String> = monitor.warnings.iter().filter(|w| w.contains("/dev/full")).collect();
+        assert_eq!(warnings.len(), 1, "{:?}", monitor.warnings);
+        assert!(warnings[0].contains("is losing frames: No space left on device"), "{}", warnings[0]);
+        let loss = monitor.log.as_mut().unwrap().close().unwrap();
+        assert_eq!(loss.frames, 10);
+    }
+
+    /// An output whose reader is away: it takes nothing and reports a long wait.
+    struct Blocked;
+
+    impl Output for Blocked {
+        fn block(&mut self, buffer: &mut Vec<u8>, lines: u64) -> Result<u64> {
+            buffer.clear();
+            Ok(lines)
+        }
+
+        fn stalled(&self) -> Option<Duration> {
+            Some(Duration::from_secs(3))
+        }
+    }
+
+    #[test]
+    fn a_stalled_output_is_said_once_and_its_drops_counted_while_silence_goes_by_reception() {
+        let start = Instant::now();
+        let ms = |n: u64| start + Duration::from_millis(n);
+        let mut monitor = Monitor::starting_at("sim", "sim", false, options(Format::Text), Blocked, start);
+        for i in 0..100u64 {
+            monitor.frame(&can(0x211, &STATE, T0 + i as f64 * 0.02), ms(i * 20)).unwrap();
+            monitor.flush().unwrap();
+            monitor.tick(ms(i * 20 + 10), RxStats::default());
+        }
+        let behind: Vec<&String> = monitor.warnings.iter().filter(|w| w.contains("not keeping up")).collect();
+        assert_eq!(behind.len(), 1, "{:?}", monitor.warnings);
+        assert!(monitor.warnings.iter().all(|w| !w.contains("silent")), "{:?}", monitor.warnings);
+        assert_eq!(monitor.output_dropped(), 100);
+        let summary = monitor.summary(Duration::from_secs(2), RxStats::default(), "duration reached");
+        assert!(
+            summary.contains("output: standard output fell behind (a write waited up to 3.00 s); 100 of 100 lines not shown"),
+            "{summary}"
+        );
     }
 }

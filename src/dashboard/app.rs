@@ -17,6 +17,7 @@ use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
 use crate::protocol::Wire;
+use crate::recorder::RecordLoss;
 use crate::session::RobotStatus;
 
 /// Distance between the wheel centres, m (manual: "wheelbase" 360 mm, which is the track).
@@ -459,6 +460,8 @@ pub struct App {
     pub(super) prompt: Prompt,
     pub(super) arming: Arming,
     pub(super) message: Option<(String, Instant)>,
+    /// Frames the `--record` recording lost, and why: shown until the end.
+    pub(super) recording_loss: Option<RecordLoss>,
     battery_sampled: Option<Instant>,
     odometry: DeadReckoning,
     rates: Rates,
@@ -475,6 +478,7 @@ impl App {
             prompt: Prompt::None,
             arming: Arming::Watching,
             message: None,
+            recording_loss: None,
             battery_sampled: None,
             odometry: DeadReckoning::default(),
             rates: Rates::default(),
@@ -625,6 +629,11 @@ impl App {
         self.message = Some((text, at));
     }
 
+    /// What the recording has lost so far (set by the glue each update).
+    pub fn set_recording_loss(&mut self, loss: Option<RecordLoss>) {
+        self.recording_loss = loss;
+    }
+
     /// A hash of everything shown: the glue redraws only when it changes.
     pub fn fingerprint(&self) -> u64 {
         let mut hasher = DefaultHasher::new();
@@ -633,6 +642,7 @@ impl App {
         self.prompt.hash(&mut hasher);
         self.arming.hash(&mut hasher);
         self.message.as_ref().map(|(text, _)| text).hash(&mut hasher);
+        self.recording_loss.hash(&mut hasher);
         self.color.hash(&mut hasher);
         let teleop = &self.teleop;
         teleop.release_mode.hash(&mut hasher);

@@ -877,13 +877,23 @@ fn keys_line(width: u16, theme: Theme, arming: Arming) -> Line<'static> {
     Line::from(spans)
 }
 
+/// The footer: a recording that loses frames (it stays: the exit status will say so too), then the message.
 fn message_line(app: &App, theme: Theme) -> Line<'static> {
-    match &app.message {
-        Some((text, _)) => {
-            Line::from(vec![Span::styled("> ", theme.dim()), Span::styled(text.clone(), theme.bold())])
-        }
-        None => Line::raw(""),
+    let mut spans = Vec::new();
+    if let Some(loss) = &app.recording_loss {
+        spans.push(Span::styled(
+            format!("[fault] RECORDING LOST {} frames: {}", loss.frames, loss.reason),
+            theme.alarm(),
+        ));
     }
+    if let Some((text, _)) = &app.message {
+        if !spans.is_empty() {
+            spans.push(separator(theme));
+        }
+        spans.push(Span::styled("> ", theme.dim()));
+        spans.push(Span::styled(text.clone(), theme.bold()));
+    }
+    Line::from(spans)
 }
 
 /// Under 60x20: the essentials as text.
@@ -1413,6 +1423,26 @@ mod tests {
         insta::assert_snapshot!(screen);
         app.cancel_prompt();
         assert!(!self::screen(&app, 100, 30).contains("Send a fault clear"));
+    }
+
+    #[test]
+    fn recording_losses_stay_in_the_footer_beside_the_message() {
+        let mut app = driving();
+        let before = app.fingerprint();
+        app.set_recording_loss(Some(crate::recorder::RecordLoss {
+            frames: 1234,
+            reason: "No space left on device (os error 28)".to_string(),
+        }));
+        assert_ne!(app.fingerprint(), before, "a loss redraws");
+        app.set_message("lights: on".to_string(), Instant::now());
+        let screen = screen(&app, 100, 30);
+        let footer = rows(&screen).last().copied().unwrap_or_default().to_string();
+        assert_eq!(
+            footer.trim_end(),
+            "[fault] RECORDING LOST 1234 frames: No space left on device (os error 28) · > lights: on"
+        );
+        assert!(screen_small(&app).contains("[fault] RECORDING LOST 1234 frames"));
+        insta::assert_snapshot!(screen);
     }
 
     #[test]

@@ -52,6 +52,8 @@ pub struct RxStats {
     /// RS232: bytes read, and times frame sync was lost after a good frame.
     pub serial_bytes: u64,
     pub serial_sync_losses: u64,
+    /// A replayed log: lines that are not candump lines (see [`FrameRx::take_notes`] for where and why).
+    pub rejected_lines: u64,
 }
 
 /// The sending half. `&self`, so one handle can be shared by several threads. Sending never blocks for
@@ -119,6 +121,17 @@ pub trait FrameRx: Send {
     /// (replay finished, simulator stopped).
     fn recv(&mut self, timeout: Duration) -> io::Result<Option<Received>>;
     fn stats(&self) -> RxStats;
+
+    /// What the source has to tell the user about itself since the last call (a replayed log's first
+    /// rejected lines, with `file:line` and the reason), without the `tracerctl: ` prefix. Most links: none.
+    fn take_notes(&mut self) -> Vec<String> {
+        Vec::new()
+    }
+
+    /// A closing line about the source (a replay's totals, when lines were rejected).
+    fn report(&self) -> Option<String> {
+        None
+    }
 }
 
 /// Which kind of link this is.

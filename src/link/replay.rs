@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
-use crate::candump::{Line, LineParser, LineReader, RawLine, Timestamp};
+use crate::candump::{Line, LineParser, LineReader, RawLine, RejectTally, Timestamp};
 use crate::protocol::Wire;
 
 struct ReadOnly;
@@ -26,7 +26,12 @@ struct ReplayRx {
     origin: Option<(Instant, Timestamp)>,
     pending: Option<Received>,
     stats: RxStats,
-    rejected_lines: u64,
+    /// The log's path, for `file:line` in messages.
+    name: String,
+    lines: u64,
+    rejected: RejectTally,
+    /// Messages about rejected lines not yet taken by the owner (at most the tally's first few).
+    notes: Vec<String>,
 }
 
 fn nanos(ts: &Timestamp) -> u128 {
@@ -34,13 +39,18 @@ fn nanos(ts: &Timestamp) -> u128 {
 }
 
 impl ReplayRx {
-    /// The next frame of the log, skipping non-frame lines (bad lines are counted).
+    /// The next frame of the log, skipping non-frame lines (bad lines are counted, the first few noted).
     fn next_frame(&mut self) -> io::Result<Option<Received>> {
         loop {
             let Some(raw) = self.reader.next_line()? else { return Ok(None) };
-            let RawLine::Line { text, .. } = raw else {
-                self.rejected_lines += 1;
-                continue;
+            self.lines += 1;
+            let (number, text) = match raw {
+                RawLine::Line { number, text } => (number, text),
+                RawLine::TooLong { number, len } => {
+                    let message = format!("line of {len} bytes is too long for a candump line");
+                    self.reject(number, &message, "line too long");
+                    continue;
+                }
             };
             match self.parser.parse(text) {
                 Ok(Line::Frame(record)) => {
@@ -48,8 +58,15 @@ impl ReplayRx {
                     return Ok(Some(Received { ts, frame: LinkFrame::Can(record.frame) }));
                 }
                 Ok(_) => {}
-                Err(_) => self.rejected_lines += 1,
+                Err(error) => self.reject(number, &error.to_string(), error.reason.as_str()),
             }
+        }
+    }
+
+    fn reject(&mut self, number: u64, message: &str, reason: &str) {
+        self.stats.rejected_lines += 1;
+        if let Some(note) = self.rejected.reject(&format!("{}:{number}", self.name), message, reason) {
+            self.notes.push(note);
         }
     }
 }
@@ -84,6 +101,27 @@ impl FrameRx for ReplayRx {
     fn stats(&self) -> RxStats {
         self.stats
     }
+
+    fn take_notes(&mut self) -> Vec<String> {
+        std::mem::take(&mut self.notes)
+    }
+
+    /// `bus.log: replayed 12 frames from 40 lines; rejected 28: 28 x not a candump line (first at bus.log:1)`
+    fn report(&self) -> Option<String> {
+        let rejected = self.rejected.describe()?;
+        Some(format!(
+            "{}: replayed {} frames from {} lines; {rejected}",
+            self.name, self.stats.frames, self.lines
+        ))
+    }
+}
+
+/// For a replayed log that gave no frame at all and had lines rejected, the words for it (the exit status is
+/// then 3, a data error).
+pub fn nothing_replayed(name: &str, stats: &RxStats) -> Option<String> {
+    (stats.frames == 0 && stats.rejected_lines > 0).then(|| {
+        format!("nothing to replay: {name} has no candump frames ({} lines rejected)", stats.rejected_lines)
+    })
 }
 
 /// Opens `path` for replay at `speed` (0 = as fast as possible).
@@ -97,7 +135,10 @@ pub fn open(path: &Path, speed: f64) -> anyhow::Result<Link> {
         origin: None,
         pending: None,
         stats: RxStats::default(),
-        rejected_lines: 0,
+        name: path.display().to_string(),
+        lines: 0,
+        rejected: RejectTally::default(),
+        notes: Vec::new(),
     };
     Ok(Link {
         name: path.display().to_string(),
@@ -106,4 +147,53 @@ pub fn open(path: &Path, speed: f64) -> anyhow::Result<Link> {
         tx: Arc::new(ReadOnly),
         rx: Box::new(rx),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::candump::DEFAULT_MAX_LINE_LEN;
+
+    #[test]
+    fn rejected_lines_are_noted_with_file_line_and_reason_and_totalled() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bus.log");
+        let long = "1".repeat(DEFAULT_MAX_LINE_LEN + 10);
+        let text = format!("{long}\nnot candump\n\n(1700000000.000000) can0 211#00000103000000B1\n");
+        std::fs::write(&path, text).unwrap();
+        let mut link = open(&path, 0.0).unwrap();
+        let received = link.rx.recv(Duration::from_secs(1)).unwrap().unwrap();
+        assert_eq!(
+            received.frame,
+            LinkFrame::Can(crate::protocol::CanFrame::new(0x211, &[0, 0, 1, 3, 0, 0, 0, 0xB1]).unwrap())
+        );
+        let name = path.display().to_string();
+        assert_eq!(
+            link.rx.take_notes(),
+            [
+                format!(
+                    "{name}:1: line of {} bytes is too long for a candump line",
+                    DEFAULT_MAX_LINE_LEN + 10
+                ),
+                format!("{name}:2: column 1: not a candump line"),
+            ]
+        );
+        assert!(link.rx.take_notes().is_empty(), "taken once");
+        assert_eq!(link.rx.stats().rejected_lines, 2);
+        assert_eq!(
+            link.rx.report().unwrap(),
+            format!(
+                "{name}: replayed 1 frames from 4 lines; rejected 2: 1 x line too long (first at {name}:1); \
+                 1 x not a candump line (first at {name}:2)"
+            )
+        );
+        let end = link.rx.recv(Duration::from_secs(1)).unwrap_err();
+        assert_eq!(end.kind(), io::ErrorKind::UnexpectedEof);
+        assert_eq!(nothing_replayed(&name, &link.rx.stats()), None, "a frame was replayed");
+        let stats = RxStats { rejected_lines: 3, ..RxStats::default() };
+        assert_eq!(
+            nothing_replayed("x.log", &stats).unwrap(),
+            "nothing to replay: x.log has no candump frames (3 lines rejected)"
+        );
+    }
 }

@@ -7,6 +7,7 @@ pub mod csv;
 pub mod filter;
 pub mod json;
 pub mod number;
+pub mod queue;
 pub mod text;
 
 use crate::candump::{Direction, Timestamp};

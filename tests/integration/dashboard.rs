@@ -13,8 +13,8 @@ fn tmux(args: &[&str]) -> String {
     String::from_utf8_lossy(&output.stdout).into_owned()
 }
 
-struct Session {
-    name: String,
+pub(crate) struct Session {
+    pub(crate) name: String,
     _guard: std::sync::MutexGuard<'static, ()>,
 }
 
@@ -24,7 +24,7 @@ struct Session {
 static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 
 impl Session {
-    fn start(name: &str, command: &str) -> Self {
+    pub(crate) fn start(name: &str, command: &str) -> Self {
         let guard = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
         let _ = Command::new("tmux").args(["kill-session", "-t", name]).output();
         let status = Command::new("tmux")
@@ -35,18 +35,18 @@ impl Session {
         Self { name: name.to_string(), _guard: guard }
     }
 
-    fn screen(&self) -> String {
+    pub(crate) fn screen(&self) -> String {
         tmux(&["capture-pane", "-p", "-t", &self.name])
     }
 
-    fn keys(&self, keys: &[&str]) {
+    pub(crate) fn keys(&self, keys: &[&str]) {
         let mut args = vec!["send-keys", "-t", &self.name];
         args.extend_from_slice(keys);
         tmux(&args);
     }
 
     /// Waits until the screen satisfies `check`; the last screen either way.
-    fn wait_for(&self, timeout: Duration, check: impl Fn(&str) -> bool) -> (bool, String) {
+    pub(crate) fn wait_for(&self, timeout: Duration, check: impl Fn(&str) -> bool) -> (bool, String) {
         let deadline = Instant::now() + timeout;
         loop {
             let screen = self.screen();

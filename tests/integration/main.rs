@@ -15,6 +15,7 @@ mod formats;
 mod generated;
 mod monitor;
 mod plot;
+mod recording;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;

@@ -1,0 +1,218 @@
+//! Nothing lost silently on the live paths: a standard output nobody reads (`monitor | less`, not scrolling),
+//! a recording on a full disk (`--log` / `--record` to /dev/full, where writes fail with ENOSPC), and a
+//! `--replay` log with lines that are not candump lines.
+
+use std::io::Read;
+use std::process::{Command, Stdio};
+use std::time::{Duration, SystemTime, UNIX_EPOCH};
+
+use super::dashboard::Session;
+use super::util::{data, stderr, stdout, tracerctl};
+
+fn binary() -> std::path::PathBuf {
+    assert_cmd::cargo::cargo_bin("tracerctl")
+}
+
+fn wall_clock() -> f64 {
+    SystemTime::now().duration_since(UNIX_EPOCH).unwrap().as_secs_f64()
+}
+
+/// The first number after `after` in `text`.
+fn number_after(text: &str, after: &str) -> Option<u64> {
+    let rest = &text[text.find(after)? + after.len()..];
+    let digits: String = rest.trim_start().chars().take_while(char::is_ascii_digit).collect();
+    digits.parse().ok()
+}
+
+#[test]
+fn a_stdout_nobody_reads_delays_neither_the_stamps_nor_the_silence_checks() {
+    let mut child = Command::new(binary())
+        .args(["--sim", "monitor", "--format", "json", "--duration", "4s"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut errors = child.stderr.take().unwrap();
+    let errors = std::thread::spawn(move || {
+        let mut text = String::new();
+        errors.read_to_string(&mut text).unwrap();
+        text
+    });
+    let started = wall_clock();
+    // A pager that is not scrolling: the pipe fills (64 KiB, well under a second of JSON) and stays full.
+    std::thread::sleep(Duration::from_secs(3));
+    let mut text = String::new();
+    child.stdout.take().unwrap().read_to_string(&mut text).unwrap();
+    let status = child.wait().unwrap();
+    let errors = errors.join().unwrap();
+    assert!(status.success(), "{errors}");
+
+    // Reception went on at full rate: the bus never looked silent. (A loaded test machine may stall the
+    // simulator for a real 100 ms or so, which the staleness check rightly reports; never for seconds.)
+    for false_alarm in ["silent", "nothing received", "of silence"] {
+        assert!(!errors.contains(false_alarm), "{false_alarm:?} in:\n{errors}");
+    }
+    for gap in errors.lines().filter_map(|line| line.split_once("resumed after a gap of ")) {
+        assert!(gap.1.ends_with(" ms"), "a gap of seconds: {}", gap.1);
+    }
+    // The stamps of what was read are spread over the run as the frames came, blocked seconds included.
+    let stamps: Vec<f64> = text
+        .lines()
+        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["ts"].as_f64().unwrap())
+        .collect();
+    let first = stamps[0];
+    assert!((first - started).abs() < 1.0, "first stamp {first}, started {started}");
+    for second in 0..3 {
+        let within = stamps.iter().filter(|ts| (*ts - first).floor() as i32 == second).count();
+        assert!(within > 100, "{within} frames stamped in second {second} of the blocked stretch");
+    }
+    // Every frame meant for output was either read here or counted as dropped.
+    let shown = number_after(&errors, "frames,").expect("the summary's count of frames shown");
+    let dropped = match errors.find("output: standard output fell behind") {
+        Some(at) => number_after(&errors[at..], "s);").expect("a dropped count"),
+        None => 0,
+    };
+    assert_eq!(stamps.len() as u64 + dropped, shown, "{errors}");
+    // A pipe that stayed full for seconds was noticed, once.
+    assert_eq!(errors.matches("standard output is not keeping up").count(), 1, "{errors}");
+}
+
+#[test]
+fn monitor_log_on_a_full_disk_counts_every_lost_frame_and_exits_1() {
+    let output =
+        tracerctl().args(["--sim", "monitor", "--duration", "1s", "--log", "/dev/full"]).output().unwrap();
+    let errors = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{errors}");
+    // The monitor itself went on: frames were shown.
+    assert!(stdout(&output).lines().count() > 100, "{errors}");
+    assert_eq!(
+        errors.matches("warning: the recording /dev/full is losing frames: No space left on device").count(),
+        1,
+        "{errors}"
+    );
+    let total = number_after(&errors, "total:").expect("a total line");
+    let lost = number_after(&errors, "the recording /dev/full lost").expect("the loss at exit");
+    assert_eq!(lost, total, "every frame was lost, and counted: {errors}");
+    assert!(
+        errors.contains(&format!("lost {lost} frames (No space left on device (os error 28))")),
+        "{errors}"
+    );
+}
+
+#[test]
+fn a_closed_stdout_is_a_quiet_end_but_not_for_a_recording_that_lost_frames() {
+    let mut child = Command::new(binary())
+        .args(["--sim", "monitor", "--log", "/dev/full"])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 1];
+    child.stdout.as_mut().unwrap().read_exact(&mut first).unwrap();
+    drop(child.stdout.take()); // `| head -c1`
+    let output = super::monitor::wait_with_timeout(child, Duration::from_secs(10));
+    let errors = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{errors}");
+    assert!(errors.contains("tracerctl: the recording /dev/full lost"), "{errors}");
+}
+
+#[test]
+fn dashboard_record_on_a_full_disk_shows_the_loss_and_exits_1() {
+    let command =
+        format!("{} --sim dashboard --record /dev/full; echo EXIT=$?; sleep 30", binary().display());
+    let session = Session::start(&format!("tracerctl-full-{}", std::process::id()), &command);
+    let (shown, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("RECORDING LOST"));
+    assert!(shown, "{screen}");
+    assert!(screen.contains("No space left on device"), "{screen}");
+    session.keys(&["q"]);
+    let (ended, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("EXIT="));
+    assert!(ended, "{screen}");
+    assert!(screen.contains("EXIT=1"), "{screen}");
+    let joined = screen.replace('\n', "");
+    assert!(joined.contains("tracerctl: the recording /dev/full lost"), "{screen}");
+    assert!(joined.contains("frames (No space left on device (os error 28))"), "{screen}");
+}
+
+#[test]
+fn replay_reports_rejected_lines_as_decode_does() {
+    let log = data("replay/mixed.log");
+    let output =
+        tracerctl().args(["--replay", log.to_str().unwrap(), "--speed", "0", "monitor"]).output().unwrap();
+    let errors = stderr(&output);
+    assert_eq!(output.status.code(), Some(0), "{errors}");
+    assert_eq!(stdout(&output).lines().count(), 7);
+    let path = log.display().to_string();
+    let decoded = tracerctl().args(["decode", &path]).output().unwrap();
+    // The same lines, file:line and reasons as decode's.
+    let prefix = format!("tracerctl: {path}:");
+    let rejected = |text: &str| -> Vec<String> {
+        text.lines()
+            .filter(|line| line.strip_prefix(&prefix).is_some_and(|rest| rest.starts_with(char::is_numeric)))
+            .map(str::to_string)
+            .collect()
+    };
+    let from_replay = rejected(&errors);
+    assert_eq!(from_replay.len(), 10, "{errors}");
+    assert_eq!(from_replay, rejected(&stderr(&decoded)));
+    assert_eq!(from_replay[1], format!("tracerctl: {path}:6: column 1: not a candump line"));
+    let totals = errors.lines().find(|line| line.contains("replayed")).expect("a totals line");
+    assert!(
+        totals.starts_with(&format!(
+            "tracerctl: {path}: replayed 7 frames from 18 lines; rejected 10: 1 x unterminated timestamp"
+        )),
+        "{totals}"
+    );
+    assert!(totals.contains(&format!("3 x not a candump line (first at {path}:6)")), "{totals}");
+}
+
+#[test]
+fn a_megabyte_of_garbage_replays_as_a_data_error_with_the_first_lines_shown() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("garbage.log");
+    let line = "RX 0x211 00 00 01 03 00 00 00 B1 some adapter's own format\n";
+    let lines = 1_000_000 / line.len();
+    std::fs::write(&log, line.repeat(lines)).unwrap();
+    let path = log.display().to_string();
+    let output = tracerctl().args(["--replay", &path, "--speed", "0", "monitor"]).output().unwrap();
+    let errors = stderr(&output);
+    assert_eq!(output.status.code(), Some(3), "{errors}");
+    assert_eq!(errors.matches(": column 1: not a candump line").count(), 10, "{errors}");
+    assert!(errors.contains(&format!("tracerctl: {path}:1: column 1: not a candump line")), "{errors}");
+    assert!(
+        errors.contains("further rejected input is only counted (see the totals at the end)"),
+        "{errors}"
+    );
+    assert!(
+        errors.contains(&format!(
+            "replayed 0 frames from {lines} lines; rejected {lines}: {lines} x not a candump line (first at {path}:1)"
+        )),
+        "{errors}"
+    );
+    assert!(
+        errors.contains(&format!(
+            "tracerctl: nothing to replay: {path} has no candump frames ({lines} lines rejected)"
+        )),
+        "{errors}"
+    );
+}
+
+#[test]
+fn dashboard_replay_of_garbage_says_so_after_the_screen_and_exits_3() {
+    let log = data("replay/garbage.log");
+    let command = format!(
+        "{} --replay {} --speed 0 dashboard; echo EXIT=$?; sleep 30",
+        binary().display(),
+        log.display()
+    );
+    let session = Session::start(&format!("tracerctl-garbage-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("WATCH ONLY"));
+    assert!(up, "{screen}");
+    session.keys(&["q"]);
+    let (ended, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("EXIT="));
+    assert!(ended, "{screen}");
+    assert!(screen.contains("EXIT=3"), "{screen}");
+    let joined = screen.replace('\n', "");
+    assert!(joined.contains("garbage.log:1: column 1: not a candump line"), "{screen}");
+    assert!(joined.contains("replayed 0 frames from 40 lines; rejected 40"), "{screen}");
+    assert!(joined.contains("nothing to replay"), "{screen}");
+}
