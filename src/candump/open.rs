@@ -145,16 +145,16 @@ impl From<FormatError> for crate::exit::Failure {
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
 pub fn open_log<'a>(
-    reader: impl Read + 'a,
+    reader: impl Read + Send + 'a,
     name: &str,
-) -> Result<(Box<dyn Read + 'a>, LogFormat), FormatError> {
+) -> Result<(Box<dyn Read + Send + 'a>, LogFormat), FormatError> {
     let io_error = |source| FormatError::Io { name: name.to_string(), source };
     let mut reader = reader;
     let mut magic = Vec::with_capacity(MAGIC_LEN);
     fill_to(&mut reader, &mut magic, MAGIC_LEN).map_err(io_error)?;
     let compression = Compression::detect(&magic);
     let raw = Cursor::new(magic).chain(reader);
-    let mut text: Box<dyn Read + 'a> = match compression {
+    let mut text: Box<dyn Read + Send + 'a> = match compression {
         None => Box::new(raw),
         Some(compression) => {
             Box::new(NamedErrors { inner: decompressor(compression, raw).map_err(io_error)?, compression })
@@ -198,7 +198,10 @@ fn fill_to(reader: &mut impl Read, buf: &mut Vec<u8>, want: usize) -> io::Result
     Ok(())
 }
 
-fn decompressor<'a>(compression: Compression, raw: impl Read + 'a) -> io::Result<Box<dyn Read + 'a>> {
+fn decompressor<'a>(
+    compression: Compression,
+    raw: impl Read + Send + 'a,
+) -> io::Result<Box<dyn Read + Send + 'a>> {
     Ok(match compression {
         Compression::Gzip => Box::new(flate2::read::MultiGzDecoder::new(raw)),
         Compression::Zstd => Box::new(zstd::stream::read::Decoder::new(raw)?),
@@ -210,7 +213,7 @@ fn decompressor<'a>(compression: Compression, raw: impl Read + 'a) -> io::Result
 /// Says which compression failed, and turns a silent early end into an error: every decoder must see
 /// its end-of-stream marker, or the file was cut.
 struct NamedErrors<'a> {
-    inner: Box<dyn Read + 'a>,
+    inner: Box<dyn Read + Send + 'a>,
     compression: Compression,
 }
 

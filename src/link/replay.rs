@@ -1,13 +1,13 @@
 //! A candump log played back as a read-only link, paced by its timestamps.
 
 use std::fs::File;
-use std::io;
+use std::io::{self, Read};
 use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
-use crate::candump::{Line, LineParser, LineReader, RawLine, RejectTally, Timestamp};
+use crate::candump::{self, Line, LineParser, LineReader, RawLine, RejectTally, Timestamp};
 use crate::protocol::Wire;
 
 struct ReadOnly;
@@ -19,7 +19,7 @@ impl FrameTx for ReadOnly {
 }
 
 struct ReplayRx {
-    reader: LineReader<File>,
+    reader: LineReader<Box<dyn Read + Send>>,
     parser: LineParser,
     speed: f64,
     /// Wall-clock start and the log time it corresponds to.
@@ -124,13 +124,16 @@ pub fn nothing_replayed(name: &str, stats: &RxStats) -> Option<String> {
     })
 }
 
-/// Opens `path` for replay at `speed` (0 = as fast as possible).
+/// Opens `path` for replay at `speed` (0 = as fast as possible). Any log `decode` reads replays:
+/// compressed, ASC, trc; a format it refuses is refused here too (exit 3).
 pub fn open(path: &Path, speed: f64) -> anyhow::Result<Link> {
     let file =
         File::open(path).map_err(|error| anyhow::anyhow!("cannot open {}: {error}", path.display()))?;
+    let name = path.display().to_string();
+    let (text, format) = candump::open_log(file, &name).map_err(crate::exit::Failure::from)?;
     let rx = ReplayRx {
-        reader: LineReader::new(file),
-        parser: LineParser::new(),
+        reader: LineReader::new(text),
+        parser: LineParser::for_format(format),
         speed,
         origin: None,
         pending: None,

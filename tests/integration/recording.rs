@@ -216,3 +216,33 @@ fn dashboard_replay_of_garbage_says_so_after_the_screen_and_exits_3() {
     assert!(joined.contains("replayed 0 frames from 40 lines; rejected 40"), "{screen}");
     assert!(joined.contains("nothing to replay"), "{screen}");
 }
+
+#[test]
+fn replay_reads_what_decode_reads_and_refuses_what_it_refuses() {
+    let dir = tempfile::tempdir().unwrap();
+    // A gzipped candump log (named .log: the magic bytes decide) and a Vector ASC log replay their frames.
+    let plain = std::fs::read(data("replay/mixed.log")).unwrap();
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut encoder, &plain).unwrap();
+    let gz = dir.path().join("mixed.log");
+    std::fs::write(&gz, encoder.finish().unwrap()).unwrap();
+    for log in [gz, data("formats/vector.asc")] {
+        let output = tracerctl()
+            .args(["--replay", log.to_str().unwrap(), "--speed", "0", "monitor", "--format", "json"])
+            .output()
+            .unwrap();
+        let decoded = tracerctl().args(["decode", "-f", "json", log.to_str().unwrap()]).output().unwrap();
+        assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+        let frames = stdout(&output).lines().count();
+        assert!(frames > 0, "{}", log.display());
+        assert_eq!(frames, stdout(&decoded).lines().count(), "{}", log.display());
+    }
+    // A BLF log is refused in one line, exit 3, as decode does.
+    let blf = dir.path().join("trace.blf");
+    std::fs::write(&blf, b"LOGG\x90\x00\x00\x00rest of a binary logging file").unwrap();
+    let output = tracerctl().args(["--replay", blf.to_str().unwrap(), "monitor"]).output().unwrap();
+    assert_eq!(output.status.code(), Some(3));
+    let errors = stderr(&output);
+    assert_eq!(errors.lines().count(), 1, "{errors}");
+    assert!(errors.contains("Vector BLF"), "{errors}");
+}

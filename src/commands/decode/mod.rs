@@ -148,7 +148,7 @@ impl Decoder {
 
     fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
-            let (reader, format) = candump::open_log(io::stdin().lock(), "<stdin>").map_err(Failure::from)?;
+            let (reader, format) = candump::open_log(io::stdin(), "<stdin>").map_err(Failure::from)?;
             return self.candump("<stdin>", reader, None, format);
         }
         let path = Path::new(input);
