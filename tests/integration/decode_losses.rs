@@ -100,13 +100,24 @@ fn spawn_decode(stdout: Stdio) -> std::process::Child {
 fn a_live_pipe_is_decoded_line_by_line() {
     let mut child = spawn_decode(Stdio::piped());
     let mut input = child.stdin.take().unwrap();
-    let mut output = BufReader::new(child.stdout.take().unwrap());
+    let output = BufReader::new(child.stdout.take().unwrap());
+    // Lines are read on a thread, so a decoder that holds its output fails the test instead of hanging it.
+    let (sender, lines) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        for line in output.lines() {
+            if sender.send(line.unwrap()).is_err() {
+                break;
+            }
+        }
+    });
     for count in 0..20 {
         input.write_all(LIVE_LINE.as_bytes()).unwrap();
         input.flush().unwrap();
-        let mut line = String::new();
-        // Blocks until the decoded line arrives: before the fix it never came (held for 64 KiB).
-        output.read_line(&mut line).unwrap();
+        let line = lines.recv_timeout(Duration::from_secs(10));
+        if line.is_err() {
+            let _ = child.kill();
+        }
+        let line = line.unwrap_or_else(|_| panic!("decoded line {count} did not arrive (held in a buffer)"));
         assert!(line.starts_with("1700000000.000000 can0 0x211 system_state"), "line {count}: {line:?}");
     }
     drop(input);
@@ -124,7 +135,10 @@ fn sigint_writes_every_decoded_line_and_the_totals() {
         for count in 1..=30 {
             input.write_all(LIVE_LINE.as_bytes()).unwrap();
             input.flush().unwrap();
-            wait_for_lines(&out_path, count);
+            if let Err(message) = wait_for_lines(&out_path, count) {
+                let _ = child.kill();
+                panic!("{message}");
+            }
         }
         // The pipe stays open, as with a live candump: the signal must end the blocked read.
         let killed = StdCommand::new("kill").arg(format!("-{signal}")).arg(child.id().to_string()).status();
@@ -138,14 +152,16 @@ fn sigint_writes_every_decoded_line_and_the_totals() {
     }
 }
 
-fn wait_for_lines(path: &PathBuf, count: usize) {
+fn wait_for_lines(path: &PathBuf, count: usize) -> Result<(), String> {
     let deadline = Instant::now() + Duration::from_secs(10);
     loop {
         let lines = std::fs::read_to_string(path).unwrap_or_default().lines().count();
         if lines >= count {
-            return;
+            return Ok(());
         }
-        assert!(Instant::now() < deadline, "only {lines} of {count} decoded lines reached the file");
+        if Instant::now() > deadline {
+            return Err(format!("only {lines} of {count} decoded lines reached the file"));
+        }
         std::thread::sleep(Duration::from_millis(5));
     }
 }

@@ -161,7 +161,7 @@ impl<R: Read> Read for LiveInput<R> {
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         loop {
             if self.signals.received().is_some() {
-                return Err(io::Error::new(io::ErrorKind::Other, Interrupted));
+                return Err(io::Error::other(Interrupted));
             }
             if let Some(output) = &self.output {
                 output

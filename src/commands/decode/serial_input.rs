@@ -467,8 +467,90 @@ mod tests {
         assert_eq!(convert("5A zz A5"), (vec![0x5A, 0xA5], 2));
     }
 
+    /// Converts `text` in chunks of `chunk` bytes; returns the bytes and the offsets of bad characters.
+    fn lines(text: &[u8], chunk: usize) -> (Vec<u8>, Vec<u64>) {
+        let mut converter = HexLines::new();
+        let (mut out, mut bad) = (Vec::new(), Vec::new());
+        let mut offset = 0;
+        for piece in text.chunks(chunk) {
+            converter.feed(piece, offset, &mut out, &mut |at, _| bad.push(at));
+            offset += piece.len() as u64;
+        }
+        converter.finish(&mut out, &mut |at, _| bad.push(at));
+        (out, bad)
+    }
+
+    const FRAME: [u8; 13] = [0x5A, 0xA5, 0x0A, 0x55, 0x01, 0x02, 0x00, 0x0A, 0x00, 0x00, 0x00, 0x00, 0x6B];
+
+    #[test]
+    fn labels_timestamps_offsets_and_ascii_columns_are_left_out() {
+        let shapes: [&[u8]; 9] = [
+            b"\xEF\xBB\xBF5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"RX: 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"[RX] 5a a5 0a 55 01 02 00 0a 00 00 00 00 6b\r\n",
+            b"[12:34:56.789] <- 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"12:34:56.789 -> 5AA50A550102000A000000006B\n",
+            b"0000: 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"00000000  5a a5 0a 55 01 02 00 0a  00 00 00 00 6b        |Z..U........k|\n0000000d\n",
+            b"00000000: 5aa5 0a55 0102 000a 0000 0000 6b         Z..U........k\n",
+            b"000000 5a a5 0a 55 01 02 00 0a 00 00 00 00 6b  >Z..U........k<\n00000d\n",
+        ];
+        for shape in shapes {
+            for chunk in [1, 3, 7, 4096] {
+                assert_eq!(
+                    lines(shape, chunk),
+                    (FRAME.to_vec(), vec![]),
+                    "{} in {chunk}",
+                    shape.escape_ascii()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_xxd_ascii_column_that_looks_like_hex_is_not_read() {
+        // Two data bytes 0x61 0x62 show as "ab" in the ASCII column, after the padding.
+        let dump = b"00000000: 5aa5 0a55 0102 000a 0000 0000 6b5a a50a  Z..U........kZ..\n00000010: 6162                                     ab\n";
+        let (bytes, bad) = lines(dump, 4096);
+        assert_eq!(bytes.len(), 18);
+        assert_eq!(&bytes[16..], b"ab");
+        assert!(bad.is_empty());
+    }
+
+    #[test]
+    fn words_are_reported_at_their_offsets() {
+        let (bytes, bad) = lines(b"5A A5\nnope\n", 4096);
+        assert_eq!(bytes, [0x5A, 0xA5]);
+        // 'n' at 6, 'o' at 7, 'p' at 8 are not hex; 'e' is a lone digit, ended by the newline at 10.
+        assert_eq!(bad, [6, 7, 8, 10]);
+    }
+
+    #[test]
+    fn a_line_longer_than_the_carry_is_converted_in_pieces() {
+        let text: Vec<u8> =
+            FRAME.iter().cycle().take(13 * 1000).flat_map(|b| format!("{b:02X} ").into_bytes()).collect();
+        let (bytes, bad) = lines(&text, 1000);
+        assert_eq!(bytes.len(), 13 * 1000);
+        assert!(bad.is_empty());
+    }
+
+    #[test]
+    fn candump_text_is_recognised() {
+        assert!(looks_like_candump(
+            b"(1700000000.000000) can0 211#00000103000000B1\n# c\n(1.0) can0 421#01\n"
+        ));
+        assert!(looks_like_candump(b"  can0  211   [8]  00 00 01 03 00 00 00 B1\n"));
+        assert!(!looks_like_candump(b"5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n"));
+        assert!(!looks_like_candump(b"RX: 5A A5 0A 55\n"));
+    }
+
     #[test]
     fn detection_of_hex_text() {
+        assert!(looks_like_hex_text(b"\xEF\xBB\xBF5A A5"));
+        assert!(looks_like_hex_text(b"RX: 5A A5 0A 55\n"));
+        assert!(looks_like_hex_text("[12:34:56] \u{2190} 5A A5".as_bytes()));
+        let raw: Vec<u8> = FRAME.iter().cycle().take(4096).copied().collect();
+        assert!(!looks_like_hex_text(&raw));
         assert!(looks_like_hex_text(b"5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n"));
         assert!(!looks_like_hex_text(&[0x5A, 0xA5, 0x0A, 0x55, 0x01]));
         assert!(!looks_like_hex_text(b""));
