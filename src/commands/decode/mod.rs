@@ -629,7 +629,7 @@ pub fn totals_line(stats: &InputStats) -> String {
         for (count, what) in [
             (serial.skipped_bytes, "bytes skipped"),
             (serial.sync_losses, "sync losses"),
-            (serial.bad_checksum, "bad checksums"),
+            // Checksum mismatches are rejections, listed with their first place below.
             (serial.bad_length, "bad length bytes"),
             (serial.bad_type, "bad frame types"),
         ] {
@@ -640,7 +640,7 @@ pub fn totals_line(stats: &InputStats) -> String {
     }
     if !other_reasons.is_empty() {
         let reasons: Vec<String> = other_reasons.iter().map(|r| r.describe()).collect();
-        line.push_str(&format!("; bad serial input: {}", reasons.join("; ")));
+        line.push_str(&format!("; rejected serial input: {}", reasons.join("; ")));
     }
     if stats.invalid_frames > 0 {
         line.push_str(&format!("; {} invalid frames", stats.invalid_frames));
