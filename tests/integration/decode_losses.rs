@@ -61,6 +61,20 @@ fn summary_shows_stamps_beyond_year_9999_as_seconds() {
     }
 }
 
+#[test]
+fn dropcount_totals_saturate_instead_of_overflowing() {
+    let dir = tempfile::tempdir().unwrap();
+    let line = "DROPCOUNT: dropped 9999999999999999999 CAN frames on 'can0' socket (total drops 3)\n";
+    let log = write_temp(&dir, "drops.log", line.repeat(2).as_bytes());
+    let output = tracerctl().args(["decode"]).arg(&log).output().unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert!(
+        stderr(&output).contains("candump reported 18446744073709551615 dropped frames"),
+        "{}",
+        stderr(&output)
+    );
+}
+
 // ---- 2. nothing lost on a later error ----
 
 #[test]

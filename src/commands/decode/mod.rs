@@ -76,7 +76,7 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
     let result = decoder.all_inputs(&inputs, serial);
     if let Some(status) = decoder.signals.exit_status() {
         // Interrupted (Ctrl-C, kill): what was decoded is written, with the totals, before exiting 128+n.
-        decoder.write_out(args)?;
+        decoder.write_out_or_say(args);
         crate::say!("tracerctl: {}: {}", decoder.signals.name(), totals_line(&decoder.stats));
         return Ok(status);
     }
@@ -88,11 +88,7 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
         }
         Err(error) => {
             // Everything decoded before the error is written first; the error is the last word.
-            if let Err(write_error) = decoder.write_out(args) {
-                if !crate::exit::is_broken_pipe(&write_error) {
-                    crate::say!("tracerctl: {write_error:#}");
-                }
-            }
+            decoder.write_out_or_say(args);
             Err(error)
         }
     }
@@ -594,6 +590,16 @@ impl Decoder {
             plot.write(path)?;
         }
         Ok(())
+    }
+
+    /// [`Self::write_out`] when another outcome decides the exit status: a failed write is only said
+    /// (nothing at all for a closed stdout).
+    fn write_out_or_say(&mut self, args: &DecodeArgs) {
+        if let Err(error) = self.write_out(args) {
+            if !crate::exit::is_broken_pipe(&error) {
+                crate::say!("tracerctl: {error:#}");
+            }
+        }
     }
 
     /// The totals line on stderr after plain decoding, when anything but blank lines was not decoded (the
