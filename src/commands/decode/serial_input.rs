@@ -258,12 +258,15 @@ impl HexLines {
             let token = &text[pos..end];
             let bare = token.strip_suffix(b":").unwrap_or(token);
             let all_hex = !bare.is_empty() && bare.iter().all(u8::is_ascii_hexdigit);
-            if self.layout.is_none() {
+            if self.layout.is_none() && all_hex {
+                // Decided on the first line that starts with hex, so a header line (PuTTY's) is no guide.
                 self.layout = Some(layout_of(token, &text[end..]));
             }
             let offset_column = first_token && self.layout != Some(Layout::Plain) && all_hex;
+            let more_follows = text[end..].iter().any(|b| !b.is_ascii_whitespace());
             let label = !token.iter().all(|b| b.is_ascii_hexdigit() || b"xX,;:".contains(b))
-                || (token.ends_with(b":") && all_hex && token.len() > 1 && bare.len() != 2);
+                || (token.ends_with(b":") && all_hex && token.len() > 1 && bare.len() != 2)
+                || (is_clock(token) && more_follows);
             if !(offset_column || label) {
                 return pos;
             }
@@ -304,6 +307,24 @@ impl HexLines {
         }
         pos
     }
+}
+
+/// A time of day without brackets before the bytes: `12:34:56` or CuteCom's `12:34:56:789`.
+fn is_clock(token: &[u8]) -> bool {
+    let mut parts = 0;
+    for (index, part) in token.split(|&b| b == b':').enumerate() {
+        let width_ok = match index {
+            0 => (1..=2).contains(&part.len()),
+            1 | 2 => part.len() == 2,
+            3 => (1..=6).contains(&part.len()),
+            _ => false,
+        };
+        if !width_ok || !part.iter().all(u8::is_ascii_digit) {
+            return false;
+        }
+        parts += 1;
+    }
+    parts >= 3
 }
 
 /// Decides the layout from the first token of the first line with data: an offset of zeros (dumps start
@@ -484,7 +505,10 @@ mod tests {
 
     #[test]
     fn labels_timestamps_offsets_and_ascii_columns_are_left_out() {
-        let shapes: [&[u8]; 9] = [
+        let shapes: [&[u8]; 12] = [
+            b"12:34:56:789 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"1700000000.123, 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"=~=~=~=~ PuTTY log 2024.01.01 12:00:00 =~=~=~=~\n  00000000  5a a5 0a 55 01 02 00 0a  00 00 00 00 6b   Z..U........k\n",
             b"\xEF\xBB\xBF5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
             b"RX: 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
             b"[RX] 5a a5 0a 55 01 02 00 0a 00 00 00 00 6b\r\n",
