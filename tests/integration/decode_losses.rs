@@ -234,14 +234,44 @@ fn strict_fails_on_a_can_xl_frame() {
 }
 
 #[test]
-fn comments_alone_get_a_totals_line_and_blank_lines_do_not() {
+fn the_totals_line_comes_when_something_was_lost_not_for_blank_lines_and_comments() {
     let dir = tempfile::tempdir().unwrap();
-    let blank = write_temp(&dir, "blank.log", b"(1700000000.000000) can0 421#01\n\n\n");
-    let output = tracerctl().args(["decode"]).arg(&blank).output().unwrap();
+    let clean = write_temp(&dir, "clean.log", b"# bench\n(1700000000.000000) can0 421#01\n\n");
+    let output = tracerctl().args(["decode"]).arg(&clean).output().unwrap();
     assert_eq!(stderr(&output), "");
-    let comment = write_temp(&dir, "comment.log", b"# bench\n(1700000000.000000) can0 421#01\n");
-    let output = tracerctl().args(["decode"]).arg(&comment).output().unwrap();
-    assert_eq!(stderr(&output), "tracerctl: decoded 1 frames from 2 lines; skipped 1 lines: 1 comment\n");
+    let dropped = write_temp(
+        &dir,
+        "dropped.log",
+        b"(1700000000.000000) can0 421#01\nDROPCOUNT: dropped 2 CAN frames on 'can0' socket (total drops 2)\n",
+    );
+    let output = tracerctl().args(["decode"]).arg(&dropped).output().unwrap();
+    assert_eq!(
+        stderr(&output),
+        "tracerctl: decoded 1 frames from 2 lines; skipped 1 lines: 1 DROPCOUNT; candump reported 2 dropped frames\n"
+    );
+    let xl = write_temp(
+        &dir,
+        "xl.log",
+        b"(1700000000.010000) can0 45123#81:00:12345678#112233\n(1.0) can0 421#01\n",
+    );
+    let output = tracerctl().args(["decode"]).arg(&xl).output().unwrap();
+    assert_eq!(
+        stderr(&output),
+        "tracerctl: decoded 1 frames from 2 lines; skipped 1 lines: 1 CAN XL frame\n"
+    );
+}
+
+#[test]
+fn a_summary_of_nothing_is_not_printed_before_an_error() {
+    let output = tracerctl().args(["decode", "--summary", "/nonexistent/x.log"]).output().unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(stdout(&output), "");
+    let output = tracerctl()
+        .args(["decode", "--summary", &fixture("good14.log"), "/nonexistent/x.log"])
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stdout(&output).contains("decoded 14 frames from 14 lines"), "{}", stdout(&output));
 }
 
 // ---- 5. over-long lines ----

@@ -87,8 +87,11 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
             Ok(SUCCESS)
         }
         Err(error) => {
-            // Everything decoded before the error is written first; the error is the last word.
-            decoder.write_out_or_say(args);
+            // Everything decoded before the error is written first; the error is the last word. A
+            // summary or plot of nothing (the first input was refused) would only hide the error.
+            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. }) {
+                decoder.write_out_or_say(args);
+            }
             Err(error)
         }
     }
@@ -288,13 +291,21 @@ impl InputStats {
         }
     }
 
-    /// Whether the totals line is worth printing after plain decoding: anything not decoded but blank lines.
+    /// Whether the totals line is worth printing after plain decoding: when anything was lost or not
+    /// decoded. Blank lines, comments (every ASC and trc file has a header of them) and the text candump
+    /// prints after an error frame (which is decoded) lose nothing, so a clean log stays quiet.
     fn anything_lost(&self) -> bool {
         self.rejected_total() > 0
             || self.invalid_frames > 0
             || self.candump_dropped > 0
-            || self.skipped.total() > self.skipped.blank
+            || self.skipped.can_xl > 0
+            || self.skipped.dropcount > 0
             || self.serial.iter().any(|(_, s)| serial_losses(s))
+    }
+
+    /// Whether any input was read at all (a refused or missing first input leaves nothing to report).
+    fn anything_read(&self) -> bool {
+        self.lines > 0 || self.frames > 0 || !self.serial.is_empty()
     }
 }
 
