@@ -4,6 +4,7 @@
 
 mod dashboard;
 mod decode;
+mod decode_losses;
 mod docs;
 mod doctor;
 mod drive;

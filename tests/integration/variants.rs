@@ -108,7 +108,7 @@ fn dropcount_lines_are_reported_not_lost() {
         tracerctl().args(["decode", "--summary"]).arg(data("candump").join("mixed.log")).output().unwrap();
     let report = stdout(&output);
     assert!(report.contains("frames dropped by the socket"), "{report}");
-    assert!(report.contains("error-text lines"), "{report}");
+    assert!(report.contains("error-frame text"), "{report}");
 }
 
 #[test]

@@ -2,24 +2,28 @@
 //!
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
+mod interrupt;
 mod plot;
 mod serial_input;
 pub mod summary;
 
+use std::cell::RefCell;
 use std::fs::File;
 use std::io::{self, IsTerminal, Read, Write};
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::candump::{self, Line, LineParser, LineReader, LogFormat, RawLine, Reason};
+use crate::candump::{self, Line, LineParser, LineReader, LogFormat, RawLine, Reason, DEFAULT_MAX_LINE_LEN};
 use crate::cli::{ColorChoice, DecodeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
 use crate::output::{Event, EventWriter, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::{self, CanFrame, ProtocolHint};
+use crate::signals::SignalFlag;
 use summary::Summary;
 
 /// Output is written in blocks of about this size.
@@ -30,15 +34,19 @@ const PROGRESS_MIN_BYTES: u64 = 8 * 1024 * 1024;
 const MAX_SHOWN_REJECTS: usize = 10;
 
 pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color: ColorChoice) -> Result<u8> {
+    check_arguments(args)?;
+    let signals = interrupt::listen()?;
     let stdout = io::stdout();
-    let color = color.enabled(stdout.is_terminal());
+    let stdout_is_terminal = stdout.is_terminal();
+    let color = color.enabled(stdout_is_terminal);
     let sink = if args.summary {
         Sink::Summary(Box::default())
     } else {
         let writer = EventWriter::new(args.format, color);
         let mut buffer = Vec::with_capacity(FLUSH_AT * 2);
         writer.header(&mut buffer);
-        Sink::Lines { writer, buffer, out: Box::new(stdout.lock()) }
+        let output = Output { buffer, out: Box::new(stdout.lock()), line_buffered: stdout_is_terminal };
+        Sink::Lines { writer, output: Rc::new(RefCell::new(output)) }
     };
     let mut decoder = Decoder {
         protocol,
@@ -51,6 +59,7 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
         delta_stamps: args.delta_stamps,
         progress: !args.no_progress && io::stderr().is_terminal(),
         plot: args.plot.as_ref().map(|_| Box::default()),
+        signals,
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
@@ -64,33 +73,134 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
         }
         inputs.push("-");
     }
-    for input in inputs {
-        decoder.input(input)?;
+    let result = decoder.all_inputs(&inputs, serial);
+    if let Some(status) = decoder.signals.exit_status() {
+        // Interrupted (Ctrl-C, kill): what was decoded is written, with the totals, before exiting 128+n.
+        decoder.write_out_or_say(args);
+        crate::say!("tracerctl: {}: {}", decoder.signals.name(), totals_line(&decoder.stats));
+        return Ok(status);
     }
-    for path in serial {
-        let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
-        let name = path.display().to_string();
-        serial_input::decode(&mut decoder, &name, file)?;
+    match result {
+        Ok(()) => {
+            decoder.write_out(args)?;
+            decoder.report_totals();
+            Ok(SUCCESS)
+        }
+        Err(error) => {
+            // Everything decoded before the error is written first; the error is the last word. A
+            // summary or plot of nothing (the first input was refused) would only hide the error.
+            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. }) {
+                decoder.write_out_or_say(args);
+            }
+            Err(error)
+        }
     }
-    decoder.finish(args)
+}
+
+/// Usage errors found before any input is read.
+fn check_arguments(args: &DecodeArgs) -> Result<()> {
+    if args.summary && args.format == crate::output::Format::Csv {
+        return Err(Failure {
+            code: USAGE,
+            message: "--summary prints a report as text or JSON (--format text or json), not CSV".into(),
+        }
+        .into());
+    }
+    if let Some(path) = &args.plot {
+        plot::check_path(path)?;
+    }
+    Ok(())
+}
+
+/// The decoded text not yet written. Shared with [`LiveInput`], which writes it out before each read of
+/// the input, so a live stream leaves line by line while bulk input still goes out in large blocks.
+struct Output {
+    buffer: Vec<u8>,
+    out: Box<dyn Write>,
+    /// Every event is written at once (standard output is a terminal).
+    line_buffered: bool,
+}
+
+impl Output {
+    fn flush(&mut self) -> io::Result<()> {
+        if !self.buffer.is_empty() {
+            let result = self.out.write_all(&self.buffer);
+            self.buffer.clear();
+            result?;
+        }
+        self.out.flush()
+    }
 }
 
 enum Sink {
-    Lines { writer: EventWriter, buffer: Vec<u8>, out: Box<dyn Write> },
+    Lines { writer: EventWriter, output: Rc<RefCell<Output>> },
     Summary(Box<Summary>),
 }
 
+/// A write of the output failed inside a read of the input (see [`LiveInput`]).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write the output: {0}")]
+struct WriteFailed(io::Error);
+
+/// A termination signal arrived while reading.
+#[derive(Debug, thiserror::Error)]
+#[error("interrupted")]
+struct Interrupted;
+
+/// The input as the decoder reads it: before every read (which may block on a pipe, a terminal or a serial
+/// port) the decoded output is written out, and a termination signal ends the reading. On a regular file
+/// this costs one write per read buffer (256 KiB of input), the same blocks as before.
+struct LiveInput<R> {
+    inner: R,
+    output: Option<Rc<RefCell<Output>>>,
+    signals: SignalFlag,
+}
+
+impl<R: Read> Read for LiveInput<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        loop {
+            if self.signals.received().is_some() {
+                return Err(io::Error::other(Interrupted));
+            }
+            if let Some(output) = &self.output {
+                output
+                    .borrow_mut()
+                    .flush()
+                    .map_err(|error| io::Error::new(error.kind(), WriteFailed(error)))?;
+            }
+            match self.inner.read(buf) {
+                // A signal interrupts a blocked read (see interrupt.rs); the loop looks at the flag.
+                Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
+                result => return result,
+            }
+        }
+    }
+}
+
+/// A read error of `name`, unless it was really a failed write of the output (or a signal).
+fn read_error(error: io::Error, name: &str) -> anyhow::Error {
+    let inner = error.get_ref();
+    if inner.is_some_and(|inner| inner.is::<WriteFailed>() || inner.is::<Interrupted>()) {
+        anyhow::Error::new(error)
+    } else {
+        anyhow::Error::new(error).context(format!("cannot read {name}"))
+    }
+}
+
 /// What happened to the input besides frames: everything that was not decoded is counted here.
+/// For candump text, `decoded_lines + rejected_lines + skipped.total() == lines`.
 #[derive(Debug, Default)]
 pub struct InputStats {
     pub lines: u64,
     pub frames: u64,
-    pub blank_or_comment: u64,
-    pub error_text_lines: u64,
-    pub can_xl_lines: u64,
+    /// Lines that gave a frame.
+    pub decoded_lines: u64,
+    /// Lines that could not be read (each also counted under its reason in `rejected`).
+    pub rejected_lines: u64,
+    pub skipped: Skipped,
     /// Frames candump itself reported dropped (DROPCOUNT lines).
     pub candump_dropped: u64,
-    /// Rejected lines per reason, with the first place each reason occurred.
+    /// Rejected input per reason (lines, and bytes of RS232 captures), with the first place of each.
     pub rejected: Vec<Rejection>,
     /// Frames with a TRACER ID but invalid content (V1 checksum, too short).
     pub invalid_frames: u64,
@@ -98,11 +208,66 @@ pub struct InputStats {
     pub shown_rejects: usize,
 }
 
+/// Lines that are not frames and not errors, by kind.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Skipped {
+    pub blank: u64,
+    pub comment: u64,
+    /// Text following a console ERRORFRAME (`-e`).
+    pub error_text: u64,
+    /// CAN XL frames: valid, but not decoded.
+    pub can_xl: u64,
+    /// candump's `DROPCOUNT:` lines (the frames they report are in `candump_dropped`).
+    pub dropcount: u64,
+}
+
+impl Skipped {
+    pub fn total(&self) -> u64 {
+        self.blank + self.comment + self.error_text + self.can_xl + self.dropcount
+    }
+
+    /// `1 blank, 2 comment, ...`: the non-zero kinds.
+    pub fn describe(&self) -> String {
+        let kinds = [
+            (self.blank, "blank"),
+            (self.comment, "comment"),
+            (self.error_text, "error-frame text"),
+            (self.can_xl, "CAN XL frame"),
+            (self.dropcount, "DROPCOUNT"),
+        ];
+        let parts: Vec<String> = kinds
+            .iter()
+            .filter(|(count, _)| *count > 0)
+            .map(|(count, kind)| format!("{count} {kind}"))
+            .collect();
+        parts.join(", ")
+    }
+}
+
 #[derive(Debug)]
 pub struct Rejection {
     pub reason: String,
     pub count: u64,
     pub first_at: String,
+    /// For "line too long": the longest such line, in bytes.
+    pub longest: Option<u64>,
+    /// Counted in lines (candump text), not bytes (RS232 captures).
+    pub in_lines: bool,
+}
+
+impl Rejection {
+    /// `3 x line too long (longest 250000 bytes; first at f.log:7)`
+    fn describe(&self) -> String {
+        format!("{} x {}", self.count, self.describe_after_count())
+    }
+
+    /// `line too long (longest 250000 bytes; first at f.log:7)`
+    pub fn describe_after_count(&self) -> String {
+        match self.longest {
+            Some(longest) => format!("{} (longest {longest} bytes; first at {})", self.reason, self.first_at),
+            None => format!("{} (first at {})", self.reason, self.first_at),
+        }
+    }
 }
 
 impl InputStats {
@@ -110,12 +275,42 @@ impl InputStats {
         self.rejected.iter().map(|r| r.count).sum()
     }
 
-    fn reject(&mut self, reason: &str, at: impl FnOnce() -> String) {
+    fn reject(&mut self, reason: &str, length: Option<u64>, in_lines: bool, at: impl FnOnce() -> String) {
         match self.rejected.iter_mut().find(|r| r.reason == reason) {
-            Some(rejection) => rejection.count += 1,
-            None => self.rejected.push(Rejection { reason: reason.to_string(), count: 1, first_at: at() }),
+            Some(rejection) => {
+                rejection.count += 1;
+                rejection.longest = rejection.longest.max(length);
+            }
+            None => self.rejected.push(Rejection {
+                reason: reason.to_string(),
+                count: 1,
+                first_at: at(),
+                longest: length,
+                in_lines,
+            }),
         }
     }
+
+    /// Whether the totals line is worth printing after plain decoding: when anything was lost or not
+    /// decoded. Blank lines, comments (every ASC and trc file has a header of them) and the text candump
+    /// prints after an error frame (which is decoded) lose nothing, so a clean log stays quiet.
+    fn anything_lost(&self) -> bool {
+        self.rejected_total() > 0
+            || self.invalid_frames > 0
+            || self.candump_dropped > 0
+            || self.skipped.can_xl > 0
+            || self.skipped.dropcount > 0
+            || self.serial.iter().any(|(_, s)| serial_losses(s))
+    }
+
+    /// Whether any input was read at all (a refused or missing first input leaves nothing to report).
+    fn anything_read(&self) -> bool {
+        self.lines > 0 || self.frames > 0 || !self.serial.is_empty()
+    }
+}
+
+fn serial_losses(stats: &protocol::serial::StreamStats) -> bool {
+    stats.skipped_bytes > 0 || stats.bad_checksum > 0 || stats.bad_length > 0 || stats.bad_type > 0
 }
 
 /// The decoding pipeline shared by every input kind.
@@ -133,9 +328,31 @@ pub struct Decoder {
     progress: bool,
     /// `--plot`: fed every event that passes the filter, written at the end.
     plot: Option<Box<plot::Plot>>,
+    signals: SignalFlag,
 }
 
 impl Decoder {
+    fn all_inputs(&mut self, inputs: &[&str], serial: &[PathBuf]) -> Result<()> {
+        for input in inputs {
+            self.input(input)?;
+        }
+        for path in serial {
+            let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
+            let name = path.display().to_string();
+            serial_input::decode(self, &name, file)?;
+        }
+        Ok(())
+    }
+
+    /// The input as read: flushing the output before each read, stopping at a signal (see [`LiveInput`]).
+    fn live<R: Read>(&self, inner: R) -> LiveInput<R> {
+        let output = match &self.sink {
+            Sink::Lines { output, .. } => Some(Rc::clone(output)),
+            Sink::Summary(_) => None,
+        };
+        LiveInput { inner, output, signals: self.signals.clone() }
+    }
+
     /// One input: a file, standard input or a frame. Each starts with a fresh protocol detector, since
     /// separate captures may come from different robots; the run's totals are kept for the report.
     fn input(&mut self, input: &str) -> Result<()> {
@@ -172,21 +389,28 @@ impl Decoder {
     }
 
     fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>, format: LogFormat) -> Result<()> {
-        let mut reader = LineReader::new(input);
+        let mut reader = LineReader::new(self.live(input));
         let parser = LineParser::for_format(format);
         let mut parser = if self.delta_stamps { parser.with_delta_timestamps() } else { parser };
         let bar = self.progress_bar(size);
+        let before = (self.stats.decoded_lines, self.stats.rejected_lines, self.stats.skipped);
         let mut consumed = 0u64;
-        while let Some(raw) = reader.next_line().with_context(|| format!("cannot read {name}"))? {
+        while let Some(raw) = reader.next_line().map_err(|error| read_error(error, name))? {
             self.stats.lines += 1;
             let (number, text) = match raw {
                 RawLine::Line { number, text } => (number, text),
                 RawLine::TooLong { number, len } => {
                     consumed += len as u64 + 1;
-                    self.rejected(
+                    // One reason whatever the length, so the totals stay one short line.
+                    let message = format!(
+                        "line of {len} bytes is too long for a candump line (limit {DEFAULT_MAX_LINE_LEN} bytes)"
+                    );
+                    self.rejected_line(
                         name,
                         number,
-                        &format!("line of {len} bytes is too long for a candump line"),
+                        &message,
+                        Reason::LineTooLong.as_str(),
+                        Some(len as u64),
                     )?;
                     continue;
                 }
@@ -199,6 +423,7 @@ impl Decoder {
             }
             match parser.parse(text) {
                 Ok(Line::Frame(record)) => {
+                    self.stats.decoded_lines += 1;
                     let frame = record.frame;
                     self.frame(record.ts, record.iface, record.dir, &frame).map_err(|error| {
                         match error.downcast::<Failure>() {
@@ -209,27 +434,55 @@ impl Decoder {
                         }
                     })?;
                 }
-                Ok(Line::Blank | Line::Comment) => self.stats.blank_or_comment += 1,
-                Ok(Line::DropCount { dropped }) => self.stats.candump_dropped += dropped,
-                Ok(Line::ErrorText) => self.stats.error_text_lines += 1,
-                Ok(Line::CanXl) => self.stats.can_xl_lines += 1,
+                Ok(Line::Blank) => self.stats.skipped.blank += 1,
+                Ok(Line::Comment) => self.stats.skipped.comment += 1,
+                Ok(Line::DropCount { dropped }) => {
+                    self.stats.skipped.dropcount += 1;
+                    self.stats.candump_dropped = self.stats.candump_dropped.saturating_add(dropped);
+                }
+                Ok(Line::ErrorText) => self.stats.skipped.error_text += 1,
+                Ok(Line::CanXl) => {
+                    self.stats.skipped.can_xl += 1;
+                    if self.strict {
+                        return Err(
+                            Failure::data(format!("{name}:{number}: CAN XL frame: not supported")).into()
+                        );
+                    }
+                }
                 Err(error) => {
                     // A file of bare cansend frames ("211#00000103000000B1" per line) is read too.
                     let bare = text.trim_ascii();
                     let looks_bare = bare.contains(&b'#') && !bare.iter().any(u8::is_ascii_whitespace);
                     match candump::parse_cansend(bare) {
-                        Ok(frame) => self.frame(None, "-", None, &frame)?,
+                        Ok(frame) => {
+                            self.stats.decoded_lines += 1;
+                            self.frame(None, "-", None, &frame)?
+                        }
                         Err(frame_error) if looks_bare => {
                             let message = format!("bare frame: {frame_error}");
-                            self.rejected_with(name, number, &message, frame_error.reason)?
+                            self.rejected_line(name, number, &message, frame_error.reason.as_str(), None)?
                         }
-                        Err(_) => self.rejected_with(name, number, &error.to_string(), error.reason)?,
+                        Err(_) => {
+                            self.rejected_line(name, number, &error.to_string(), error.reason.as_str(), None)?
+                        }
                     }
                 }
             }
         }
         if let Some(bar) = bar {
             bar.finish_and_clear();
+        }
+        let decoded = self.stats.decoded_lines - before.0;
+        let rejected = self.stats.rejected_lines - before.1;
+        let skipped = self.stats.skipped.total() - before.2.total();
+        let skipped_blank = self.stats.skipped.blank - before.2.blank;
+        let skipped_comment = self.stats.skipped.comment - before.2.comment;
+        if decoded == 0 && rejected + skipped > skipped_blank + skipped_comment {
+            crate::say!(
+                "tracerctl: no frames in {name}: all {} lines rejected or skipped ({rejected} rejected, \
+                 {skipped} skipped)",
+                rejected + skipped
+            );
         }
         Ok(())
     }
@@ -274,11 +527,11 @@ impl Decoder {
             return Ok(());
         }
         match &mut self.sink {
-            Sink::Lines { writer, buffer, out } => {
-                writer.write(buffer, event);
-                if buffer.len() >= FLUSH_AT {
-                    out.write_all(buffer)?;
-                    buffer.clear();
+            Sink::Lines { writer, output } => {
+                let mut output = output.borrow_mut();
+                writer.write(&mut output.buffer, event);
+                if output.buffer.len() >= FLUSH_AT || output.line_buffered {
+                    output.flush()?;
                 }
             }
             Sink::Summary(summary) => summary.event(event),
@@ -289,16 +542,31 @@ impl Decoder {
         Ok(())
     }
 
-    fn rejected(&mut self, name: &str, number: u64, reason: &str) -> Result<()> {
-        self.reject_common(name, &format!("line {number}"), reason, reason)
-    }
-
-    fn rejected_with(&mut self, name: &str, number: u64, message: &str, reason: Reason) -> Result<()> {
-        self.reject_common(name, &format!("line {number}"), message, reason.as_str())
+    fn rejected_line(
+        &mut self,
+        name: &str,
+        number: u64,
+        message: &str,
+        reason: &str,
+        length: Option<u64>,
+    ) -> Result<()> {
+        self.stats.rejected_lines += 1;
+        self.reject_at(name, &format!("line {number}"), message, reason, length)
     }
 
     /// Reports a rejected piece of input: printed for the first few, always counted; fatal with --strict.
     pub fn reject_common(&mut self, name: &str, place: &str, message: &str, reason: &str) -> Result<()> {
+        self.reject_at(name, place, message, reason, None)
+    }
+
+    fn reject_at(
+        &mut self,
+        name: &str,
+        place: &str,
+        message: &str,
+        reason: &str,
+        length: Option<u64>,
+    ) -> Result<()> {
         let location = match place.strip_prefix("line ") {
             Some(number) => format!("{name}:{number}"),
             None => format!("{name}: {place}"),
@@ -312,20 +580,14 @@ impl Decoder {
             crate::say!("tracerctl: further rejected input is only counted (see the totals at the end)");
         }
         self.stats.shown_rejects += 1;
-        self.stats.reject(reason, || location);
+        self.stats.reject(reason, length, place.starts_with("line "), || location);
         Ok(())
     }
 
-    fn finish(mut self, args: &DecodeArgs) -> Result<u8> {
+    /// Writes what was decoded: the rest of the output, or the summary; then the plot.
+    fn write_out(&mut self, args: &DecodeArgs) -> Result<()> {
         match &mut self.sink {
-            Sink::Lines { buffer, out, .. } => {
-                out.write_all(buffer)?;
-                out.flush()?;
-                let rejected = self.stats.rejected_total();
-                if rejected > 0 || self.stats.invalid_frames > 0 || self.stats.candump_dropped > 0 {
-                    crate::say!("tracerctl: {}", totals_line(&self.stats));
-                }
-            }
+            Sink::Lines { output, .. } => output.borrow_mut().flush()?,
             Sink::Summary(summary) => {
                 let report = if args.format == crate::output::Format::Json {
                     let mut text = serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.seen))?;
@@ -339,27 +601,67 @@ impl Decoder {
                 out.flush()?;
             }
         }
-        if let (Some(plot), Some(path)) = (&self.plot, &args.plot) {
+        if let (Some(plot), Some(path)) = (self.plot.take(), &args.plot) {
             plot.write(path)?;
         }
-        Ok(SUCCESS)
+        Ok(())
+    }
+
+    /// [`Self::write_out`] when another outcome decides the exit status: a failed write is only said
+    /// (nothing at all for a closed stdout).
+    fn write_out_or_say(&mut self, args: &DecodeArgs) {
+        if let Err(error) = self.write_out(args) {
+            if !crate::exit::is_broken_pipe(&error) {
+                crate::say!("tracerctl: {error:#}");
+            }
+        }
+    }
+
+    /// The totals line on stderr after plain decoding, when anything but blank lines was not decoded (the
+    /// summary has it in its report).
+    fn report_totals(&self) {
+        if matches!(self.sink, Sink::Lines { .. }) && self.stats.anything_lost() {
+            crate::say!("tracerctl: {}", totals_line(&self.stats));
+        }
     }
 }
 
-/// `decoded N frames from M lines; rejected K lines (...); ...`
+/// `decoded N frames from M lines; rejected K lines: ...; skipped S lines: ...; serial ...`
 pub fn totals_line(stats: &InputStats) -> String {
     let mut line = format!("decoded {} frames", stats.frames);
     if stats.lines > 0 {
-        line.push_str(&format!(" from {} lines", stats.lines));
+        if stats.decoded_lines == stats.frames {
+            line.push_str(&format!(" from {} lines", stats.lines));
+        } else {
+            line.push_str(&format!(" ({} from {} lines)", stats.decoded_lines, stats.lines));
+        }
     }
-    let rejected = stats.rejected_total();
-    if rejected > 0 {
-        let reasons: Vec<String> = stats
-            .rejected
-            .iter()
-            .map(|r| format!("{} x {} (first at {})", r.count, r.reason, r.first_at))
-            .collect();
-        line.push_str(&format!("; rejected {rejected}: {}", reasons.join("; ")));
+    let (line_reasons, other_reasons): (Vec<&Rejection>, Vec<&Rejection>) =
+        stats.rejected.iter().partition(|r| r.in_lines);
+    if stats.rejected_lines > 0 {
+        let reasons: Vec<String> = line_reasons.iter().map(|r| r.describe()).collect();
+        line.push_str(&format!("; rejected {} lines: {}", stats.rejected_lines, reasons.join("; ")));
+    }
+    if stats.skipped.total() > 0 {
+        line.push_str(&format!("; skipped {} lines: {}", stats.skipped.total(), stats.skipped.describe()));
+    }
+    for (name, serial) in &stats.serial {
+        line.push_str(&format!("; serial {name}: {} bytes, {} frames", serial.bytes, serial.frames));
+        for (count, what) in [
+            (serial.skipped_bytes, "bytes skipped"),
+            (serial.sync_losses, "sync losses"),
+            // Checksum mismatches are rejections, listed with their first place below.
+            (serial.bad_length, "bad length bytes"),
+            (serial.bad_type, "bad frame types"),
+        ] {
+            if count > 0 {
+                line.push_str(&format!(", {count} {what}"));
+            }
+        }
+    }
+    if !other_reasons.is_empty() {
+        let reasons: Vec<String> = other_reasons.iter().map(|r| r.describe()).collect();
+        line.push_str(&format!("; rejected serial input: {}", reasons.join("; ")));
     }
     if stats.invalid_frames > 0 {
         line.push_str(&format!("; {} invalid frames", stats.invalid_frames));

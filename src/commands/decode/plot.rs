@@ -26,6 +26,23 @@ const ESTOP_RELEASED_COLOR: RGBColor = RGBColor(0, 150, 0);
 const FAULT_COLOR: RGBColor = RGBColor(230, 120, 0);
 const M2_COLOR: RGBColor = RGBColor(200, 0, 160);
 
+/// `--plot FILE`: the plot is SVG, so a name ending in another image format (`x.png`) is a usage error,
+/// found before any input is read.
+pub fn check_path(path: &Path) -> Result<()> {
+    let Some(extension) = path.extension() else { return Ok(()) };
+    if extension.eq_ignore_ascii_case("svg") {
+        return Ok(());
+    }
+    Err(crate::exit::Failure {
+        code: crate::exit::USAGE,
+        message: format!(
+            "--plot {}: the plot is written as SVG; give a file name ending in .svg",
+            path.display()
+        ),
+    }
+    .into())
+}
+
 /// One min/max bucket of consecutive samples.
 #[derive(Clone, Copy, Debug)]
 struct Bucket {

@@ -1,17 +1,20 @@
 //! RS232 captures: raw bytes, or hex text ("5A A5 0A 55 ...", with optional 0x prefixes, commas, '#' comments).
 
+use std::fmt::Write as _;
 use std::io::Read;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 
-use super::Decoder;
+use super::{read_error, Decoder};
+use crate::candump::{Line, LineParser};
+use crate::exit::{Failure, USAGE};
 use crate::output::{Event, FrameRef};
 use crate::protocol::serial::{self, StreamDecoder, StreamEvent};
 
 const CHUNK: usize = 64 * 1024;
 
 /// Turns hex text into bytes incrementally; anything that is not hex, a separator or a comment is reported.
-#[derive(Default)]
+#[derive(Debug, Default)]
 struct HexText {
     high_nibble: Option<u8>,
     /// The pending nibble came from a '0' that may turn out to be a `0x` prefix.
@@ -19,6 +22,7 @@ struct HexText {
     in_comment: bool,
 }
 
+#[derive(Clone, Copy, Debug)]
 enum HexError {
     Unexpected(u8),
     OddDigit,
@@ -68,62 +72,321 @@ impl HexText {
     }
 }
 
-/// A capture is hex text when its start (comments aside) holds only hex digits, separators and `0x` prefixes.
+/// How much of the start of a capture is looked at to tell hex text from raw bytes (and a candump log).
+const SAMPLE: usize = 4096;
+/// A live input (a read returned less than asked) is classified once this much has arrived.
+const LIVE_SAMPLE: usize = 512;
+/// A line of hex text longer than this is converted in pieces (only its first piece can have labels).
+const MAX_CARRY: usize = 4096;
+const BOM: &[u8] = b"\xEF\xBB\xBF";
+
+/// A capture is hex text when its start reads as text: at most 1% of its bytes are control characters or
+/// invalid UTF-8 (a raw capture has 0xA5, invalid UTF-8, in every frame), and it holds hex digits. Labels,
+/// timestamps, offsets and ASCII columns are text too; [`HexLines`] takes them apart line by line.
 fn looks_like_hex_text(start: &[u8]) -> bool {
-    let mut in_comment = false;
-    let mut digits = 0;
-    for &byte in start {
-        if in_comment {
-            in_comment = byte != b'\n';
-            continue;
-        }
-        match byte {
-            b'#' => in_comment = true,
-            b'0'..=b'9' | b'a'..=b'f' | b'A'..=b'F' => digits += 1,
-            b' ' | b'\t' | b'\r' | b'\n' | b',' | b';' | b':' | b'x' | b'X' => {}
-            _ => return false,
+    let start = start.strip_prefix(BOM).unwrap_or(start);
+    let mut binary = 0usize;
+    let mut chunks = start.utf8_chunks().peekable();
+    while let Some(chunk) = chunks.next() {
+        binary += chunk
+            .valid()
+            .chars()
+            .filter(|ch| ch.is_control() && !matches!(ch, '\t' | '\n' | '\r' | '\x0C'))
+            .count();
+        let invalid = chunk.invalid().len();
+        // A character cut off by the end of the sample is not evidence of binary data.
+        let cut_at_end =
+            chunks.peek().is_none() && chunk.valid().is_empty() && invalid < 4 && start.len() >= SAMPLE;
+        if !cut_at_end {
+            binary += invalid;
         }
     }
-    digits >= 2
+    let digits = start.iter().filter(|b| b.is_ascii_hexdigit()).count();
+    digits >= 2 && binary * 100 <= start.len()
 }
 
-pub fn decode(decoder: &mut Decoder, name: &str, mut input: impl Read) -> Result<()> {
+/// Whether the start of a capture is candump text (a log given to `--serial` by mistake): most of its first
+/// complete lines, comments and blank lines aside, parse as candump frames.
+fn looks_like_candump(start: &[u8]) -> bool {
+    let mut parser = LineParser::new();
+    let (mut frames, mut other) = (0, 0);
+    for line in start.split(|&b| b == b'\n').take(32) {
+        match parser.parse(line) {
+            Ok(Line::Frame(_)) => frames += 1,
+            Ok(Line::Blank | Line::Comment) => {}
+            _ => other += 1,
+        }
+    }
+    frames > 0 && frames >= other * 2
+}
+
+/// The column layout of a hex dump, decided on its first line with data.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Layout {
+    /// Bytes, optionally after labels and timestamps (`RX: 5A A5 ...`, `[12:34:56.789] 5a a5 ...`).
+    Plain,
+    /// An offset column first, an ASCII column last: `hexdump -C`, `od -A x -t x1z`, CoolTerm, PuTTY.
+    Offsets,
+    /// `xxd`: `00000000: 5aa5 0a55 ...  Z..U`, byte pairs grouped, the ASCII column after two spaces.
+    Xxd,
+}
+
+/// Hex text, line by line: a BOM, leading labels (`RX:`, `TX:`, `<-`, `->`, `[RX]`), timestamps
+/// (`[12:34:56.789]`, `12:34:56.789`), offset columns and ASCII columns are left out; what remains goes to
+/// [`HexText`], which reports anything that is not hex.
+struct HexLines {
+    hex: HexText,
+    layout: Option<Layout>,
+    /// The start of a line not yet complete, and its offset in the input.
+    carry: Vec<u8>,
+    carry_offset: u64,
+    /// The next piece continues a line whose start was already converted.
+    mid_line: bool,
+    first_line: bool,
+}
+
+impl HexLines {
+    fn new() -> Self {
+        Self {
+            hex: HexText::default(),
+            layout: None,
+            carry: Vec::with_capacity(MAX_CARRY),
+            carry_offset: 0,
+            mid_line: false,
+            first_line: true,
+        }
+    }
+
+    /// Converts `data` (at input offset `offset`), appending bytes to `out` and reporting bad characters.
+    fn feed(&mut self, data: &[u8], offset: u64, out: &mut Vec<u8>, bad: &mut impl FnMut(u64, HexError)) {
+        let mut rest = data;
+        let mut at = offset;
+        while let Some(newline) = memchr::memchr(b'\n', rest) {
+            let (piece, tail) = rest.split_at(newline + 1);
+            if self.carry.is_empty() {
+                self.line(piece, at, out, bad);
+            } else {
+                let mut line = std::mem::take(&mut self.carry);
+                line.extend_from_slice(piece);
+                self.line(&line, self.carry_offset, out, bad);
+                line.clear();
+                self.carry = line;
+            }
+            at += piece.len() as u64;
+            rest = tail;
+        }
+        if rest.is_empty() {
+            return;
+        }
+        if self.carry.is_empty() {
+            self.carry_offset = at;
+        }
+        if self.carry.len() + rest.len() <= MAX_CARRY {
+            self.carry.extend_from_slice(rest);
+        } else {
+            // A very long line (a capture without newlines): convert what there is, go on mid-line.
+            let mut line = std::mem::take(&mut self.carry);
+            line.extend_from_slice(rest);
+            self.line(&line, self.carry_offset, out, bad);
+            line.clear();
+            self.carry = line;
+            self.mid_line = true;
+        }
+    }
+
+    fn finish(&mut self, out: &mut Vec<u8>, bad: &mut impl FnMut(u64, HexError)) {
+        let line = std::mem::take(&mut self.carry);
+        if !line.is_empty() {
+            self.line(&line, self.carry_offset, out, bad);
+            self.hex.convert(b"\n", out, |_, error| bad(self.carry_offset + line.len() as u64, error));
+        }
+    }
+
+    /// One line (with its `\n`, unless it is the last or a piece of a long one).
+    fn line(&mut self, text: &[u8], offset: u64, out: &mut Vec<u8>, bad: &mut impl FnMut(u64, HexError)) {
+        let continues = std::mem::replace(&mut self.mid_line, false);
+        let mut start = 0;
+        if !continues {
+            if std::mem::replace(&mut self.first_line, false) && text.starts_with(BOM) {
+                start = BOM.len();
+            }
+            let data = self.skip_labels(text, start);
+            // Labels with nothing after them were not labels: the line is converted whole, so its
+            // characters are reported (an offset alone ends a dump, though).
+            let nothing_after = matches!(text.get(data), None | Some(b'\n' | b'\r' | b'#'));
+            if !(nothing_after && self.layout == Some(Layout::Plain)) {
+                start = data;
+            }
+        }
+        let end = match self.layout {
+            Some(Layout::Offsets | Layout::Xxd) if !continues => self.data_end(text, start),
+            _ => text.len(),
+        };
+        self.hex.convert(&text[start..end], out, |at, error| bad(offset + (start + at) as u64, error));
+        if end < text.len() {
+            // The ASCII column is left out; the line still ends here.
+            self.hex.convert(b"\n", out, |_, error| bad(offset + end as u64, error));
+        }
+    }
+
+    /// Skips what precedes the bytes of a line: labels, timestamps, an offset column.
+    fn skip_labels(&mut self, text: &[u8], mut pos: usize) -> usize {
+        let mut first_token = true;
+        loop {
+            while text.get(pos).is_some_and(|b| matches!(b, b' ' | b'\t' | b'\r')) {
+                pos += 1;
+            }
+            let Some(&byte) = text.get(pos) else { return pos };
+            if matches!(byte, b'[' | b'(') {
+                let close = if byte == b'[' { b']' } else { b')' };
+                match memchr::memchr(close, &text[pos..]) {
+                    Some(length) => {
+                        pos += length + 1;
+                        first_token = false;
+                        continue;
+                    }
+                    None => return pos,
+                }
+            }
+            if matches!(byte, b'#' | b'\n') {
+                return pos;
+            }
+            let end = text[pos..]
+                .iter()
+                .position(|b| b.is_ascii_whitespace())
+                .map_or(text.len(), |length| pos + length);
+            let token = &text[pos..end];
+            let bare = token.strip_suffix(b":").unwrap_or(token);
+            let all_hex = !bare.is_empty() && bare.iter().all(u8::is_ascii_hexdigit);
+            if self.layout.is_none() && all_hex {
+                // Decided on the first line that starts with hex, so a header line (PuTTY's) is no guide.
+                self.layout = Some(layout_of(token, &text[end..]));
+            }
+            let offset_column = first_token && self.layout != Some(Layout::Plain) && all_hex;
+            let more_follows = text[end..].iter().any(|b| !b.is_ascii_whitespace());
+            let label = !token.iter().all(|b| b.is_ascii_hexdigit() || b"xX,;:".contains(b))
+                || (token.ends_with(b":") && all_hex && token.len() > 1 && bare.len() != 2)
+                || (is_clock(token) && more_follows);
+            if !(offset_column || label) {
+                return pos;
+            }
+            pos = end;
+            first_token = false;
+        }
+    }
+
+    /// Where the bytes of an offset-layout line end: at the ASCII column (`|...|`, `>...<`, or after a
+    /// wide gap), or at a group that is not one or two bytes.
+    fn data_end(&self, text: &[u8], start: usize) -> usize {
+        let gap = if self.layout == Some(Layout::Xxd) { 2 } else { 3 };
+        let mut pos = start;
+        let mut spaces = 0;
+        let mut token_start = start;
+        while let Some(&byte) = text.get(pos) {
+            match byte {
+                b' ' | b'\t' => {
+                    spaces += 1;
+                    if spaces >= gap && pos + 1 > start + spaces {
+                        return pos + 1 - spaces;
+                    }
+                }
+                b'\r' | b'\n' => return pos,
+                b'|' | b'>' if spaces > 0 || pos == start => return pos,
+                _ => {
+                    if spaces > 0 || pos == start {
+                        token_start = pos;
+                    }
+                    spaces = 0;
+                    let length = pos + 1 - token_start;
+                    if !byte.is_ascii_hexdigit() || length > 4 {
+                        return token_start;
+                    }
+                }
+            }
+            pos += 1;
+        }
+        pos
+    }
+}
+
+/// A time of day without brackets before the bytes: `12:34:56` or CuteCom's `12:34:56:789`.
+fn is_clock(token: &[u8]) -> bool {
+    let mut parts = 0;
+    for (index, part) in token.split(|&b| b == b':').enumerate() {
+        let width_ok = match index {
+            0 => (1..=2).contains(&part.len()),
+            1 | 2 => part.len() == 2,
+            3 => (1..=6).contains(&part.len()),
+            _ => false,
+        };
+        if !width_ok || !part.iter().all(u8::is_ascii_digit) {
+            return false;
+        }
+        parts += 1;
+    }
+    parts >= 3
+}
+
+/// Decides the layout from the first token of the first line with data: an offset of zeros (dumps start
+/// at offset 0) means a dump with offset and ASCII columns; `xxd` adds a colon and groups byte pairs.
+fn layout_of(token: &[u8], rest: &[u8]) -> Layout {
+    let bare = token.strip_suffix(b":").unwrap_or(token);
+    if !(4..=8).contains(&bare.len()) || !bare.iter().all(|&b| b == b'0') {
+        return Layout::Plain;
+    }
+    let next = rest.trim_ascii_start();
+    let group = next.iter().take_while(|b| b.is_ascii_hexdigit()).count();
+    if token.ends_with(b":") && group == 4 {
+        Layout::Xxd
+    } else {
+        Layout::Offsets
+    }
+}
+
+pub fn decode(decoder: &mut Decoder, name: &str, input: impl Read) -> Result<()> {
+    let mut input = decoder.live(input);
     let mut stream = StreamDecoder::new();
     let mut chunk = vec![0u8; CHUNK];
     let mut bytes = Vec::with_capacity(CHUNK);
-    let mut hex: Option<HexText> = None;
-    let mut first = true;
-    let mut text_offset = 0u64;
     let mut events = Vec::new();
+    let mut problems = Vec::new();
+    let rejected_before = decoder.stats.rejected_total();
+
+    // The start decides what the capture is; a live port is decided on less, so it is not held up.
+    let mut filled = 0;
+    while filled < SAMPLE {
+        let read = input.read(&mut chunk[filled..SAMPLE]).map_err(|error| read_error(error, name))?;
+        filled += read;
+        if read == 0 || (read < SAMPLE - (filled - read) && filled >= LIVE_SAMPLE) {
+            break;
+        }
+    }
+    let mut hex = None;
+    if looks_like_hex_text(&chunk[..filled]) {
+        if looks_like_candump(&chunk[..filled]) {
+            return Err(Failure {
+                code: USAGE,
+                message: format!(
+                    "{name} looks like a candump log, not an RS232 capture: decode it without --serial"
+                ),
+            }
+            .into());
+        }
+        hex = Some(HexLines::new());
+    }
+
+    let mut text_offset = 0u64;
+    let mut read = filled;
     loop {
-        let read = input.read(&mut chunk).with_context(|| format!("cannot read {name}"))?;
         if read == 0 {
             break;
         }
         let data = &chunk[..read];
-        if first {
-            first = false;
-            if looks_like_hex_text(&data[..data.len().min(4096)]) {
-                hex = Some(HexText::default());
-            }
-        }
         let input_bytes: &[u8] = match &mut hex {
             Some(converter) => {
                 bytes.clear();
-                let mut problems = Vec::new();
-                converter.convert(data, &mut bytes, |offset, error| problems.push((offset, error)));
-                for (offset, error) in problems {
-                    let at = text_offset + offset as u64;
-                    let message = match error {
-                        HexError::Unexpected(ch) => format!("unexpected character 0x{ch:02X} in hex text"),
-                        HexError::OddDigit => "odd number of hex digits in a byte".to_string(),
-                    };
-                    let reason = match error {
-                        HexError::Unexpected(_) => "unexpected character in hex text",
-                        HexError::OddDigit => "odd number of hex digits in a byte",
-                    };
-                    decoder.reject_common(name, &format!("byte {at}"), &message, reason)?;
-                }
+                converter.feed(data, text_offset, &mut bytes, &mut |at, error| problems.push((at, error)));
+                report_hex_problems(decoder, name, &mut problems)?;
                 &bytes
             }
             None => data,
@@ -133,9 +396,58 @@ pub fn decode(decoder: &mut Decoder, name: &str, mut input: impl Read) -> Result
         for event in events.drain(..) {
             emit(decoder, name, event)?;
         }
+        read = input.read(&mut chunk).map_err(|error| read_error(error, name))?;
+    }
+    if let Some(converter) = &mut hex {
+        bytes.clear();
+        converter.finish(&mut bytes, &mut |at, error| problems.push((at, error)));
+        report_hex_problems(decoder, name, &mut problems)?;
+        stream.feed(&bytes, |event| events.push(event));
+        for event in events.drain(..) {
+            emit(decoder, name, event)?;
+        }
     }
     let stats = stream.finish();
+    let rejected = decoder.stats.rejected_total() - rejected_before;
     decoder.stats.serial.push((name.to_string(), stats));
+    if stats.frames == 0 && (stats.bytes > 0 || rejected > 0) {
+        let mut message = format!("no TRACER frames in {name}: ");
+        if hex.is_some() {
+            let _ = write!(message, "{text_offset} bytes of hex text gave {} bytes", stats.bytes);
+        } else {
+            let _ = write!(message, "{} bytes", stats.bytes);
+        }
+        let _ = write!(message, ", none part of a valid 5A A5 frame");
+        for (count, what) in [
+            (stats.bad_checksum, "bad checksums"),
+            (stats.bad_length, "bad length bytes"),
+            (stats.bad_type, "bad frame types"),
+            (rejected, "characters that are not hex"),
+        ] {
+            if count > 0 {
+                let _ = write!(message, "; {count} {what}");
+            }
+        }
+        if decoder.strict {
+            return Err(Failure::data(message).into());
+        }
+        crate::say!("tracerctl: {message}");
+    }
+    Ok(())
+}
+
+fn report_hex_problems(decoder: &mut Decoder, name: &str, problems: &mut Vec<(u64, HexError)>) -> Result<()> {
+    for (at, error) in problems.drain(..) {
+        let message = match error {
+            HexError::Unexpected(ch) => format!("unexpected character 0x{ch:02X} in hex text"),
+            HexError::OddDigit => "odd number of hex digits in a byte".to_string(),
+        };
+        let reason = match error {
+            HexError::Unexpected(_) => "unexpected character in hex text",
+            HexError::OddDigit => "odd number of hex digits in a byte",
+        };
+        decoder.reject_common(name, &format!("byte {at}"), &message, reason)?;
+    }
     Ok(())
 }
 
@@ -176,8 +488,93 @@ mod tests {
         assert_eq!(convert("5A zz A5"), (vec![0x5A, 0xA5], 2));
     }
 
+    /// Converts `text` in chunks of `chunk` bytes; returns the bytes and the offsets of bad characters.
+    fn lines(text: &[u8], chunk: usize) -> (Vec<u8>, Vec<u64>) {
+        let mut converter = HexLines::new();
+        let (mut out, mut bad) = (Vec::new(), Vec::new());
+        let mut offset = 0;
+        for piece in text.chunks(chunk) {
+            converter.feed(piece, offset, &mut out, &mut |at, _| bad.push(at));
+            offset += piece.len() as u64;
+        }
+        converter.finish(&mut out, &mut |at, _| bad.push(at));
+        (out, bad)
+    }
+
+    const FRAME: [u8; 13] = [0x5A, 0xA5, 0x0A, 0x55, 0x01, 0x02, 0x00, 0x0A, 0x00, 0x00, 0x00, 0x00, 0x6B];
+
+    #[test]
+    fn labels_timestamps_offsets_and_ascii_columns_are_left_out() {
+        let shapes: [&[u8]; 12] = [
+            b"12:34:56:789 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"1700000000.123, 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"=~=~=~=~ PuTTY log 2024.01.01 12:00:00 =~=~=~=~\n  00000000  5a a5 0a 55 01 02 00 0a  00 00 00 00 6b   Z..U........k\n",
+            b"\xEF\xBB\xBF5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"RX: 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"[RX] 5a a5 0a 55 01 02 00 0a 00 00 00 00 6b\r\n",
+            b"[12:34:56.789] <- 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"12:34:56.789 -> 5AA50A550102000A000000006B\n",
+            b"0000: 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n",
+            b"00000000  5a a5 0a 55 01 02 00 0a  00 00 00 00 6b        |Z..U........k|\n0000000d\n",
+            b"00000000: 5aa5 0a55 0102 000a 0000 0000 6b         Z..U........k\n",
+            b"000000 5a a5 0a 55 01 02 00 0a 00 00 00 00 6b  >Z..U........k<\n00000d\n",
+        ];
+        for shape in shapes {
+            for chunk in [1, 3, 7, 4096] {
+                assert_eq!(
+                    lines(shape, chunk),
+                    (FRAME.to_vec(), vec![]),
+                    "{} in {chunk}",
+                    shape.escape_ascii()
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn an_xxd_ascii_column_that_looks_like_hex_is_not_read() {
+        // Two data bytes 0x61 0x62 show as "ab" in the ASCII column, after the padding.
+        let dump = b"00000000: 5aa5 0a55 0102 000a 0000 0000 6b5a a50a  Z..U........kZ..\n00000010: 6162                                     ab\n";
+        let (bytes, bad) = lines(dump, 4096);
+        assert_eq!(bytes.len(), 18);
+        assert_eq!(&bytes[16..], b"ab");
+        assert!(bad.is_empty());
+    }
+
+    #[test]
+    fn words_are_reported_at_their_offsets() {
+        let (bytes, bad) = lines(b"5A A5\nnope\n", 4096);
+        assert_eq!(bytes, [0x5A, 0xA5]);
+        // 'n' at 6, 'o' at 7, 'p' at 8 are not hex; 'e' is a lone digit, ended by the newline at 10.
+        assert_eq!(bad, [6, 7, 8, 10]);
+    }
+
+    #[test]
+    fn a_line_longer_than_the_carry_is_converted_in_pieces() {
+        let text: Vec<u8> =
+            FRAME.iter().cycle().take(13 * 1000).flat_map(|b| format!("{b:02X} ").into_bytes()).collect();
+        let (bytes, bad) = lines(&text, 1000);
+        assert_eq!(bytes.len(), 13 * 1000);
+        assert!(bad.is_empty());
+    }
+
+    #[test]
+    fn candump_text_is_recognised() {
+        assert!(looks_like_candump(
+            b"(1700000000.000000) can0 211#00000103000000B1\n# c\n(1.0) can0 421#01\n"
+        ));
+        assert!(looks_like_candump(b"  can0  211   [8]  00 00 01 03 00 00 00 B1\n"));
+        assert!(!looks_like_candump(b"5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n"));
+        assert!(!looks_like_candump(b"RX: 5A A5 0A 55\n"));
+    }
+
     #[test]
     fn detection_of_hex_text() {
+        assert!(looks_like_hex_text(b"\xEF\xBB\xBF5A A5"));
+        assert!(looks_like_hex_text(b"RX: 5A A5 0A 55\n"));
+        assert!(looks_like_hex_text("[12:34:56] \u{2190} 5A A5".as_bytes()));
+        let raw: Vec<u8> = FRAME.iter().cycle().take(4096).copied().collect();
+        assert!(!looks_like_hex_text(&raw));
         assert!(looks_like_hex_text(b"5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n"));
         assert!(!looks_like_hex_text(&[0x5A, 0xA5, 0x0A, 0x55, 0x01]));
         assert!(!looks_like_hex_text(b""));

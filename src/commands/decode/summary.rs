@@ -1,7 +1,8 @@
 //! `decode --summary`: the report a technician reads. Memory is bounded: per-ID tables, capped event lists.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 use std::fmt::Write as _;
+use std::hash::{Hash, Hasher};
 use std::time::{Duration, UNIX_EPOCH};
 
 use serde_json::{json, Value as Json};
@@ -25,6 +26,48 @@ const OTHER_KEY: u64 = u64::MAX;
 /// A wheel odometer step larger than this between consecutive frames is a reset, not travel.
 const ODOMETER_JUMP_MM: i64 = 2_000;
 
+/// At most this many interface names are listed; the rest are counted.
+const MAX_LISTED_INTERFACES: usize = 64;
+/// Names beyond the listed ones are counted by hash, up to this many (then "more than N").
+const MAX_COUNTED_INTERFACES: usize = 65_536;
+
+/// The interface names seen: a hash set (a log of 200,000 distinct names must not be searched linearly),
+/// the first names listed in order, the rest only counted. A name already seen costs a lookup, no allocation.
+#[derive(Debug, Default)]
+struct Interfaces {
+    names: Vec<String>,
+    listed: HashSet<String>,
+    /// Hashes of the names beyond the listed ones.
+    extra: HashSet<u64>,
+    /// More names than `MAX_COUNTED_INTERFACES` were not listed.
+    extra_overflow: bool,
+}
+
+impl Interfaces {
+    fn see(&mut self, name: &str) {
+        if self.listed.contains(name) {
+            return;
+        }
+        if self.names.len() < MAX_LISTED_INTERFACES {
+            self.names.push(name.to_string());
+            self.listed.insert(name.to_string());
+            return;
+        }
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        name.hash(&mut hasher);
+        let hash = hasher.finish();
+        if self.extra.len() < MAX_COUNTED_INTERFACES {
+            self.extra.insert(hash);
+        } else if !self.extra.contains(&hash) {
+            self.extra_overflow = true;
+        }
+    }
+
+    fn not_listed(&self) -> usize {
+        self.extra.len()
+    }
+}
+
 /// When something happened: the timestamp if the input has one, else the frame's position.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct At {
@@ -39,7 +82,7 @@ struct IdStats {
     count: u64,
     first: Option<Timestamp>,
     last: Option<Timestamp>,
-    worst_gap_ns: u64,
+    worst_gap_ns: u128,
     worst_gap_at: Option<Timestamp>,
     last_counter: Option<u8>,
     counter_skips: u64,
@@ -101,7 +144,7 @@ pub struct Summary {
     /// Index into `ids` for every other key (extended, error, serial, FD).
     other_index: HashMap<u64, usize>,
     ids: Vec<IdStats>,
-    interfaces: Vec<String>,
+    interfaces: Interfaces,
     last_iface: String,
     mode: Option<(u8, Wire)>,
     vehicle: Option<u8>,
@@ -133,7 +176,7 @@ impl Default for Summary {
             standard_index: Box::new([0; 2048]),
             other_index: HashMap::new(),
             ids: Vec::new(),
-            interfaces: Vec::new(),
+            interfaces: Interfaces::default(),
             last_iface: String::new(),
             mode: None,
             vehicle: None,
@@ -157,8 +200,9 @@ impl Default for Summary {
     }
 }
 
-fn nanos(ts: &Timestamp) -> u64 {
-    ts.secs.saturating_mul(1_000_000_000).saturating_add(u64::from(ts.nanos))
+/// Exact: every stamp the parser accepts (up to 19 digits of seconds) fits in u128 nanoseconds.
+fn nanos(ts: &Timestamp) -> u128 {
+    ts.as_nanos()
 }
 
 /// A key per identifier: standard CAN ids as-is, extended with bit 32, error frames bit 33, serial bit 34.
@@ -201,9 +245,7 @@ impl Summary {
         if event.iface != self.last_iface {
             self.last_iface.clear();
             self.last_iface.push_str(event.iface);
-            if !self.interfaces.iter().any(|known| known == event.iface) {
-                self.interfaces.push(event.iface.to_string());
-            }
+            self.interfaces.see(event.iface);
         }
         let shape = event.shape();
         let stats = self.id_stats(id_key(event));
@@ -392,8 +434,18 @@ impl Summary {
                 serial.sync_losses
             );
         }
-        if !self.interfaces.is_empty() {
-            let _ = writeln!(w, "  interfaces: {}", self.interfaces.join(", "));
+        if !self.interfaces.names.is_empty() {
+            let _ = write!(w, "  interfaces: {}", self.interfaces.names.join(", "));
+            match self.interfaces.not_listed() {
+                0 => {}
+                n if self.interfaces.extra_overflow => {
+                    let _ = write!(w, " and more than {n} more");
+                }
+                n => {
+                    let _ = write!(w, " and {n} more");
+                }
+            }
+            let _ = writeln!(w);
         }
         let _ = writeln!(w, "  protocol: {}", detector.describe());
         let _ = writeln!(w, "  time span: {}", self.span_text());
@@ -551,18 +603,10 @@ impl Summary {
             let _ = writeln!(w, "  none");
         }
         for rejection in &stats.rejected {
-            let _ = writeln!(
-                w,
-                "  {:>8}  {} (first at {})",
-                rejection.count, rejection.reason, rejection.first_at
-            );
+            let _ = writeln!(w, "  {:>8}  {}", rejection.count, rejection.describe_after_count());
         }
-        if stats.error_text_lines + stats.can_xl_lines + stats.blank_or_comment > 0 {
-            let _ = writeln!(
-                w,
-                "  skipped on purpose: {} blank/comment lines, {} error-text lines, {} CAN XL frames",
-                stats.blank_or_comment, stats.error_text_lines, stats.can_xl_lines
-            );
+        if stats.skipped.total() > 0 {
+            let _ = writeln!(w, "  skipped lines: {}", stats.skipped.describe());
         }
         out
     }
@@ -614,11 +658,22 @@ impl Summary {
         json!({
             "lines": stats.lines,
             "frames": stats.frames,
-            "rejected": stats.rejected.iter().map(|r| json!({"reason": r.reason, "count": r.count, "first_at": r.first_at})).collect::<Vec<_>>(),
+            "decoded_lines": stats.decoded_lines,
+            "rejected_lines": stats.rejected_lines,
+            "skipped": {"blank": stats.skipped.blank, "comment": stats.skipped.comment,
+                "error_text": stats.skipped.error_text, "can_xl": stats.skipped.can_xl, "dropcount": stats.skipped.dropcount},
+            "rejected": stats.rejected.iter().map(|r| {
+                let mut object = json!({"reason": r.reason, "count": r.count, "first_at": r.first_at});
+                if let Some(longest) = r.longest {
+                    object["longest"] = json!(longest);
+                }
+                object
+            }).collect::<Vec<_>>(),
             "invalid_frames": stats.invalid_frames,
             "candump_dropped": stats.candump_dropped,
             "protocol": detector.describe(),
-            "interfaces": self.interfaces,
+            "interfaces": self.interfaces.names,
+            "interfaces_not_listed": self.interfaces.not_listed(),
             "first": ts(self.first),
             "last": ts(self.last),
             "ids": ids,
@@ -641,8 +696,8 @@ impl Summary {
     fn span_text(&self) -> String {
         match (self.first, self.last) {
             (Some(first), Some(last)) => {
-                let length = Duration::from_nanos(nanos(&last).saturating_sub(nanos(&first)));
-                format!("{} .. {} ({:.3} s)", ts_text(&first), ts_text(&last), length.as_secs_f64())
+                let length = nanos(&last).saturating_sub(nanos(&first)) as f64 / 1e9;
+                format!("{} .. {} ({length:.3} s)", ts_text(&first), ts_text(&last))
             }
             _ => "no timestamps".to_string(),
         }
@@ -701,15 +756,28 @@ fn key_text(key: u64) -> String {
     }
 }
 
-/// Absolute stamps as UTC date-time, relative ones as seconds since the start of the capture.
+/// The first second of the year 10000, which RFC 3339 (four-digit years) cannot show.
+const YEAR_10000_SECS: u64 = 253_402_300_800;
+
+/// Absolute stamps as UTC date-time, relative ones as seconds since the start of the capture. A stamp
+/// beyond the year 9999 (a corrupted line) is shown as the number of seconds it holds.
 fn ts_text(ts: &Timestamp) -> String {
     match ts.kind {
-        TimestampKind::Absolute => {
+        TimestampKind::Absolute if ts.secs < YEAR_10000_SECS => {
             let time = UNIX_EPOCH + Duration::new(ts.secs, ts.nanos);
-            humantime::format_rfc3339_micros(time).to_string()
+            let mut text = String::new();
+            match write!(text, "{}", humantime::format_rfc3339_micros(time)) {
+                Ok(()) => text,
+                Err(_) => seconds_text(ts),
+            }
         }
+        TimestampKind::Absolute => seconds_text(ts),
         TimestampKind::Relative => format!("+{}.{:06} s", ts.secs, ts.nanos / 1000),
     }
+}
+
+fn seconds_text(ts: &Timestamp) -> String {
+    format!("{}.{:06} s", ts.secs, ts.nanos / 1000)
 }
 
 fn at_text(at: &At) -> String {
