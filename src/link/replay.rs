@@ -7,7 +7,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
-use crate::candump::{self, Line, LineParser, LineReader, RawLine, RejectTally, Timestamp};
+use crate::candump::{self, Line, LineParser, LineReader, RawLine, Reason, RejectTally, Rejected, Timestamp};
 use crate::protocol::Wire;
 
 struct ReadOnly;
@@ -47,8 +47,8 @@ impl ReplayRx {
             let (number, text) = match raw {
                 RawLine::Line { number, text } => (number, text),
                 RawLine::TooLong { number, len } => {
-                    let message = format!("line of {len} bytes is too long for a candump line");
-                    self.reject(number, &message, "line too long");
+                    let message = candump::line_too_long(len);
+                    self.reject(number, &message, Reason::LineTooLong.as_str(), Some(len as u64));
                     continue;
                 }
             };
@@ -58,14 +58,16 @@ impl ReplayRx {
                     return Ok(Some(Received { ts, frame: LinkFrame::Can(record.frame) }));
                 }
                 Ok(_) => {}
-                Err(error) => self.reject(number, &error.to_string(), error.reason.as_str()),
+                Err(error) => self.reject(number, &error.to_string(), error.reason.as_str(), None),
             }
         }
     }
 
-    fn reject(&mut self, number: u64, message: &str, reason: &str) {
+    fn reject(&mut self, number: u64, message: &str, reason: &str, length: Option<u64>) {
         self.stats.rejected_lines += 1;
-        if let Some(note) = self.rejected.reject(&format!("{}:{number}", self.name), message, reason) {
+        let location = format!("{}:{number}", self.name);
+        let rejected = Rejected { location: &location, message, reason, length, in_lines: true };
+        if let Some(note) = self.rejected.reject(rejected) {
             self.notes.push(note);
         }
     }
@@ -175,7 +177,7 @@ mod tests {
             link.rx.take_notes(),
             [
                 format!(
-                    "{name}:1: line of {} bytes is too long for a candump line",
+                    "{name}:1: line of {} bytes is too long for a candump line (limit {DEFAULT_MAX_LINE_LEN} bytes)",
                     DEFAULT_MAX_LINE_LEN + 10
                 ),
                 format!("{name}:2: column 1: not a candump line"),
@@ -186,7 +188,7 @@ mod tests {
         assert_eq!(
             link.rx.report().unwrap(),
             format!(
-                "{name}: replayed 1 frames from 4 lines; rejected 2: 1 x line too long (first at {name}:1); \
+                "{name}: replayed 1 frames from 4 lines; rejected 2: 1 x line too long (longest 65546 bytes; first at {name}:1); \
                  1 x not a candump line (first at {name}:2)"
             )
         );

@@ -16,7 +16,9 @@ use std::rc::Rc;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::candump::{self, Line, LineParser, LineReader, LogFormat, RawLine, Reason, DEFAULT_MAX_LINE_LEN};
+use crate::candump::{
+    self, Line, LineParser, LineReader, LogFormat, RawLine, Reason, RejectTally, Rejected, Rejection,
+};
 use crate::cli::{ColorChoice, DecodeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
@@ -30,8 +32,6 @@ use summary::Summary;
 const FLUSH_AT: usize = 64 * 1024;
 /// Files at least this large get a progress bar (on a terminal).
 const PROGRESS_MIN_BYTES: u64 = 8 * 1024 * 1024;
-/// How many rejected lines are printed individually before only being counted.
-const MAX_SHOWN_REJECTS: usize = 10;
 
 pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color: ColorChoice) -> Result<u8> {
     check_arguments(args)?;
@@ -201,11 +201,10 @@ pub struct InputStats {
     /// Frames candump itself reported dropped (DROPCOUNT lines).
     pub candump_dropped: u64,
     /// Rejected input per reason (lines, and bytes of RS232 captures), with the first place of each.
-    pub rejected: Vec<Rejection>,
+    pub rejected: RejectTally,
     /// Frames with a TRACER ID but invalid content (V1 checksum, too short).
     pub invalid_frames: u64,
     pub serial: Vec<(String, protocol::serial::StreamStats)>,
-    pub shown_rejects: usize,
 }
 
 /// Lines that are not frames and not errors, by kind.
@@ -244,51 +243,9 @@ impl Skipped {
     }
 }
 
-#[derive(Debug)]
-pub struct Rejection {
-    pub reason: String,
-    pub count: u64,
-    pub first_at: String,
-    /// For "line too long": the longest such line, in bytes.
-    pub longest: Option<u64>,
-    /// Counted in lines (candump text), not bytes (RS232 captures).
-    pub in_lines: bool,
-}
-
-impl Rejection {
-    /// `3 x line too long (longest 250000 bytes; first at f.log:7)`
-    fn describe(&self) -> String {
-        format!("{} x {}", self.count, self.describe_after_count())
-    }
-
-    /// `line too long (longest 250000 bytes; first at f.log:7)`
-    pub fn describe_after_count(&self) -> String {
-        match self.longest {
-            Some(longest) => format!("{} (longest {longest} bytes; first at {})", self.reason, self.first_at),
-            None => format!("{} (first at {})", self.reason, self.first_at),
-        }
-    }
-}
-
 impl InputStats {
     pub fn rejected_total(&self) -> u64 {
-        self.rejected.iter().map(|r| r.count).sum()
-    }
-
-    fn reject(&mut self, reason: &str, length: Option<u64>, in_lines: bool, at: impl FnOnce() -> String) {
-        match self.rejected.iter_mut().find(|r| r.reason == reason) {
-            Some(rejection) => {
-                rejection.count += 1;
-                rejection.longest = rejection.longest.max(length);
-            }
-            None => self.rejected.push(Rejection {
-                reason: reason.to_string(),
-                count: 1,
-                first_at: at(),
-                longest: length,
-                in_lines,
-            }),
-        }
+        self.rejected.total()
     }
 
     /// Whether the totals line is worth printing after plain decoding: when anything was lost or not
@@ -401,10 +358,7 @@ impl Decoder {
                 RawLine::Line { number, text } => (number, text),
                 RawLine::TooLong { number, len } => {
                     consumed += len as u64 + 1;
-                    // One reason whatever the length, so the totals stay one short line.
-                    let message = format!(
-                        "line of {len} bytes is too long for a candump line (limit {DEFAULT_MAX_LINE_LEN} bytes)"
-                    );
+                    let message = candump::line_too_long(len);
                     self.rejected_line(
                         name,
                         number,
@@ -574,13 +528,11 @@ impl Decoder {
         if self.strict {
             return Err(Failure::data(format!("{location}: {message}")).into());
         }
-        if self.stats.shown_rejects < MAX_SHOWN_REJECTS {
-            crate::say!("tracerctl: {location}: {message}");
-        } else if self.stats.shown_rejects == MAX_SHOWN_REJECTS {
-            crate::say!("tracerctl: further rejected input is only counted (see the totals at the end)");
+        let in_lines = place.starts_with("line ");
+        let rejected = Rejected { location: &location, message, reason, length, in_lines };
+        if let Some(note) = self.stats.rejected.reject(rejected) {
+            crate::say!("tracerctl: {note}");
         }
-        self.stats.shown_rejects += 1;
-        self.stats.reject(reason, length, place.starts_with("line "), || location);
         Ok(())
     }
 
@@ -637,7 +589,7 @@ pub fn totals_line(stats: &InputStats) -> String {
         }
     }
     let (line_reasons, other_reasons): (Vec<&Rejection>, Vec<&Rejection>) =
-        stats.rejected.iter().partition(|r| r.in_lines);
+        stats.rejected.rejected.iter().partition(|r| r.in_lines);
     if stats.rejected_lines > 0 {
         let reasons: Vec<String> = line_reasons.iter().map(|r| r.describe()).collect();
         line.push_str(&format!("; rejected {} lines: {}", stats.rejected_lines, reasons.join("; ")));

@@ -599,10 +599,10 @@ impl Summary {
         }
 
         let _ = writeln!(w, "\nRejected input");
-        if stats.rejected.is_empty() {
+        if stats.rejected.rejected.is_empty() {
             let _ = writeln!(w, "  none");
         }
-        for rejection in &stats.rejected {
+        for rejection in &stats.rejected.rejected {
             let _ = writeln!(w, "  {:>8}  {}", rejection.count, rejection.describe_after_count());
         }
         if stats.skipped.total() > 0 {
@@ -662,7 +662,7 @@ impl Summary {
             "rejected_lines": stats.rejected_lines,
             "skipped": {"blank": stats.skipped.blank, "comment": stats.skipped.comment,
                 "error_text": stats.skipped.error_text, "can_xl": stats.skipped.can_xl, "dropcount": stats.skipped.dropcount},
-            "rejected": stats.rejected.iter().map(|r| {
+            "rejected": stats.rejected.rejected.iter().map(|r| {
                 let mut object = json!({"reason": r.reason, "count": r.count, "first_at": r.first_at});
                 if let Some(longest) = r.longest {
                     object["longest"] = json!(longest);
