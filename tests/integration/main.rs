@@ -11,6 +11,7 @@ mod drive;
 mod fault_peer;
 #[cfg(target_os = "linux")]
 mod faults;
+mod fuzz;
 mod generated;
 mod monitor;
 mod plot;
