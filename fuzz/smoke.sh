@@ -34,7 +34,7 @@ for target in $targets; do
     binary=target/release/$target
     # -t: 1 s per input is far above any target's need; only a real hang reaches it.
     cargo afl fuzz -i "seeds/$target" -o "$out/$target" -E "$execs" -V "$seconds" -t 1000 -- "$binary" \
-        >"$out/$target.log" 2>&1 || { cat "$out/$target.log"; failed+=("$target (afl-fuzz failed)"); continue; }
+        >"$out/$target.log" 2>&1 || { tail -n 40 "$out/$target.log"; failed+=("$target (afl-fuzz failed)"); continue; }
     stats=$out/$target/default/fuzzer_stats
     stat() { sed -n "s/^$1 *: //p" "$stats"; }
     printf '%-16s %8s execs  %5s paths  %s crashes  %s hangs\n' \

@@ -537,3 +537,37 @@ pub fn send_raw_plan(data: &[u8]) {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// All-zero read sizes once made the harness's reader return `Interrupted` forever (a hang that was
+    /// the harness's, not the line reader's).
+    #[test]
+    fn chunked_reader_gives_a_byte_after_each_interruption() {
+        let mut reader = ChunkedReader::new(b"ab", &[0]);
+        let mut buf = [0u8; 4];
+        assert_eq!(reader.read(&mut buf).unwrap_err().kind(), io::ErrorKind::Interrupted);
+        assert_eq!(reader.read(&mut buf).unwrap(), 1);
+        assert_eq!(reader.read(&mut buf).unwrap_err().kind(), io::ErrorKind::Interrupted);
+        assert_eq!(reader.read(&mut buf).unwrap(), 1);
+        assert_eq!(reader.read(&mut buf).unwrap(), 0);
+        candump_reader(&[1, 255, 1, 0, 0x10, 0, 0, b'\r', b'\n', b'\n', b'l', b'a', b's', b't']);
+    }
+
+    /// serde_json's default parser reads 1700000001.000065 one f64 step away: equal within rounding,
+    /// while any other difference still counts.
+    #[test]
+    fn same_json_allows_float_rounding_only() {
+        let written = serde_json::json!({"first": 1_700_000_001.000_065_f64, "frames": 2});
+        let read: serde_json::Value =
+            serde_json::from_str(&serde_json::to_string(&written).unwrap()).unwrap();
+        assert!(same_json(&read, &written));
+        let next = f64::from_bits(1_700_000_001.000_065_f64.to_bits() + 1);
+        assert!(same_json(&serde_json::json!({"first": next, "frames": 2}), &written));
+        assert!(!same_json(&serde_json::json!({"first": 1_700_000_001.000_1, "frames": 2}), &written));
+        assert!(!same_json(&serde_json::json!({"first": next, "frames": 3}), &written));
+        assert!(!same_json(&serde_json::json!({"first": next}), &written));
+    }
+}

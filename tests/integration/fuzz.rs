@@ -209,7 +209,7 @@ fn check_run(what: &str, output: &Output, allowed: &[i32]) -> String {
 /// run to keep the test fast; a failure names the files, which are kept (target/tmp/fuzz_mutants).
 #[test]
 fn mutated_logs_through_every_decode_mode() {
-    const MUTANTS: usize = 300;
+    const MUTANTS: usize = 500;
     const BATCH: usize = 10;
     let bases = bases();
     let mut rng = Rng(0x7E57_F022_2026_0011);
