@@ -23,13 +23,16 @@ if ! config=$(cargo afl config --build 2>&1) && ! grep -q "already built" <<<"$c
     exit 1
 fi
 
+echo "cargo-afl ready: $SECONDS s"
 cargo afl build --release --locked
+echo "targets built: $SECONDS s"
 
 # A container has no core dump handler to wait for, no CPU frequency governor to check, and no terminal.
 export AFL_I_DONT_CARE_ABOUT_MISSING_CRASHES=1 AFL_SKIP_CPUFREQ=1 AFL_NO_UI=1 AFL_NO_AFFINITY=1 AFL_FAST_CAL=1
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 failed=()
+start=$SECONDS
 for target in $targets; do
     binary=target/release/$target
     # -t: 1 s per input is far above any target's need; only a real hang reaches it.
@@ -40,18 +43,21 @@ for target in $targets; do
     printf '%-16s %8s execs  %5s paths  %s crashes  %s hangs\n' \
         "$target" "$(stat execs_done)" "$(stat corpus_count)" "$(stat saved_crashes)" "$(stat saved_hangs)"
     for kind in crashes hangs; do
-        for input in "$out/$target/default/$kind"/id:*; do
-            [[ -e $input ]] || continue
-            failed+=("$target ($kind)")
+        inputs=("$out/$target/default/$kind"/id:*)
+        [[ -e ${inputs[0]} ]] || continue
+        failed+=("$target: ${#inputs[@]} $kind")
+        # The first few are enough to reproduce; the rest are usually the same defect.
+        for input in "${inputs[@]:0:3}"; do
             echo "--- $target: $kind input $(basename "$input"), as hex:"
             od -An -tx1 -v "$input"
             echo "--- what it does (fuzz/target/release/$target < input):"
-            timeout 5 "$binary" <"$input" 2>&1 | tail -n 15 || true
+            timeout 5 "$binary" <"$input" 2>&1 | head -n 12 || true
         done
     done
 done
+echo "fuzz runs: $((SECONDS - start)) s; the whole smoke: $SECONDS s"
 if ((${#failed[@]})); then
-    echo "fuzz smoke failed: ${failed[*]}" >&2
+    printf 'fuzz smoke failed: %s\n' "${failed[@]}" >&2
     echo "Make each input a regression test: fuzz/regressions/<target>/<name> (docs/testing.md)." >&2
     exit 1
 fi
