@@ -24,7 +24,12 @@ if ! config=$(cargo afl config --build 2>&1) && ! grep -q "already built" <<<"$c
 fi
 
 echo "cargo-afl ready: $SECONDS s"
-cargo afl build --release --locked
+if ! cargo afl build --release --locked; then
+    # fuzz/ has its own lock file: a dependency added to the main crate must be added to it too.
+    echo "If cargo says the lock file needs to be updated: cargo update --manifest-path fuzz/Cargo.toml" \
+        "--workspace, and commit fuzz/Cargo.lock" >&2
+    exit 1
+fi
 echo "targets built: $SECONDS s"
 
 # A container has no core dump handler to wait for, no CPU frequency governor to check, and no terminal.
