@@ -27,6 +27,8 @@ pub mod cli;
 pub mod commands;
 pub mod control;
 pub mod exit;
+#[doc(hidden)]
+pub mod fuzzing;
 pub mod link;
 pub mod output;
 pub mod protocol;

@@ -13,6 +13,7 @@ mod fault_peer;
 #[cfg(target_os = "linux")]
 mod faults;
 mod formats;
+mod fuzz;
 mod generated;
 mod monitor;
 mod plot;
