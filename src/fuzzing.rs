@@ -7,7 +7,9 @@
 
 use std::io::{self, Read};
 
-use crate::candump::{self, Line, LineParser, LineReader, RawLine, Timestamp, TimestampKind};
+use crate::candump::{
+    self, Line, LineParser, LineReader, LogFormat, RawLine, TextFormat, Timestamp, TimestampKind,
+};
 use crate::commands::decode::summary::Summary;
 use crate::commands::decode::InputStats;
 use crate::commands::send_raw;
@@ -76,6 +78,20 @@ pub fn candump_line(data: &[u8]) {
                 assert_eq!(again.ts, expected, "stamp of {:?}", String::from_utf8_lossy(&written));
             }
             Ok(_) => {}
+        }
+    }
+    // The other dialects `decode` and `--replay` read: no panic, and errors inside the line.
+    let trc = [10, 11, 12, 13, 20, 21].map(|version| TextFormat::PeakTrc { version });
+    for text in [TextFormat::VectorAsc].into_iter().chain(trc) {
+        let mut parser = LineParser::for_format(LogFormat { text, compression: None });
+        if let Err(error) = parser.parse(data) {
+            assert!(
+                (1..=data.len() + 1).contains(&error.column),
+                "{}: column {} outside a line of {} bytes: {error}",
+                text.name(),
+                error.column,
+                data.len()
+            );
         }
     }
 }
