@@ -7,6 +7,8 @@ use std::process::{Command, Stdio};
 use std::time::{Duration, SystemTime, UNIX_EPOCH};
 
 use super::dashboard::Session;
+#[cfg(target_os = "linux")]
+use super::serial_peer::{healthy, FakeRobot};
 use super::util::{data, stderr, stdout, tracerctl};
 
 fn binary() -> std::path::PathBuf {
@@ -24,31 +26,75 @@ fn number_after(text: &str, after: &str) -> Option<u64> {
     digits.parse().ok()
 }
 
-#[test]
-fn a_stdout_nobody_reads_delays_neither_the_stamps_nor_the_silence_checks() {
-    let mut child = Command::new(binary())
-        .args(["--sim", "monitor", "--format", "json", "--duration", "4s"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
+/// A run of `tracerctl ARGS` whose standard output nobody read for its first 3 s.
+struct UnreadRun {
+    /// When the run began (wall clock, as the JSON `ts` stamps are).
+    started: f64,
+    /// The `ts` of every line read once reading began.
+    stamps: Vec<f64>,
+    errors: String,
+}
+
+/// Runs `tracerctl ARGS` (a 4 s `monitor --format json`) with a standard output that is a pipe nobody reads
+/// for 3 s, as with a pager that is not scrolling, then reads all of it.
+fn run_with_stdout_unread(args: &[&str]) -> UnreadRun {
+    let (mut output, stdout) = stdout_pipe();
+    let mut child = Command::new(binary()).args(args).stdout(stdout).stderr(Stdio::piped()).spawn().unwrap();
+    let started = wall_clock();
     let mut errors = child.stderr.take().unwrap();
     let errors = std::thread::spawn(move || {
         let mut text = String::new();
         errors.read_to_string(&mut text).unwrap();
         text
     });
-    let started = wall_clock();
-    // A pager that is not scrolling: the pipe fills (64 KiB, well under a second of JSON) and stays full.
     std::thread::sleep(Duration::from_secs(3));
     let mut text = String::new();
-    child.stdout.take().unwrap().read_to_string(&mut text).unwrap();
+    output.read_to_string(&mut text).unwrap();
     let status = child.wait().unwrap();
     let errors = errors.join().unwrap();
     assert!(status.success(), "{errors}");
+    let stamps = text
+        .lines()
+        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["ts"].as_f64().unwrap())
+        .collect();
+    UnreadRun { started, stamps, errors }
+}
 
+/// A pipe for a child's standard output (the read end, and the write end to hand to the child), one page
+/// deep where the system allows: it fills within the first second even at the 50 lines a second of a
+/// single RS232 status frame, which would take 5 s to fill the default 64 KiB.
+fn stdout_pipe() -> (std::fs::File, Stdio) {
+    use std::os::fd::{FromRawFd, OwnedFd};
+    let mut fds = [0; 2];
+    // Close-on-exec, or children of tests running at the same time would hold the write end open.
+    #[cfg(target_os = "linux")]
+    // SAFETY: pipe2 fills in two new descriptors.
+    let made = unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) };
+    #[cfg(not(target_os = "linux"))]
+    // SAFETY: pipe fills in two new descriptors; fcntl on them.
+    let made = unsafe {
+        let made = libc::pipe(fds.as_mut_ptr());
+        for fd in fds {
+            libc::fcntl(fd, libc::F_SETFD, libc::FD_CLOEXEC);
+        }
+        made
+    };
+    assert_eq!(made, 0, "{}", std::io::Error::last_os_error());
+    #[cfg(target_os = "linux")]
+    // SAFETY: fcntl on a descriptor we own.
+    assert!(unsafe { libc::fcntl(fds[0], libc::F_SETPIPE_SZ, 4096) } >= 4096);
+    // SAFETY: the two descriptors are new and owned by nothing else.
+    let (read, write) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
+    (read.into(), write.into())
+}
+
+/// What a stdout nobody reads must not change: reception and its stamps, the silence checks, the counts.
+/// `per_second`: the fewest frames stamped in each second of the blocked stretch; `per_10ms`: the most
+/// stamped within 10 ms (a backlog read at once, once stdout took output again, would be hundreds).
+fn assert_reception_went_on(run: &UnreadRun, per_second: usize, per_10ms: usize) {
+    let UnreadRun { started, stamps, errors } = run;
     // Reception went on at full rate: the bus never looked silent. (A loaded test machine may stall the
-    // simulator for a real 100 ms or so, which the staleness check rightly reports; never for seconds.)
+    // sender for a real 100 ms or so, which the staleness check rightly reports; never for seconds.)
     for false_alarm in ["silent", "nothing received", "of silence"] {
         assert!(!errors.contains(false_alarm), "{false_alarm:?} in:\n{errors}");
     }
@@ -56,18 +102,21 @@ fn a_stdout_nobody_reads_delays_neither_the_stamps_nor_the_silence_checks() {
         assert!(gap.1.ends_with(" ms"), "a gap of seconds: {}", gap.1);
     }
     // The stamps of what was read are spread over the run as the frames came, blocked seconds included.
-    let stamps: Vec<f64> = text
-        .lines()
-        .map(|line| serde_json::from_str::<serde_json::Value>(line).unwrap()["ts"].as_f64().unwrap())
-        .collect();
     let first = stamps[0];
     assert!((first - started).abs() < 1.0, "first stamp {first}, started {started}");
     for second in 0..3 {
         let within = stamps.iter().filter(|ts| (*ts - first).floor() as i32 == second).count();
-        assert!(within > 100, "{within} frames stamped in second {second} of the blocked stretch");
+        assert!(within >= per_second, "{within} frames stamped in second {second} of the blocked stretch");
     }
+    let longest_gap = stamps.windows(2).map(|pair| pair[1] - pair[0]).fold(0.0, f64::max);
+    assert!(longest_gap < 1.0, "no frame stamped for {longest_gap:.3} s");
+    let bunched = (0..stamps.len())
+        .map(|i| stamps[i..].iter().take_while(|ts| **ts - stamps[i] < 0.010).count())
+        .max()
+        .unwrap_or(0);
+    assert!(bunched <= per_10ms, "{bunched} frames stamped within 10 ms");
     // Every frame meant for output was either read here or counted as dropped.
-    let shown = number_after(&errors, "frames,").expect("the summary's count of frames shown");
+    let shown = number_after(errors, "frames,").expect("the summary's count of frames shown");
     let dropped = match errors.find("output: standard output fell behind") {
         Some(at) => number_after(&errors[at..], "s);").expect("a dropped count"),
         None => 0,
@@ -75,6 +124,31 @@ fn a_stdout_nobody_reads_delays_neither_the_stamps_nor_the_silence_checks() {
     assert_eq!(stamps.len() as u64 + dropped, shown, "{errors}");
     // A pipe that stayed full for seconds was noticed, once.
     assert_eq!(errors.matches("standard output is not keeping up").count(), 1, "{errors}");
+}
+
+#[test]
+fn a_stdout_nobody_reads_delays_neither_the_stamps_nor_the_silence_checks() {
+    // The simulator stamps its frames as it sends them: this shows the silence checks and the output queue.
+    let run = run_with_stdout_unread(&["--sim", "monitor", "--format", "json", "--duration", "4s"]);
+    assert_reception_went_on(&run, 100, PER_10MS_SIM);
+}
+
+/// The simulator sends each 20 ms cycle's frames together, stamped alike (8 at most; a loaded machine may
+/// make it send a few cycles late at once).
+const PER_10MS_SIM: usize = 50;
+
+/// Over RS232 frames are stamped when read from the port: a monitor waiting for stdout would read seconds
+/// of them at once, stamped within a millisecond, after a silence warning.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_stdout_nobody_reads_delays_no_stamp_of_frames_read_from_a_serial_port() {
+    let robot = FakeRobot::start(healthy());
+    let run =
+        run_with_stdout_unread(&["--serial", &robot.path, "monitor", "--format", "json", "--duration", "4s"]);
+    drop(robot);
+    // The robot reports every 20 ms: 50 a second (half of that allows for a loaded machine).
+    // A read takes what has arrived, stamped alike: a few frames when the machine is loaded, never seconds'.
+    assert_reception_went_on(&run, 25, 15);
 }
 
 #[test]
