@@ -22,6 +22,7 @@ use crate::link::{LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
 use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
 use crate::output::{Event, EventWriter, Format, FrameRef};
+use crate::protocol::catalog::{Periodic, PERIODIC};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
 use crate::protocol::frame::ERR_FLAG;
@@ -48,38 +49,6 @@ const REPORT_EVERY: Duration = Duration::from_secs(1);
 const BEHIND_AFTER: Duration = Duration::from_secs(1);
 /// After a signal, how long the output still queued may take to leave before it is given up (and counted).
 const OUTPUT_GRACE: Duration = Duration::from_secs(1);
-
-/// A frame the robot sends on a fixed period.
-#[derive(Clone, Copy, Debug)]
-struct Periodic {
-    id: u32,
-    name: &'static str,
-    period_ms: u64,
-}
-
-const fn periodic(id: u32, name: &'static str, period_ms: u64) -> Periodic {
-    Periodic { id, name, period_ms }
-}
-
-/// CAN V2 feedback (protocol notes §2.6-2.12).
-const CAN_PERIODIC: [Periodic; 8] = [
-    periodic(0x211, "system_state", 20),
-    periodic(0x221, "motion_state", 20),
-    periodic(0x231, "light_state", 20),
-    periodic(0x251, "motor_high_speed", 20),
-    periodic(0x252, "motor_high_speed", 20),
-    periodic(0x311, "odometry", 20),
-    periodic(0x261, "motor_low_speed", 100),
-    periodic(0x262, "motor_low_speed", 100),
-];
-
-/// RS232 feedback (protocol notes §6.2), by `type << 8 | command`.
-const SERIAL_PERIODIC: [Periodic; 4] = [
-    periodic(0xAA01, "system_state", 20),
-    periodic(0xAA02, "motion_state", 20),
-    periodic(0xAA03, "motor_high_speed", 20),
-    periodic(0xAA04, "motor_high_speed", 20),
-];
 
 pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
     let choice = LinkChoice::from_args(&cli.link)?;
@@ -343,7 +312,7 @@ impl Counts {
 /// One expected periodic frame and whether it has gone stale.
 #[derive(Clone, Copy, Debug)]
 struct Tracker {
-    what: Periodic,
+    what: &'static Periodic,
     /// Wall-clock arrival and link timestamp of the last one.
     last: Option<(Instant, f64)>,
     stale: bool,
@@ -456,7 +425,6 @@ impl<W: Output> Monitor<W> {
         if !options.raw {
             writer.header(&mut buffer);
         }
-        let table: &[Periodic] = if serial { &SERIAL_PERIODIC } else { &CAN_PERIODIC };
         Self {
             name: name.to_string(),
             iface: iface.to_string(),
@@ -474,7 +442,12 @@ impl<W: Output> Monitor<W> {
             detector: ProtocolDetector::default(),
             serial,
             counts: Counts::new(),
-            trackers: table.iter().map(|&what| Tracker { what, last: None, stale: false }).collect(),
+            // The link's own wire only: CAN (V1 and V2; a tracker waits for its first frame) or RS232.
+            trackers: PERIODIC
+                .iter()
+                .filter(|what| (what.wire == protocol::Wire::Serial) == serial)
+                .map(|what| Tracker { what, last: None, stale: false })
+                .collect(),
             started,
             last_frame: None,
             silent: false,
@@ -951,6 +924,36 @@ mod tests {
         monitor.warnings.clear();
         monitor.frame(&can(0x211, &STATE, T0 + 0.4), ms(400)).unwrap();
         assert_eq!(monitor.warnings, ["0x211 system_state resumed after a gap of 320 ms"]);
+    }
+
+    #[test]
+    fn catalog_ids_monitor_missed_before_are_watched_v1_status_and_rs232_lights() {
+        let start = Instant::now();
+        let ms = |n: u64| start + Duration::from_millis(n);
+        // The silence warning off: only staleness is under test.
+        let mut opts = options(Format::Text);
+        opts.silence = Duration::ZERO;
+        let mut monitor = Monitor::starting_at("can0", "can0", false, opts.clone(), Vec::new(), start);
+        // V1 motion state (0x131), checksum in byte 7; V1 periods are taken as 100 ms.
+        let mut data = [0u8; 8];
+        data[7] = protocol::can::v1_checksum(0x131, &data);
+        monitor.frame(&can(0x131, &data, T0), ms(0)).unwrap();
+        monitor.tick(ms(499), RxStats::default());
+        assert!(monitor.warnings.is_empty(), "{:?}", monitor.warnings);
+        monitor.tick(ms(500), RxStats::default());
+        assert_eq!(
+            monitor.warnings,
+            ["warning: no 0x131 motion_state on can0 for 500 ms (expected every 100 ms)"]
+        );
+
+        let lights = SerialFrame { frame_type: 0xAA, command: 0x07, payload: [0; 6], frame_id: 0 };
+        let mut monitor = Monitor::starting_at("/dev/ttyUSB0", "ttyUSB0", true, opts, Vec::new(), start);
+        monitor.frame(&Received { ts: stamp(T0), frame: LinkFrame::Serial(lights) }, ms(0)).unwrap();
+        monitor.tick(ms(100), RxStats::default());
+        assert_eq!(
+            monitor.warnings,
+            ["warning: no 0xAA07 light_state on /dev/ttyUSB0 for 100 ms (expected every 20 ms)"]
+        );
     }
 
     #[test]

@@ -13,6 +13,7 @@ use std::hash::{DefaultHasher, Hash, Hasher};
 use std::time::{Duration, Instant};
 
 use crate::control::{Limits, SenderStats};
+use crate::protocol::catalog;
 use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
@@ -372,16 +373,7 @@ impl Rates {
 
 /// How often the robot sends a feedback identifier, for the ones whose period is known.
 pub fn feedback_period(id: u32) -> Option<Duration> {
-    match id {
-        // CAN V2 (manual; simulator: every 20 ms, 0x261/0x262 every 100 ms).
-        0x211 | 0x221 | 0x231 | 0x251 | 0x252 | 0x311 => Some(Duration::from_millis(20)),
-        0x261 | 0x262 => Some(Duration::from_millis(100)),
-        // CAN V1: period not documented here; assume the slower 100 ms so nothing is called stale early.
-        0x131 | 0x141 | 0x151 | 0x201 | 0x202 => Some(Duration::from_millis(100)),
-        // RS232 feedback: system, motion, motor 1 and 2 drivers, lights, every 20 ms.
-        0xAA01 | 0xAA02 | 0xAA03 | 0xAA04 | 0xAA07 => Some(Duration::from_millis(20)),
-        _ => None,
-    }
+    catalog::periodic_frame(id).map(|entry| entry.period())
 }
 
 /// How long a feedback identifier may be silent before it is stale; `None` for identifiers that are not
@@ -390,36 +382,21 @@ pub fn stale_after(id: u32) -> Option<Duration> {
     feedback_period(id).map(|period| (period * STALE_PERIODS).max(STATUS_STALE))
 }
 
-/// What an identifier carries, for the link-health table.
+/// What an identifier carries, for the link-health table: the catalog's label for robot feedback.
 pub fn id_name(id: u32) -> &'static str {
+    if let Some(entry) = catalog::periodic_frame(id) {
+        return entry.label;
+    }
     match id {
         0x111 => "motion cmd",
         0x121 => "light cmd",
-        0x211 => "system",
-        0x221 => "motion",
-        0x231 => "lights",
         0x241 => "rc",
-        0x251 => "motor 1",
-        0x252 => "motor 2",
-        0x261 => "driver 1",
-        0x262 => "driver 2",
-        0x311 => "odometry",
         0x411 => "version req",
         0x41A => "version",
         0x421 => "mode cmd",
         0x441 => "clear cmd",
         0x130 => "V1 motion cmd",
-        0x131 => "V1 motion",
         0x140 => "V1 light cmd",
-        0x141 => "V1 lights",
-        0x151 => "system",
-        0x201 => "V1 motor 1",
-        0x202 => "V1 motor 2",
-        0xAA01 => "system",
-        0xAA02 => "motion",
-        0xAA03 => "motor 1",
-        0xAA04 => "motor 2",
-        0xAA07 => "lights",
         0x5501 => "motion cmd",
         0x5502 => "light cmd",
         _ => "",
