@@ -1,6 +1,7 @@
 //! The TRACER protocol: typed messages and their CAN (V1, V2) and RS232 encodings. Pure: no I/O.
 
 pub mod can;
+pub mod constants;
 pub mod detect;
 pub mod error_frame;
 pub mod faults;
