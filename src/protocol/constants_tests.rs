@@ -43,7 +43,8 @@ fn has_number(line: &str, number: &str) -> bool {
         let mut after = line[at + number.len()..].chars();
         let (next, second) = (after.next(), after.next());
         let starts = before.is_none_or(|c| !word(c) && c != '.');
-        let ends = next.is_none_or(|c| !word(c) && !(c == '.' && second.is_some_and(|c| c.is_ascii_digit())));
+        let decimal_point = |c: char| c == '.' && second.is_some_and(|c| c.is_ascii_digit());
+        let ends = next.is_none_or(|c| !word(c) && !decimal_point(c));
         starts && ends
     })
 }
