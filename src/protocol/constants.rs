@@ -21,9 +21,9 @@ pub const BATTERY_CUTOFF_DV: u16 = 215;
 pub const BATTERY_THRESHOLDS: [(u16, &str); 3] =
     [(BATTERY_WARNING_DV, "warning"), (BATTERY_FAULT_DV, "fault"), (BATTERY_CUTOFF_DV, "cut-off")];
 
-/// A value in 0.1 V as volts (exact for the thresholds: 22.5, 22, 21.5).
-pub fn volts(decivolts: u16) -> f64 {
-    f64::from(decivolts) / 10.0
+/// A value in 0.1 V as volts: the nearest `f64`, so `volts(225)` is the literal `22.5`.
+pub const fn volts(decivolts: u16) -> f64 {
+    decivolts as f64 / 10.0
 }
 
 #[cfg(test)]

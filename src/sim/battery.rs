@@ -5,16 +5,17 @@ use super::SimConfig;
 // Thresholds in 0.1 V, compared with the voltage the robot reports (so a reported value at a threshold
 // sets its level).
 use crate::protocol::constants::{
-    BATTERY_CUTOFF_DV as CUT_OFF_DECIVOLTS, BATTERY_FAULT_DV as FAULT_DECIVOLTS,
+    volts, BATTERY_CUTOFF_DV as CUT_OFF_DECIVOLTS, BATTERY_FAULT_DV as FAULT_DECIVOLTS,
     BATTERY_WARNING_DV as WARNING_DECIVOLTS,
 };
 /// A level clears only 0.2 V above its threshold, so the sag of a start does not make the bits flicker.
 const HYSTERESIS_DECIVOLTS: u16 = 2;
 
-/// Open-circuit voltages the battery events jump to.
-pub(super) const WARNING_EVENT_V: f64 = 22.4;
-pub(super) const LOW_EVENT_V: f64 = 21.9;
-pub(super) const EMPTY_EVENT_V: f64 = 21.4;
+/// Open-circuit voltages the battery events jump to: 0.1 V under each threshold (22.4, 21.9, 21.4 V), so
+/// the level sets at once.
+pub(super) const WARNING_EVENT_V: f64 = volts(WARNING_DECIVOLTS - 1);
+pub(super) const LOW_EVENT_V: f64 = volts(FAULT_DECIVOLTS - 1);
+pub(super) const EMPTY_EVENT_V: f64 = volts(CUT_OFF_DECIVOLTS - 1);
 
 /// Which levels are active.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
