@@ -6,8 +6,8 @@
 //! comparison: the dashboard and the sim flag a reported value at or below a threshold, the doctor only one
 //! strictly below it (its unit test pins 22.5 V as a pass).
 
-/// Under-voltage alarm ("warning") at 22.5 V: manual 2.1 Status indication ("charge in time when the
-/// device voltage is lower than 22.5V", safety notes) and Table 3.1 byte 4 bit 1 ("Alarm voltage 22.5V").
+/// Under-voltage alarm ("warning") at 22.5 V: the manual's safety notes ("charge in time when the device
+/// voltage is lower than 22.5V") and Table 3.1 byte 4 bit 1 ("Alarm voltage 22.5V").
 pub const BATTERY_WARNING_DV: u16 = 225;
 /// Under-voltage protection ("fault"; the robot beeps but still drives) at 22 V: manual 2.1 Status
 /// indication, "Replace battery" ("lower than 22V ... beep-beep-beep"), and Table 3.1 byte 4 bit 0
