@@ -14,6 +14,7 @@ use std::time::{Duration, Instant};
 
 use crate::control::{Limits, SenderStats};
 use crate::protocol::catalog;
+use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
@@ -26,10 +27,6 @@ pub const TRACK_M: f64 = 0.36;
 /// Battery samples kept for the sparkline, one per [`BATTERY_SAMPLE`].
 pub const BATTERY_HISTORY: usize = 120;
 pub const BATTERY_SAMPLE: Duration = Duration::from_secs(1);
-/// Battery thresholds of the manual (2.1), in 0.1 V: warning, fault, cut-off. Each applies at or below.
-pub const BATTERY_WARNING_DV: u16 = 225;
-pub const BATTERY_FAULT_DV: u16 = 220;
-pub const BATTERY_CUTOFF_DV: u16 = 215;
 /// Top of the gauge's scale, 0.1 V (a display scale from the cut-off up, not a state of charge).
 pub const BATTERY_GAUGE_TOP_DV: u16 = 265;
 /// Per-identifier rates are counted over windows this long (so they change at most once a second).
@@ -88,15 +85,15 @@ pub enum Arming {
     Armed,
 }
 
-/// Where the battery voltage stands against the manual's thresholds.
+/// Where the battery voltage stands against the manual's thresholds (each applies at or below).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BatteryZone {
     Ok,
-    /// At or below 22.5 V.
+    /// At or below [`BATTERY_WARNING_DV`].
     Warning,
-    /// At or below 22.0 V (still drives; the robot beeps).
+    /// At or below [`BATTERY_FAULT_DV`] (still drives; the robot beeps).
     Fault,
-    /// At or below 21.5 V: drive power is cut.
+    /// At or below [`BATTERY_CUTOFF_DV`]: drive power is cut.
     CutOff,
 }
 

@@ -15,9 +15,10 @@ use ratatui::Frame;
 
 use super::app::{
     id_label, id_name, scale_percent, severity_rank, speed_text, App, Arming, BatteryZone, FaultLine, Prompt,
-    StatusAge, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_GAUGE_TOP_DV, BATTERY_WARNING_DV,
+    StatusAge, BATTERY_GAUGE_TOP_DV,
 };
 use crate::commands::live::{mode_name, not_drivable};
+use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
     light_mode_name, MODE_CAN, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };

@@ -210,7 +210,7 @@ pub struct SystemState {
 
 impl SystemState {
     pub fn battery_voltage(&self) -> f64 {
-        f64::from(self.battery_decivolts) / 10.0
+        super::constants::volts(self.battery_decivolts)
     }
     /// The fault bits, named by the table of the wire they came from.
     pub fn faults(&self, wire: Wire) -> Flags {

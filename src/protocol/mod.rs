@@ -2,6 +2,7 @@
 
 pub mod can;
 pub mod catalog;
+pub mod constants;
 pub mod detect;
 pub mod error_frame;
 pub mod faults;

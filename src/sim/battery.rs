@@ -1,19 +1,21 @@
 //! The battery: charge drawn, a linear open-circuit voltage, a resistive sag, and the three thresholds of
-//! the TRACER manual (2.1): warning at 22.5 V, fault (beeping) at 22 V, drive cut-off at 21.5 V.
+//! the TRACER manual (`protocol::constants`): warning, fault (beeping), drive cut-off.
 
 use super::SimConfig;
-
-/// Thresholds in 0.1 V, compared with the voltage the robot reports (so a reported 22.5 V is a warning).
-pub(super) const WARNING_DECIVOLTS: u16 = 225;
-pub(super) const FAULT_DECIVOLTS: u16 = 220;
-pub(super) const CUT_OFF_DECIVOLTS: u16 = 215;
+// Thresholds in 0.1 V, compared with the voltage the robot reports (so a reported value at a threshold
+// sets its level).
+use crate::protocol::constants::{
+    volts, BATTERY_CUTOFF_DV as CUT_OFF_DECIVOLTS, BATTERY_FAULT_DV as FAULT_DECIVOLTS,
+    BATTERY_WARNING_DV as WARNING_DECIVOLTS,
+};
 /// A level clears only 0.2 V above its threshold, so the sag of a start does not make the bits flicker.
 const HYSTERESIS_DECIVOLTS: u16 = 2;
 
-/// Open-circuit voltages the battery events jump to.
-pub(super) const WARNING_EVENT_V: f64 = 22.4;
-pub(super) const LOW_EVENT_V: f64 = 21.9;
-pub(super) const EMPTY_EVENT_V: f64 = 21.4;
+/// Open-circuit voltages the battery events jump to: 0.1 V under each threshold (22.4, 21.9, 21.4 V), so
+/// the level sets at once.
+pub(super) const WARNING_EVENT_V: f64 = volts(WARNING_DECIVOLTS - 1);
+pub(super) const LOW_EVENT_V: f64 = volts(FAULT_DECIVOLTS - 1);
+pub(super) const EMPTY_EVENT_V: f64 = volts(CUT_OFF_DECIVOLTS - 1);
 
 /// Which levels are active.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]

@@ -264,7 +264,7 @@ impl fmt::Display for ControlMode {
 pub enum MotionBlock {
     /// E-stop pressed: stopped at once, every motion and mode command ignored.
     EStop,
-    /// Battery at or below the 21.5 V cut-off: drive power cut.
+    /// Battery at or below the cut-off (`protocol::constants::BATTERY_CUTOFF_DV`): drive power cut.
     BatteryCutOff,
     /// A latched protection (driver over-temperature, over-current, motor communication) until cleared.
     LatchedFault,

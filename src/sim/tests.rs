@@ -1039,3 +1039,16 @@ fn bit_constants_match_the_protocol_tables() {
     assert_eq!(driver(DRIVER_OVERCURRENT), "driver_overcurrent");
     assert_eq!(driver(DRIVER_DISABLED), "driver_disabled");
 }
+
+#[test]
+fn battery_event_texts_name_the_voltages_the_events_set() {
+    use super::battery::{EMPTY_EVENT_V, LOW_EVENT_V, WARNING_EVENT_V};
+    assert_eq!([WARNING_EVENT_V, LOW_EVENT_V, EMPTY_EVENT_V], [22.4, 21.9, 21.4]);
+    for (kind, volts) in [
+        (FaultKind::BatteryWarning, WARNING_EVENT_V),
+        (FaultKind::BatteryLow, LOW_EVENT_V),
+        (FaultKind::BatteryEmpty, EMPTY_EVENT_V),
+    ] {
+        assert!(kind.description().starts_with(&format!("battery to {volts} V:")), "{kind:?}");
+    }
+}

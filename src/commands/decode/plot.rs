@@ -10,6 +10,7 @@ use plotters::prelude::*;
 
 use crate::candump::Timestamp;
 use crate::output::Event;
+use crate::protocol::constants;
 use crate::protocol::message::Message;
 
 /// At most this many points per series are drawn (pairs of min and max per bucket).
@@ -19,7 +20,6 @@ const SPARSE_POINTS: usize = 100;
 /// At most this many event markers are drawn.
 const MAX_MARKERS: usize = 100;
 /// Battery thresholds drawn as dashed lines: warning, fault, cut-off (V).
-const BATTERY_THRESHOLDS: [(f64, &str); 3] = [(22.5, "warning"), (22.0, "fault"), (21.5, "cut-off")];
 const SIZE: (u32, u32) = (1200, 1500);
 const ESTOP_COLOR: RGBColor = RGBColor(220, 0, 0);
 const ESTOP_RELEASED_COLOR: RGBColor = RGBColor(0, 150, 0);
@@ -296,9 +296,12 @@ impl Plot {
             root.fill(&WHITE)?;
             let panels = root.split_evenly((5, 1));
             let (start, end) = self.time_span();
-            let battery_thresholds: Vec<(Vec<(f64, f64)>, String)> = BATTERY_THRESHOLDS
+            let battery_thresholds: Vec<(Vec<(f64, f64)>, String)> = constants::BATTERY_THRESHOLDS
                 .iter()
-                .map(|&(volts, name)| (vec![(start, volts), (end, volts)], format!("{volts:.1} V {name}")))
+                .map(|&(decivolts, name)| {
+                    let volts = constants::volts(decivolts);
+                    (vec![(start, volts), (end, volts)], format!("{volts:.1} V {name}"))
+                })
                 .collect();
             unlabeled = self.panel(
                 &panels[0],

@@ -6,6 +6,7 @@ use std::time::{Duration, Instant};
 use super::report::{Check, Outcome};
 use crate::commands::live;
 use crate::link::LinkKind;
+use crate::protocol::constants::{volts, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{
     rc_switch_name, SystemState, MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY, VEHICLE_ESTOP,
@@ -16,9 +17,6 @@ use crate::session::RobotStatus;
 
 /// The robot sends its system status every 20 ms.
 const STATUS_PER_SECOND: f64 = 50.0;
-/// Battery thresholds (manual): alarm 22.5 V, protection 22 V, motion cut below 21.5 V.
-const BATTERY_ALARM_V: f64 = 22.5;
-const BATTERY_PROTECTION_V: f64 = 22.0;
 /// Motor driver temperatures (manual, V1 fault table): warning above 55 C, protection above 65 C.
 const DRIVER_WARM_C: i16 = 55;
 const DRIVER_HOT_C: i16 = 65;
@@ -447,20 +445,24 @@ pub fn faults(seen: &Observation, state: &SystemState, wire: Wire) -> Check {
 pub fn battery(state: &SystemState) -> Check {
     const ID: &str = "battery";
     const TITLE: &str = "battery";
-    let volts = state.battery_voltage();
-    let finding = format!("{volts:.1} V");
-    if volts < BATTERY_PROTECTION_V {
+    let decivolts = state.battery_decivolts;
+    let finding = format!("{:.1} V", state.battery_voltage());
+    // Strictly below, as the manual words it ("lower than"): a reported value at a threshold still passes.
+    if decivolts < BATTERY_FAULT_DV {
         Check::fail(
             ID,
             TITLE,
-            format!("{finding}: below the {BATTERY_PROTECTION_V} V protection voltage"),
-            "charge or replace the battery: the robot cuts motion below 21.5 V",
+            format!("{finding}: below the {} V protection voltage", volts(BATTERY_FAULT_DV)),
+            format!(
+                "charge or replace the battery: the robot cuts motion below {} V",
+                volts(BATTERY_CUTOFF_DV)
+            ),
         )
-    } else if volts < BATTERY_ALARM_V {
+    } else if decivolts < BATTERY_WARNING_DV {
         Check::warn(
             ID,
             TITLE,
-            format!("{finding}: below the {BATTERY_ALARM_V} V alarm voltage"),
+            format!("{finding}: below the {} V alarm voltage", volts(BATTERY_WARNING_DV)),
             "finish the task and charge soon",
         )
     } else {
