@@ -31,6 +31,15 @@ pub enum LinkFrame {
     Serial(SerialFrame),
 }
 
+impl LinkFrame {
+    pub fn frame_id(&self) -> crate::protocol::FrameId {
+        match self {
+            Self::Can(frame) => frame.frame_id(),
+            Self::Serial(frame) => frame.frame_id(),
+        }
+    }
+}
+
 /// A received frame with its arrival time (kernel timestamp on SocketCAN, wall clock otherwise).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Received {

@@ -144,6 +144,10 @@ impl CanFrame {
     pub fn id(&self) -> u32 {
         self.id
     }
+    /// The identifier with its kind (standard or extended), printed and ordered one way.
+    pub fn frame_id(&self) -> super::FrameId {
+        super::FrameId::of_can(self)
+    }
     /// True for 29-bit identifiers (error frames are always extended).
     pub fn is_extended(&self) -> bool {
         self.extended

@@ -136,6 +136,10 @@ impl SerialFrame {
     pub fn id(&self) -> u16 {
         u16::from_be_bytes([self.frame_type, self.command])
     }
+
+    pub fn frame_id(&self) -> super::FrameId {
+        super::FrameId::serial(self.frame_type, self.command)
+    }
 }
 
 /// Decodes a verified frame. `None` for unknown command ids: callers show those raw, they are not errors.
