@@ -466,13 +466,30 @@ impl App {
     pub fn update(&mut self, snapshot: &Snapshot) {
         let status = snapshot.status;
         let now = snapshot.now;
+        self.update_system(snapshot);
+        self.sample_battery(status, now);
+        let shown = &mut self.shown;
+        shown.measured = status.motion.map(|(_, motion)| (motion.linear_mm_s, motion.angular_mrad_s));
+        shown.sent = (snapshot.sender.sent.linear_mm_s, snapshot.sender.sent.angular_mrad_s);
+        shown.lights =
+            status.lights.map(|(_, lights)| (lights.enable, lights.front_mode, lights.front_brightness));
+        self.update_motors(status);
+        self.update_odometry(status, now);
+        self.update_link(snapshot);
+        if self.message.as_ref().is_some_and(|(_, at)| now.saturating_duration_since(*at) >= MESSAGE_TTL) {
+            self.message = None;
+        }
+    }
+
+    /// The link's name, the latest system state and its age, and the protocol in use.
+    fn update_system(&mut self, snapshot: &Snapshot) {
+        let status = snapshot.status;
         let shown = &mut self.shown;
         shown.link_name.clear();
         shown.link_name.push_str(snapshot.link_name);
         shown.received_any = status.frames > 0;
         shown.link_error.clone_from(&status.link_error);
-
-        let system_age = status.system.map(|(at, ..)| now.saturating_duration_since(at));
+        let system_age = status.system.map(|(at, ..)| snapshot.now.saturating_duration_since(at));
         shown.system = status.system.map(|(_, state, wire)| SystemView {
             vehicle_state: state.vehicle_state,
             control_mode: state.control_mode,
@@ -492,29 +509,42 @@ impl App {
             (_, Verdict::Mixed) => Protocol::Mixed,
             (_, Verdict::Unknown) => Protocol::Unknown,
         };
+    }
 
-        // Battery history: a sample a second, only of a status that is still coming in.
-        if let (Some((_, state, _)), Some(age)) = (status.system, system_age) {
-            let due =
-                self.battery_sampled.is_none_or(|at| now.saturating_duration_since(at) >= BATTERY_SAMPLE);
-            if due && age <= BATTERY_SAMPLE {
-                shown.battery_history.push_back(state.battery_decivolts);
-                while shown.battery_history.len() > BATTERY_HISTORY {
-                    shown.battery_history.pop_front();
-                }
-                // Stay on a one-second grid unless updates fell behind.
-                self.battery_sampled = Some(match self.battery_sampled {
-                    Some(at) if now.saturating_duration_since(at) < BATTERY_SAMPLE * 2 => at + BATTERY_SAMPLE,
-                    _ => now,
-                });
-            }
+    /// Battery history: a sample a second, only of a status that is still coming in.
+    fn sample_battery(&mut self, status: &RobotStatus, now: Instant) {
+        let Some((at, state, _)) = status.system else { return };
+        let age = now.saturating_duration_since(at);
+        let due = self.battery_sampled.is_none_or(|at| now.saturating_duration_since(at) >= BATTERY_SAMPLE);
+        if !due || age > BATTERY_SAMPLE {
+            return;
         }
+        let history = &mut self.shown.battery_history;
+        history.push_back(state.battery_decivolts);
+        while history.len() > BATTERY_HISTORY {
+            history.pop_front();
+        }
+        // Stay on a one-second grid unless updates fell behind.
+        self.battery_sampled = Some(match self.battery_sampled {
+            Some(at) if now.saturating_duration_since(at) < BATTERY_SAMPLE * 2 => at + BATTERY_SAMPLE,
+            _ => now,
+        });
+    }
 
-        shown.measured = status.motion.map(|(_, motion)| (motion.linear_mm_s, motion.angular_mrad_s));
-        shown.sent = (snapshot.sender.sent.linear_mm_s, snapshot.sender.sent.angular_mrad_s);
-        shown.lights =
-            status.lights.map(|(_, lights)| (lights.enable, lights.front_mode, lights.front_brightness));
-        for (index, motor) in shown.motors.iter_mut().enumerate() {
+    /// Trip distance and dead-reckoned pose from odometer deltas.
+    fn update_odometry(&mut self, status: &RobotStatus, now: Instant) {
+        if let Some(odometry) = status.odometry {
+            self.odometry.step(odometry, now);
+        }
+        let shown = &mut self.shown;
+        shown.odometer_mm = status.odometry.map(|o| (o.left_mm, o.right_mm));
+        shown.trip_cm = (self.odometry.trip_m * 100.0).round() as u64;
+        shown.pose = self.odometry.view();
+    }
+
+    /// Each motor's speed, current, temperatures and driver state, from whichever frames the robot sends.
+    fn update_motors(&mut self, status: &RobotStatus) {
+        for (index, motor) in self.shown.motors.iter_mut().enumerate() {
             let high = status.motor_high[index];
             let driver = status.motor_driver[index];
             let low = status.motor_low[index];
@@ -530,16 +560,14 @@ impl App {
                 driver_state: low.map(|m| m.driver_state),
             };
         }
+    }
 
-        if let Some(odometry) = status.odometry {
-            self.odometry.step(odometry, now);
-        }
-        shown.odometer_mm = status.odometry.map(|o| (o.left_mm, o.right_mm));
-        shown.trip_cm = (self.odometry.trip_m * 100.0).round() as u64;
-        shown.pose = self.odometry.view();
-
-        self.rates.update(&status.id_counts, status.frames, now);
-        shown.ids = self.rates.views(now);
+    /// Per-ID frame rates, stale IDs and the link's error counters.
+    fn update_link(&mut self, snapshot: &Snapshot) {
+        let status = snapshot.status;
+        self.rates.update(&status.id_counts, status.frames, snapshot.now);
+        let shown = &mut self.shown;
+        shown.ids = self.rates.views(snapshot.now);
         shown.total_fps = self.rates.total_fps;
         shown.counters = Counters {
             error_frames: status.rx.error_frames,
@@ -549,10 +577,6 @@ impl App {
             send_errors: snapshot.sender.send_errors,
             watchdog_trips: snapshot.sender.watchdog_trips,
         };
-
-        if self.message.as_ref().is_some_and(|(_, at)| now.saturating_duration_since(*at) >= MESSAGE_TTL) {
-            self.message = None;
-        }
     }
 
     /// Teleop display values, set by the glue each loop.
