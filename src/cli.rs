@@ -59,7 +59,7 @@ pub enum Command {
     /// Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)
     Sim(SimArgs),
     /// Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive
-    #[command(visible_alias = "dash", after_help = DASHBOARD_AFTER_HELP)]
+    #[command(visible_alias = "dash", after_help = crate::dashboard::keys::help_text())]
     Dashboard(DashboardArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
@@ -301,23 +301,6 @@ pub struct SendRawArgs {
     #[arg(long)]
     pub fix_checksum: bool,
 }
-
-const DASHBOARD_AFTER_HELP: &str = "\
-The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
-is not disturbed). The first arrow key, m, c or l asks \"Arm driving?\"; y arms (0x421 command mode, then
-motion commands at 50 Hz), a disarms at once. --watch forbids arming. The state, ARMED or WATCHING, is on
-screen.
-
-Keys: arrows drive (up/down linear, left/right angular, combined), Space sends zero at once, + and -
-change the speed scale, l cycles the lights, c clears faults (asks first), m enables command mode, a arms
-or disarms, ? shows help, q or Ctrl-C stop the robot and quit. Esc closes a prompt or the help.
-
-A key counts as held until the terminal reports its release (kitty keyboard protocol: kitty, foot,
-WezTerm, alacritty, Ghostty, iTerm2) or, in other terminals and in tmux, until no auto-repeat arrives
-before a deadline learned from the key stream; releasing brakes at --decel. While the robot reports an
-E-stop, a latched fault or RC override, zero is sent and keys are ignored until a fresh press once it is
-clear; the same after the process was suspended. If input or drawing stalls, the robot is commanded to
-zero within 250 ms; every exit sends zero-velocity frames.";
 
 const DOCTOR_AFTER_HELP: &str = "\
 Checks in order: kernel CAN support, the interface (exists, up, 500 kbit/s, error state and counters) or

@@ -1,20 +1,21 @@
 //! `tracerctl dashboard`: the terminal loop tying the session, the teleop state machine, the motion sender
 //! and the renderer together. Everything it draws comes from the pure `dashboard::{app, render}`; every key
-//! goes through the pure `dashboard::teleop`.
+//! goes through the pure `dashboard::keys` (the key table and its dispatcher) and `dashboard::teleop`.
 
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc::RecvTimeoutError;
+use std::sync::mpsc::{Receiver, RecvTimeoutError};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
-use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
+use ratatui::crossterm::event::{Event, KeyEvent};
 
 use super::live;
 use crate::cli::{Cli, DashboardArgs};
 use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
-use crate::dashboard::app::{App, Arming, Prompt, Snapshot, TeleopView};
+use crate::dashboard::app::{App, Arming, Snapshot, TeleopView};
+use crate::dashboard::keys::{self, Context, Effect};
 use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
@@ -23,7 +24,7 @@ use crate::link::{ClearTarget, Codec, LinkChoice, LinkKind};
 use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
 use crate::protocol::Wire;
 use crate::session::{RobotStatus, Session};
-use crate::signals;
+use crate::signals::{self, SignalFlag};
 
 /// The loop's period: targets are refreshed this often (the sender's watchdog is ten times longer).
 const LOOP: Duration = Duration::from_millis(20);
@@ -145,6 +146,28 @@ struct Driving<'a> {
 }
 
 impl<'a> Driving<'a> {
+    fn new(
+        session: &'a Session,
+        limits: Limits,
+        slot: Arc<Mutex<Option<Stopper>>>,
+        watch_only: Option<&'static str>,
+    ) -> Self {
+        Driving {
+            session,
+            limits,
+            sender: None,
+            slot,
+            watch_only,
+            was_armed: false,
+            needs_release: false,
+            blocked: None,
+            seen_gaps: 0,
+            seen_watchdog: 0,
+            last_requested: (0.0, 0.0),
+            last_stop: None,
+        }
+    }
+
     fn armed(&self) -> bool {
         self.sender.is_some()
     }
@@ -272,6 +295,15 @@ impl<'a> Driving<'a> {
         self.last_requested = requested;
     }
 
+    /// What the header says: armed, watching, or watch-only.
+    fn arming(&self) -> Arming {
+        match (self.armed(), self.watch_only.is_some()) {
+            (true, _) => Arming::Armed,
+            (false, true) => Arming::WatchOnly,
+            (false, false) => Arming::Watching,
+        }
+    }
+
     fn blocked_now(&self) -> bool {
         self.blocked.is_some()
     }
@@ -296,202 +328,272 @@ fn drive_loop(
         (false, false) => None,
     };
     let mode = if screen.key_release { ReleaseMode::Events } else { ReleaseMode::Deadline };
-    let mut teleop = Teleop::new(mode);
+    let teleop = Teleop::new(mode);
     let slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
-    let signal = {
-        let (on_signal, on_suspend) = (Arc::clone(&slot), Arc::clone(&slot));
-        signals::listen_suspendable(
-            move |_| {
-                if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-                    stopper.stop_now();
-                }
-            },
-            move || {
-                if let Some(stopper) = on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-                    stopper.suspend(SUSPEND_WAIT);
-                }
-                // Give the terminal back while stopped; the loop takes it again after SIGCONT.
-                crate::dashboard::terminal::restore();
-            },
-        )?
-    };
-    let mut driving = Driving {
-        session,
-        limits,
-        sender: None,
-        slot,
-        watch_only,
-        was_armed: false,
-        needs_release: false,
-        blocked: None,
-        seen_gaps: 0,
-        seen_watchdog: 0,
-        last_requested: (0.0, 0.0),
-        last_stop: None,
-    };
+    let signal = listen_for_signals(&slot)?;
+    let driving = Driving::new(session, limits, slot, watch_only);
     let done = Arc::new(AtomicBool::new(false));
     let input = spawn_input(Arc::clone(&done))?;
-
     let mut app = App::new(&session.name, limits, color);
-    app.set_arming(if watch_only.is_some() { Arming::WatchOnly } else { Arming::Watching });
-    let epoch = Instant::now();
-    let mut lights_step = 0usize;
-    let mut last_update = Instant::now() - UPDATE_EVERY;
-    let mut last_draw = Instant::now() - MIN_REDRAW;
-    let mut drawn: Option<u64> = None;
-    let mut next_tick = Instant::now();
-    let mut last_loop = Instant::now();
-    // After a gap, drive keys are not fresh until the terminal's backlog has surely been read.
-    let mut settle_until = Instant::now();
-    // No drive key yet: the keyboard has been quiet "forever".
-    let mut last_drive_key = Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now);
-    let end = 'run: loop {
-        if let (Some(status), name) = (signal.exit_status(), signal.name()) {
-            break End::Signal(status, name);
-        }
-        // After SIGTSTP or Ctrl-Z the terminal was given back: take it again (a cheap check of a flag).
-        if screen.take_back()? {
-            drawn = None;
-        }
-        if last_loop.elapsed() > GAP_LIMIT {
-            // Let the sender take its tick first: it alone tells a suspension from a slow redraw, and the
-            // input that piled up meanwhile must not be read as fresh presses before it has.
-            if driving.armed() {
-                std::thread::sleep(LOOP * 2);
-            }
-        }
-        last_loop = Instant::now();
-        // The sender's own clock jumped (the process was stopped, or the machine stalled; a slow redraw of
-        // this loop alone does not count): what the terminal queued meanwhile is stale, every key counts as
-        // released, and the quiet that makes a press fresh counts from here.
-        if let Some(text) = driving.gap_since_last_look() {
-            while input.try_recv().is_ok() {}
-            teleop.release_all();
-            last_drive_key = Instant::now();
-            settle_until = Instant::now() + GAP_SETTLE;
-            app.set_message(text, Instant::now());
-        }
-        // Wait for input until the next tick, so a key acts at once.
-        let mut fresh_press = false;
-        let wait = next_tick.saturating_duration_since(Instant::now());
-        let mut first = match input.recv_timeout(wait) {
-            Ok(input) => Some(input),
-            Err(RecvTimeoutError::Timeout) => None,
-            Err(RecvTimeoutError::Disconnected) => break End::TerminalLost("input closed".to_string()),
-        };
-        while let Some(item) = first.take().or_else(|| input.try_recv().ok()) {
-            let now = epoch.elapsed();
-            match item {
-                Input::Closed(why) => break 'run End::TerminalLost(why),
-                Input::Event(Event::Resize(..)) => drawn = None,
-                Input::Event(Event::FocusLost) => teleop.release_all(),
-                Input::Event(Event::Key(key)) => {
-                    let was_held = !teleop.held(now).is_empty();
-                    let overlay = app.prompt() != Prompt::None || app.help_shown();
-                    if let Some((driving_key, action)) = driving_key(&key) {
-                        if overlay || !driving.armed() {
-                            // A dialog owns the keyboard; watching, a drive key asks to arm. Neither drives.
-                            if action == KeyAction::Press {
-                                handle(&mut app, &mut driving, &mut teleop, Action::AskArm, &mut lights_step);
-                            }
-                            continue;
-                        }
-                        // A press right after a quiet keyboard is fresh; check the quiet before this key.
-                        let quiet = last_drive_key.elapsed();
-                        last_drive_key = Instant::now();
-                        teleop.key(now, driving_key, action);
-                        let fresh = action == KeyAction::Press
-                            && !was_held
-                            && quiet >= RELEASE_QUIET
-                            && Instant::now() >= settle_until;
-                        if driving.needs_release && fresh && !driving.blocked_now() {
-                            driving.needs_release = false;
-                        }
-                        fresh_press |= fresh;
-                        continue;
-                    }
-                    if key.kind != KeyEventKind::Press {
-                        continue;
-                    }
-                    let action = action_for(&key, app.prompt(), app.help_shown(), driving.armed());
-                    match action {
-                        Action::Quit => break 'run End::Quit,
-                        Action::Suspend => {
-                            // Ctrl-Z in raw mode is a key: do what the shell's Ctrl-Z would, safely.
-                            driving.suspend();
-                            crate::dashboard::terminal::restore();
-                            let _ = signal_hook::low_level::raise(signal_hook::consts::SIGSTOP);
-                        }
-                        action => handle(&mut app, &mut driving, &mut teleop, action, &mut lights_step),
-                    }
-                }
-                Input::Event(_) => {}
-            }
-        }
-
-        // Look again before commanding: keys read just now may be a backlog from before a gap that the sender
-        // has recorded meanwhile; they must not end its hold. (If the sender records the gap only after
-        // this look, its gap overrides the resume asked for below: it checks for gaps after resumes.)
-        if let Some(text) = driving.gap_since_last_look() {
-            while input.try_recv().is_ok() {}
-            teleop.release_all();
-            last_drive_key = Instant::now();
-            settle_until = Instant::now() + GAP_SETTLE;
-            fresh_press = false;
-            app.set_message(text, Instant::now());
-        }
-        let now = Instant::now();
-        let request = teleop.request(epoch.elapsed());
-        let requested = (request.0 * limits.max_linear, request.1 * limits.max_angular);
-        let anything_held = !teleop.held(epoch.elapsed()).is_empty();
-        driving.command(requested, anything_held, fresh_press, last_drive_key.elapsed());
-        if now.duration_since(last_update) >= UPDATE_EVERY {
-            let status = session.status();
-            if let Some(error) = status.link_error.clone() {
-                if session.kind != LinkKind::Replay {
-                    break End::LinkLost(error);
-                }
-            }
-            if let Some(text) = driving.observe(&status) {
-                teleop.release_all();
-                app.set_message(text, Instant::now());
-            }
-            let stats = driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();
-            app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
-            app.set_recording_loss(session.recording_losses());
-            app.set_arming(match (driving.armed(), watch_only.is_some()) {
-                (true, _) => Arming::Armed,
-                (false, true) => Arming::WatchOnly,
-                (false, false) => Arming::Watching,
-            });
-            let held = teleop.held(epoch.elapsed()).into_iter().map(key_name).collect();
-            let requested = if driving.armed() { driving.last_requested } else { (0.0, 0.0) };
-            app.set_teleop(TeleopView {
-                release_mode: release_mode_text(&teleop, watch_only),
-                scale: teleop.scale(),
-                held,
-                requested,
-            });
-            last_update = now;
-        }
-        let fingerprint = app.fingerprint();
-        if drawn != Some(fingerprint) && now.duration_since(last_draw) >= MIN_REDRAW {
-            if let Err(error) = screen.terminal.draw(|frame| render(frame, &app)) {
-                break End::TerminalLost(error.to_string());
-            }
-            drawn = Some(fingerprint);
-            last_draw = now;
-        }
-        next_tick += LOOP;
-        if next_tick < Instant::now() {
-            next_tick = Instant::now() + LOOP;
+    app.set_arming(driving.arming());
+    let mut state = Loop::new(app, driving, teleop);
+    let end = loop {
+        if let Some(end) = state.tick(&mut screen, &input, &signal)? {
+            break end;
         }
     };
     // Stop the robot first, then give the terminal back (Screen's drop), then stop the input thread.
-    let stopped = driving.disarm();
+    let stopped = state.driving.disarm();
     drop(screen);
     done.store(true, Ordering::SeqCst);
     Ok((end, stopped))
+}
+
+/// SIGINT, SIGTERM, SIGHUP stop the running sender at once; SIGTSTP sends zero first, then gives the
+/// terminal back while stopped (the loop takes it again after SIGCONT).
+fn listen_for_signals(slot: &Arc<Mutex<Option<Stopper>>>) -> Result<SignalFlag> {
+    let (on_signal, on_suspend) = (Arc::clone(slot), Arc::clone(slot));
+    signals::listen_suspendable(
+        move |_| {
+            if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                stopper.stop_now();
+            }
+        },
+        move || {
+            if let Some(stopper) = on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                stopper.suspend(SUSPEND_WAIT);
+            }
+            // Give the terminal back while stopped; the loop takes it again after SIGCONT.
+            crate::dashboard::terminal::restore();
+        },
+    )
+}
+
+/// The event loop's state: what is shown, the driving side, the keys held, and the clocks that tell a
+/// fresh press from a key still held or a backlog.
+struct Loop<'a> {
+    app: App,
+    driving: Driving<'a>,
+    teleop: Teleop,
+    lights_step: usize,
+    epoch: Instant,
+    last_update: Instant,
+    last_draw: Instant,
+    drawn: Option<u64>,
+    next_tick: Instant,
+    last_loop: Instant,
+    /// After a gap, drive keys are not fresh until the terminal's backlog has surely been read.
+    settle_until: Instant,
+    /// The last drive key; the keyboard's quiet counts from it.
+    last_drive_key: Instant,
+    /// A fresh press of a drive key in this tick's input.
+    fresh_press: bool,
+}
+
+impl<'a> Loop<'a> {
+    fn new(app: App, driving: Driving<'a>, teleop: Teleop) -> Self {
+        Loop {
+            app,
+            driving,
+            teleop,
+            lights_step: 0,
+            epoch: Instant::now(),
+            last_update: Instant::now() - UPDATE_EVERY,
+            last_draw: Instant::now() - MIN_REDRAW,
+            drawn: None,
+            next_tick: Instant::now(),
+            last_loop: Instant::now(),
+            settle_until: Instant::now(),
+            // No drive key yet: the keyboard has been quiet "forever".
+            last_drive_key: Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now),
+            fresh_press: false,
+        }
+    }
+
+    /// One turn: signals, the terminal, gaps, input, the command, the view. `Some` ends the dashboard.
+    fn tick(
+        &mut self,
+        screen: &mut Screen,
+        input: &Receiver<Input>,
+        signal: &SignalFlag,
+    ) -> Result<Option<End>> {
+        if let (Some(status), name) = (signal.exit_status(), signal.name()) {
+            return Ok(Some(End::Signal(status, name)));
+        }
+        // After SIGTSTP or Ctrl-Z the terminal was given back: take it again (a cheap check of a flag).
+        if screen.take_back()? {
+            self.drawn = None;
+        }
+        if self.last_loop.elapsed() > GAP_LIMIT {
+            // Let the sender take its tick first: it alone tells a suspension from a slow redraw, and the
+            // input that piled up meanwhile must not be read as fresh presses before it has.
+            if self.driving.armed() {
+                std::thread::sleep(LOOP * 2);
+            }
+        }
+        self.last_loop = Instant::now();
+        // The sender's own clock jumped (the process was stopped, or the machine stalled; a slow redraw of
+        // this loop alone does not count): what the terminal queued meanwhile is stale, every key counts as
+        // released, and the quiet that makes a press fresh counts from here.
+        self.on_gap(input);
+        if let Some(end) = self.read_input(input) {
+            return Ok(Some(end));
+        }
+        // Look again before commanding: keys read just now may be a backlog from before a gap that the sender
+        // has recorded meanwhile; they must not end its hold. (If the sender records the gap only after
+        // this look, its gap overrides the resume asked for below: it checks for gaps after resumes.)
+        self.on_gap(input);
+        let now = Instant::now();
+        self.command();
+        if now.duration_since(self.last_update) >= UPDATE_EVERY {
+            if let Some(end) = self.refresh(now) {
+                return Ok(Some(end));
+            }
+        }
+        if let Some(end) = self.draw(screen, now) {
+            return Ok(Some(end));
+        }
+        self.next_tick += LOOP;
+        if self.next_tick < Instant::now() {
+            self.next_tick = Instant::now() + LOOP;
+        }
+        Ok(None)
+    }
+
+    /// After a gap in the sender's clock or a watchdog trip: drop the queued input, release every key, and
+    /// let no drive key count as fresh until the backlog has been read.
+    fn on_gap(&mut self, input: &Receiver<Input>) {
+        if let Some(text) = self.driving.gap_since_last_look() {
+            while input.try_recv().is_ok() {}
+            self.teleop.release_all();
+            self.last_drive_key = Instant::now();
+            self.settle_until = Instant::now() + GAP_SETTLE;
+            self.fresh_press = false;
+            self.app.set_message(text, Instant::now());
+        }
+    }
+
+    /// Waits for input until the next tick, so a key acts at once, then takes everything queued.
+    fn read_input(&mut self, input: &Receiver<Input>) -> Option<End> {
+        self.fresh_press = false;
+        let wait = self.next_tick.saturating_duration_since(Instant::now());
+        let mut first = match input.recv_timeout(wait) {
+            Ok(input) => Some(input),
+            Err(RecvTimeoutError::Timeout) => None,
+            Err(RecvTimeoutError::Disconnected) => {
+                return Some(End::TerminalLost("input closed".to_string()))
+            }
+        };
+        while let Some(item) = first.take().or_else(|| input.try_recv().ok()) {
+            if let Some(end) = self.on_input(item) {
+                return Some(end);
+            }
+        }
+        None
+    }
+
+    fn on_input(&mut self, item: Input) -> Option<End> {
+        match item {
+            Input::Closed(why) => return Some(End::TerminalLost(why)),
+            Input::Event(Event::Resize(..)) => self.drawn = None,
+            Input::Event(Event::FocusLost) => self.teleop.release_all(),
+            Input::Event(Event::Key(key)) => return self.on_key(&key),
+            Input::Event(_) => {}
+        }
+        None
+    }
+
+    /// A key, through the key table's dispatcher.
+    fn on_key(&mut self, key: &KeyEvent) -> Option<End> {
+        let now = self.epoch.elapsed();
+        let context =
+            Context { prompt: self.app.prompt(), help: self.app.help_shown(), armed: self.driving.armed() };
+        match keys::dispatch(key, context) {
+            Effect::Quit => return Some(End::Quit),
+            Effect::Suspend => self.on_suspend(),
+            Effect::Drive(key, action) => self.on_arrow(now, key, action),
+            effect => {
+                handle(&mut self.app, &mut self.driving, &mut self.teleop, effect, &mut self.lights_step)
+            }
+        }
+        None
+    }
+
+    /// An arrow while armed with nothing on top: the teleop takes it. A press after a quiet keyboard, and
+    /// not while a gap's backlog settles, is fresh: it may end a hold.
+    fn on_arrow(&mut self, now: Duration, key: Key, action: KeyAction) {
+        let was_held = !self.teleop.held(now).is_empty();
+        // A press right after a quiet keyboard is fresh; check the quiet before this key.
+        let quiet = self.last_drive_key.elapsed();
+        self.last_drive_key = Instant::now();
+        self.teleop.key(now, key, action);
+        let fresh = action == KeyAction::Press
+            && !was_held
+            && quiet >= RELEASE_QUIET
+            && Instant::now() >= self.settle_until;
+        if self.driving.needs_release && fresh && !self.driving.blocked_now() {
+            self.driving.needs_release = false;
+        }
+        self.fresh_press |= fresh;
+    }
+
+    /// Ctrl-Z in raw mode is a key: do what the shell's Ctrl-Z would, safely (zero first).
+    fn on_suspend(&self) {
+        self.driving.suspend();
+        crate::dashboard::terminal::restore();
+        let _ = signal_hook::low_level::raise(signal_hook::consts::SIGSTOP);
+    }
+
+    /// This tick's target from the keys held, through the driving side's holds and blocks.
+    fn command(&mut self) {
+        let limits = self.driving.limits;
+        let request = self.teleop.request(self.epoch.elapsed());
+        let requested = (request.0 * limits.max_linear, request.1 * limits.max_angular);
+        let anything_held = !self.teleop.held(self.epoch.elapsed()).is_empty();
+        self.driving.command(requested, anything_held, self.fresh_press, self.last_drive_key.elapsed());
+    }
+
+    /// Takes the robot's status and the sender's stats into the view; a lost live link ends the dashboard.
+    fn refresh(&mut self, now: Instant) -> Option<End> {
+        let session = self.driving.session;
+        let status = session.status();
+        if let Some(error) = status.link_error.clone() {
+            if session.kind != LinkKind::Replay {
+                return Some(End::LinkLost(error));
+            }
+        }
+        if let Some(text) = self.driving.observe(&status) {
+            self.teleop.release_all();
+            self.app.set_message(text, Instant::now());
+        }
+        let stats = self.driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();
+        self.app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
+        self.app.set_recording_loss(session.recording_losses());
+        self.app.set_arming(self.driving.arming());
+        let held = self.teleop.held(self.epoch.elapsed()).into_iter().map(key_name).collect();
+        let requested = if self.driving.armed() { self.driving.last_requested } else { (0.0, 0.0) };
+        self.app.set_teleop(TeleopView {
+            release_mode: release_mode_text(&self.teleop, self.driving.watch_only),
+            scale: self.teleop.scale(),
+            held,
+            requested,
+        });
+        self.last_update = now;
+        None
+    }
+
+    /// Redraws when something changed, at most every [`MIN_REDRAW`]; a terminal that fails ends it.
+    fn draw(&mut self, screen: &mut Screen, now: Instant) -> Option<End> {
+        let fingerprint = self.app.fingerprint();
+        if self.drawn != Some(fingerprint) && now.duration_since(self.last_draw) >= MIN_REDRAW {
+            if let Err(error) = screen.terminal.draw(|frame| render(frame, &self.app)) {
+                return Some(End::TerminalLost(error.to_string()));
+            }
+            self.drawn = Some(fingerprint);
+            self.last_draw = now;
+        }
+        None
+    }
 }
 
 /// Acts on a key that does not drive.
@@ -499,58 +601,32 @@ fn handle(
     app: &mut App,
     driving: &mut Driving,
     teleop: &mut Teleop,
-    action: Action,
+    action: Effect,
     lights_step: &mut usize,
 ) {
     let now = Instant::now();
     match action {
-        Action::Quit | Action::Suspend | Action::None => {}
-        Action::Stop => {
-            teleop.release_all();
-            driving.halt();
-            if driving.armed() {
-                app.set_message("zero sent (Space): press a key again to drive".to_string(), now);
-            }
-        }
-        Action::Faster => {
+        Effect::Quit | Effect::Suspend | Effect::None | Effect::Drive(..) => {}
+        Effect::Stop => on_stop(app, driving, teleop, now),
+        Effect::Faster => {
             teleop.faster();
         }
-        Action::Slower => {
+        Effect::Slower => {
             teleop.slower();
         }
-        Action::Help => app.toggle_help(),
-        Action::Close => {
+        Effect::Help => app.toggle_help(),
+        Effect::Close => {
             app.cancel_prompt();
             app.hide_help();
         }
-        Action::AskArm => match driving.watch_only {
+        Effect::AskArm => match driving.watch_only {
             Some(why) => app.set_message(format!("watch-only ({why}): nothing is sent to the robot"), now),
             None => app.ask_arm_confirmation(),
         },
-        Action::Arm => {
-            app.cancel_prompt();
-            teleop.release_all();
-            let text = driving.arm().unwrap_or_else(|error| format!("cannot arm: {error:#}"));
-            app.set_message(text, now);
-        }
-        Action::Disarm => {
-            teleop.release_all();
-            let text = match driving.disarm() {
-                Stopped::NotSent(why) => {
-                    let text = format!(
-                        "disarmed, but the stop frames could not be sent ({why}): the robot's own {} ms \
-                         command timeout stops it",
-                        COMMAND_TIMEOUT.as_millis()
-                    );
-                    driving.last_stop = Some(Stopped::NotSent(why));
-                    text
-                }
-                _ => "disarmed: zero sent; WATCHING (nothing is sent)".to_string(),
-            };
-            app.set_message(text, now);
-        }
-        Action::AskClear => app.ask_clear_confirmation(),
-        Action::Clear => {
+        Effect::Arm => on_arm(app, driving, teleop, now),
+        Effect::Disarm => on_disarm(app, driving, teleop, now),
+        Effect::AskClear => app.ask_clear_confirmation(),
+        Effect::Clear => {
             app.cancel_prompt();
             let frames = driving.session.codec().clear_faults(ClearTarget::All);
             let sent = frames.iter().map(|frame| driving.session.send(frame)).collect::<Result<Vec<_>>>();
@@ -562,23 +638,61 @@ fn handle(
             };
             app.set_message(text, now);
         }
-        Action::CommandMode => {
+        Effect::CommandMode => {
             if let Some(sender) = &driving.sender {
                 sender.request_mode_enable();
                 app.set_message("command mode requested".to_string(), now);
             }
         }
-        Action::Lights => {
-            let (lights, name) = LIGHT_CYCLE[*lights_step % LIGHT_CYCLE.len()];
-            *lights_step += 1;
-            let frame = driving.session.codec().lights(lights);
-            let text = match driving.session.send(&frame) {
-                Ok(()) => format!("lights: {name}"),
-                Err(error) => format!("cannot set the lights: {error:#}"),
-            };
-            app.set_message(text, now);
-        }
+        Effect::Lights => on_lights(app, driving, lights_step, now),
     }
+}
+
+/// Space: zero at once, held until a key is pressed again.
+fn on_stop(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Instant) {
+    teleop.release_all();
+    driving.halt();
+    if driving.armed() {
+        app.set_message("zero sent (Space): press a key again to drive".to_string(), now);
+    }
+}
+
+/// y to "Arm driving?": the sender starts; the key that asked does not drive.
+fn on_arm(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Instant) {
+    app.cancel_prompt();
+    teleop.release_all();
+    let text = driving.arm().unwrap_or_else(|error| format!("cannot arm: {error:#}"));
+    app.set_message(text, now);
+}
+
+/// a while armed: zero, then nothing is sent; a stop that could not be sent is kept for the exit message.
+fn on_disarm(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Instant) {
+    teleop.release_all();
+    let text = match driving.disarm() {
+        Stopped::NotSent(why) => {
+            let text = format!(
+                "disarmed, but the stop frames could not be sent ({why}): the robot's own {} ms \
+                 command timeout stops it",
+                COMMAND_TIMEOUT.as_millis()
+            );
+            driving.last_stop = Some(Stopped::NotSent(why));
+            text
+        }
+        _ => "disarmed: zero sent; WATCHING (nothing is sent)".to_string(),
+    };
+    app.set_message(text, now);
+}
+
+/// l: the next light setting of [`LIGHT_CYCLE`].
+fn on_lights(app: &mut App, driving: &Driving, lights_step: &mut usize, now: Instant) {
+    let (lights, name) = LIGHT_CYCLE[*lights_step % LIGHT_CYCLE.len()];
+    *lights_step += 1;
+    let frame = driving.session.codec().lights(lights);
+    let text = match driving.session.send(&frame) {
+        Ok(()) => format!("lights: {name}"),
+        Err(error) => format!("cannot set the lights: {error:#}"),
+    };
+    app.set_message(text, now);
 }
 
 /// What a fault clear sends on this link, in words.
@@ -672,141 +786,5 @@ fn key_name(key: Key) -> &'static str {
         Key::Down => "down",
         Key::Left => "left",
         Key::Right => "right",
-    }
-}
-
-/// Arrow keys, with what kind of event this is. Legacy terminals report every byte as a Press.
-fn driving_key(key: &KeyEvent) -> Option<(Key, KeyAction)> {
-    let driving = match key.code {
-        KeyCode::Up => Key::Up,
-        KeyCode::Down => Key::Down,
-        KeyCode::Left => Key::Left,
-        KeyCode::Right => Key::Right,
-        _ => return None,
-    };
-    let action = match key.kind {
-        KeyEventKind::Press => KeyAction::Press,
-        KeyEventKind::Repeat => KeyAction::Repeat,
-        KeyEventKind::Release => KeyAction::Release,
-    };
-    Some((driving, action))
-}
-
-#[derive(Debug, PartialEq, Eq)]
-enum Action {
-    Quit,
-    Suspend,
-    Stop,
-    Faster,
-    Slower,
-    Help,
-    /// Close the prompt or overlay on screen (Esc, or any key a dialog does not take).
-    Close,
-    AskArm,
-    Arm,
-    Disarm,
-    AskClear,
-    Clear,
-    CommandMode,
-    Lights,
-    None,
-}
-
-/// What a (non-arrow) key press does, given what is on screen and whether driving is armed. A prompt or the
-/// help owns the keyboard: its keys act on it, others close it; Esc closes and never quits. q, Ctrl-C and
-/// Space work everywhere.
-fn action_for(key: &KeyEvent, prompt: Prompt, help: bool, armed: bool) -> Action {
-    let ctrl = key.modifiers.contains(KeyModifiers::CONTROL);
-    match key.code {
-        KeyCode::Char('c') if ctrl => return Action::Quit,
-        KeyCode::Char('z') if ctrl => return Action::Suspend,
-        KeyCode::Char(' ') => return Action::Stop,
-        _ => {}
-    }
-    match prompt {
-        Prompt::ConfirmClear => {
-            return match key.code {
-                KeyCode::Char('y') | KeyCode::Char('Y') => Action::Clear,
-                _ => Action::Close,
-            }
-        }
-        Prompt::ConfirmArm => {
-            return match key.code {
-                KeyCode::Char('y') | KeyCode::Char('Y') => Action::Arm,
-                _ => Action::Close,
-            }
-        }
-        Prompt::None => {}
-    }
-    if help {
-        return match key.code {
-            KeyCode::Char('q') => Action::Quit,
-            _ => Action::Close,
-        };
-    }
-    // Watching: every key that would send something asks to arm first.
-    let sends = |action: Action| if armed { action } else { Action::AskArm };
-    match key.code {
-        KeyCode::Char('q') => Action::Quit,
-        KeyCode::Esc => Action::Close,
-        KeyCode::Char('+') | KeyCode::Char('=') => Action::Faster,
-        KeyCode::Char('-') | KeyCode::Char('_') => Action::Slower,
-        KeyCode::Char('?') => Action::Help,
-        KeyCode::Char('a') if armed => Action::Disarm,
-        KeyCode::Char('a') => Action::AskArm,
-        KeyCode::Char('c') => sends(Action::AskClear),
-        KeyCode::Char('m') => sends(Action::CommandMode),
-        KeyCode::Char('l') => sends(Action::Lights),
-        _ => Action::None,
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn press(code: KeyCode) -> KeyEvent {
-        KeyEvent::new(code, KeyModifiers::NONE)
-    }
-
-    #[test]
-    fn keys_map_to_actions_and_the_prompt_takes_precedence() {
-        let armed = |code| action_for(&press(code), Prompt::None, false, true);
-        assert_eq!(armed(KeyCode::Char('q')), Action::Quit);
-        assert_eq!(armed(KeyCode::Esc), Action::Close, "Esc never quits");
-        let ctrl_c = KeyEvent::new(KeyCode::Char('c'), KeyModifiers::CONTROL);
-        assert_eq!(
-            action_for(&ctrl_c, Prompt::ConfirmClear, false, true),
-            Action::Quit,
-            "Ctrl-C always quits"
-        );
-        let ctrl_z = KeyEvent::new(KeyCode::Char('z'), KeyModifiers::CONTROL);
-        assert_eq!(action_for(&ctrl_z, Prompt::None, false, true), Action::Suspend);
-        assert_eq!(armed(KeyCode::Char('c')), Action::AskClear);
-        assert_eq!(armed(KeyCode::Char('a')), Action::Disarm);
-        assert_eq!(action_for(&press(KeyCode::Char('y')), Prompt::ConfirmClear, false, true), Action::Clear);
-        assert_eq!(action_for(&press(KeyCode::Char('q')), Prompt::ConfirmClear, false, true), Action::Close);
-        assert_eq!(action_for(&press(KeyCode::Esc), Prompt::ConfirmClear, false, true), Action::Close);
-        assert_eq!(action_for(&press(KeyCode::Char(' ')), Prompt::ConfirmClear, false, true), Action::Stop);
-        assert_eq!(
-            action_for(&press(KeyCode::Esc), Prompt::None, true, true),
-            Action::Close,
-            "Esc closes help"
-        );
-        assert_eq!(action_for(&press(KeyCode::Char('l')), Prompt::None, true, true), Action::Close);
-        assert_eq!(driving_key(&press(KeyCode::Up)), Some((Key::Up, KeyAction::Press)));
-        assert_eq!(driving_key(&press(KeyCode::Char('w'))), None);
-    }
-
-    #[test]
-    fn watching_every_key_that_sends_asks_to_arm_first() {
-        let watching = |code| action_for(&press(code), Prompt::None, false, false);
-        for code in [KeyCode::Char('a'), KeyCode::Char('c'), KeyCode::Char('m'), KeyCode::Char('l')] {
-            assert_eq!(watching(code), Action::AskArm, "{code:?}");
-        }
-        assert_eq!(watching(KeyCode::Char('+')), Action::Faster, "the scale sends nothing");
-        assert_eq!(action_for(&press(KeyCode::Char('y')), Prompt::ConfirmArm, false, false), Action::Arm);
-        assert_eq!(action_for(&press(KeyCode::Char('n')), Prompt::ConfirmArm, false, false), Action::Close);
-        assert_eq!(action_for(&press(KeyCode::Char(' ')), Prompt::None, false, false), Action::Stop);
     }
 }

@@ -17,6 +17,7 @@ use super::app::{
     id_label, id_name, scale_percent, severity_rank, speed_text, App, Arming, BatteryZone, FaultLine, Prompt,
     StatusAge, BATTERY_GAUGE_TOP_DV,
 };
+use super::keys;
 use crate::commands::live::{mode_name, not_drivable};
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
@@ -825,43 +826,24 @@ fn release_text(app: &App) -> String {
     }
 }
 
-/// The key summary, long or short to fit.
+/// The key summary from the key table, long or short to fit.
 fn keys_line(width: u16, theme: Theme, arming: Arming) -> Line<'static> {
-    let arm = match arming {
-        Arming::Armed => ("a", "disarm"),
-        Arming::Watching => ("a", "arm"),
-        Arming::WatchOnly => ("", ""),
-    };
-    let long = [
-        ("↑↓←→", "drive"),
-        ("Space", "stop"),
-        arm,
-        ("+/-", "scale"),
-        ("l", "lights"),
-        ("c", "clear faults"),
-        ("m", "command mode"),
-        ("?", "help"),
-        ("q", "quit"),
-    ];
-    let short = [
-        ("↑↓←→", "drive"),
-        ("Space", "stop"),
-        arm,
-        ("+/-", "scale"),
-        ("l", "lights"),
-        ("c", "clear"),
-        ("m", "mode"),
-        ("?", "help"),
-        ("q", "quit"),
-    ];
-    let long: Vec<(&str, &str)> = long.into_iter().filter(|(key, _)| !key.is_empty()).collect();
-    let short: Vec<(&str, &str)> = short.into_iter().filter(|(key, _)| !key.is_empty()).collect();
+    let entries = keys::footer_entries(arming);
     let length = |keys: &[(&str, &str)]| -> usize {
-        keys.iter().map(|(k, d)| k.chars().count() + 1 + d.len()).sum::<usize>() + 2 * (keys.len() - 1)
+        keys.iter().map(|(k, d)| k.chars().count() + 1 + d.len()).sum::<usize>()
+            + 2 * keys.len().saturating_sub(1)
     };
-    let mut keys = if length(&long) <= usize::from(width) { long } else { short };
+    let long: Vec<(&str, &str)> = entries.iter().map(|entry| (entry.0, entry.1)).collect();
+    let mut keys = if length(&long) <= usize::from(width) {
+        long
+    } else {
+        entries.iter().map(|entry| (entry.0, entry.2)).collect()
+    };
     // Still too wide: drop the least needed, so stopping, arming, help and quitting always show.
-    for least in ["m", "l", "+/-", "c"] {
+    let mut spare: Vec<(u8, &str)> =
+        entries.iter().filter_map(|entry| entry.3.map(|rank| (rank, entry.0))).collect();
+    spare.sort_unstable();
+    for (_, least) in spare {
         if length(&keys) <= usize::from(width) {
             break;
         }
@@ -936,23 +918,18 @@ fn centered(area: Rect, width: u16, height: u16) -> Rect {
 }
 
 fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
-    let keys: [(&str, String); 12] = [
-        ("↑ ↓", "drive forward / backward (linear speed)".to_string()),
-        ("← →", "turn left / right (angular speed)".to_string()),
-        ("↑← ↑→ ...", "combined: drive and turn at once".to_string()),
-        ("Space", "zero at once, no ramp; press a key again to drive".to_string()),
-        ("a", "arm driving (asks first) / disarm: zero, then nothing is sent".to_string()),
-        ("+ -", format!("speed scale up / down (now {} %)", scale_percent(app.teleop.scale))),
-        ("l", "cycle the lights (on, breathing, custom, off, firmware)".to_string()),
-        ("c", "clear faults (asks first)".to_string()),
-        ("m", "enable command mode".to_string()),
-        ("?  Esc", "show / close this help".to_string()),
-        ("^Z", "zero, then suspend (after fg: press again to drive)".to_string()),
-        ("q  ^C", "stop the robot and quit".to_string()),
-    ];
-    let mut lines: Vec<Line> = keys
-        .into_iter()
-        .map(|(key, what)| Line::from(vec![Span::styled(format!("{key:<10}"), theme.key()), Span::raw(what)]))
+    let mut lines: Vec<Line> = keys::BINDINGS
+        .iter()
+        .map(|row| {
+            let mut what = row.help.to_string();
+            if row.keys.iter().any(|bind| bind.action == keys::Action::Faster) {
+                what.push_str(&format!(" (now {} %)", scale_percent(app.teleop.scale)));
+            }
+            Line::from(vec![
+                Span::styled(format!("{:<width$}", row.shown, width = keys::KEY_COLUMN), theme.key()),
+                Span::raw(what),
+            ])
+        })
         .collect();
     lines.push(Line::raw(""));
     lines.push(Line::styled(release_text(app), theme.dim()));
