@@ -690,14 +690,20 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
 }
 
 fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: bool) {
+    let stale = stale_line(app, theme);
+    if compact {
+        render_link_compact(frame, area, app, theme, stale);
+    } else {
+        render_link_full(frame, area, app, theme, stale);
+    }
+}
+
+/// Which feedback IDs stopped arriving: none, all of them, or a list with their ages.
+fn stale_line(app: &App, theme: Theme) -> Line<'static> {
     let shown = &app.shown;
-    let c = &shown.counters;
-    let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
-    let bad = |value: u64| if value > 0 { theme.alarm() } else { Style::new() };
-    let mut lines = Vec::new();
     let stale: Vec<_> = shown.ids.iter().filter(|id| id.stale_deciseconds.is_some()).collect();
     let feedback = shown.ids.iter().filter(|id| super::app::stale_after(id.id).is_some()).count();
-    let stale_line = if stale.is_empty() {
+    if stale.is_empty() {
         Line::from(vec![Span::raw("stale: "), Span::styled("none", theme.ok())])
     } else if stale.len() == feedback && stale.len() > 2 {
         let newest = stale.iter().filter_map(|id| id.stale_deciseconds).min().unwrap_or(0);
@@ -711,59 +717,76 @@ fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: 
             .map(|id| format!("{} {}", id_label(id.id), age_text(id.stale_deciseconds.unwrap_or(0))))
             .collect();
         Line::styled(format!("STALE: {}", list.join(", ")), theme.alarm())
-    };
-    if compact {
-        let mut first = vec![
-            Span::raw(format!("rx {fps}/s ")),
-            Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)),
-            Span::raw(" "),
-            Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)),
-            Span::raw(" "),
-            Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
-        ];
-        if c.send_errors > 0 || c.watchdog_trips > 0 {
-            first.push(Span::styled(
-                format!(" tx err {} wd {}", c.send_errors, c.watchdog_trips),
-                theme.alarm(),
-            ));
-        }
-        lines.push(Line::from(first));
-        lines.push(stale_line);
-        // `211:50 221:50 ...`, flowing over the lines left.
-        let mut row: Vec<Span> = Vec::new();
-        let mut used = 0usize;
-        let width = usize::from(area.width.saturating_sub(2));
-        for id in &shown.ids {
-            let label = if id.id < 0x1000 { format!("{:03X}", id.id) } else { id_label(id.id) };
-            let text = format!("{label}:{}", id.fps.map_or_else(|| "-".to_string(), |f| f.to_string()));
-            let needed = text.len() + usize::from(used > 0);
-            if used + needed > width && used > 0 {
-                lines.push(Line::from(std::mem::take(&mut row)));
-                used = 0;
-            }
-            if used > 0 {
-                row.push(Span::raw(" "));
-                used += 1;
-            }
-            used += text.len();
-            let style = if id.stale_deciseconds.is_some() { theme.alarm() } else { Style::new() };
-            row.push(Span::styled(text, style));
-        }
-        if !row.is_empty() {
-            lines.push(Line::from(row));
-        }
-        if shown.ids.is_empty() {
-            lines.push(Line::styled("no frames yet", theme.dim()));
-        }
-        frame.render_widget(Paragraph::new(lines).block(block("Link · ID:fps", theme)), area);
-        return;
     }
-    lines.push(Line::from(vec![
+}
+
+/// An alarm style for a counter that is not zero.
+fn bad_if_any(value: u64, theme: Theme) -> Style {
+    if value > 0 {
+        theme.alarm()
+    } else {
+        Style::new()
+    }
+}
+
+/// The small link panel: the counters on one line, then `211:50 221:50 ...` flowing over the lines left.
+fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, stale: Line<'static>) {
+    let shown = &app.shown;
+    let c = &shown.counters;
+    let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
+    let bad = |value: u64| bad_if_any(value, theme);
+    let mut first = vec![
+        Span::raw(format!("rx {fps}/s ")),
+        Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)),
+        Span::raw(" "),
+        Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)),
+        Span::raw(" "),
+        Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
+    ];
+    if c.send_errors > 0 || c.watchdog_trips > 0 {
+        first.push(Span::styled(format!(" tx err {} wd {}", c.send_errors, c.watchdog_trips), theme.alarm()));
+    }
+    let mut lines = vec![Line::from(first), stale];
+    let mut row: Vec<Span> = Vec::new();
+    let mut used = 0usize;
+    let width = usize::from(area.width.saturating_sub(2));
+    for id in &shown.ids {
+        let label = if id.id < 0x1000 { format!("{:03X}", id.id) } else { id_label(id.id) };
+        let text = format!("{label}:{}", id.fps.map_or_else(|| "-".to_string(), |f| f.to_string()));
+        let needed = text.len() + usize::from(used > 0);
+        if used + needed > width && used > 0 {
+            lines.push(Line::from(std::mem::take(&mut row)));
+            used = 0;
+        }
+        if used > 0 {
+            row.push(Span::raw(" "));
+            used += 1;
+        }
+        used += text.len();
+        let style = if id.stale_deciseconds.is_some() { theme.alarm() } else { Style::new() };
+        row.push(Span::styled(text, style));
+    }
+    if !row.is_empty() {
+        lines.push(Line::from(row));
+    }
+    if shown.ids.is_empty() {
+        lines.push(Line::styled("no frames yet", theme.dim()));
+    }
+    frame.render_widget(Paragraph::new(lines).block(block("Link · ID:fps", theme)), area);
+}
+
+/// The full link panel: the counters in words, then `0x211  system     50/s` in as many columns as fit.
+fn render_link_full(frame: &mut Frame, area: Rect, app: &App, theme: Theme, stale: Line<'static>) {
+    let shown = &app.shown;
+    let c = &shown.counters;
+    let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
+    let bad = |value: u64| bad_if_any(value, theme);
+    let mut lines = vec![Line::from(vec![
         Span::raw(format!("rx {fps} fps · ")),
         Span::styled(format!("error frames {}", c.error_frames), bad(c.error_frames)),
         Span::raw(" · "),
         Span::styled(format!("dropped {}", c.socket_drops), bad(c.socket_drops)),
-    ]));
+    ])];
     let mut checksum = vec![Span::styled(
         format!("serial checksum errors {}", c.serial_bad_checksum),
         bad(c.serial_bad_checksum),
@@ -777,12 +800,18 @@ fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: 
         Span::raw(" · "),
         Span::styled(format!("watchdog trips {}", c.watchdog_trips), bad(c.watchdog_trips)),
     ]));
-    lines.push(stale_line);
-    // `0x211  system     50/s`, in as many columns as fit.
-    const CELL: usize = 20;
-    let inner_width = usize::from(area.width.saturating_sub(2));
-    let columns = ((inner_width + 2) / (CELL + 2)).max(1);
+    lines.push(stale);
     let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
+    lines.extend(id_columns(app, theme, usize::from(area.width.saturating_sub(2)), room));
+    frame.render_widget(Paragraph::new(lines).block(block("Link health", theme)), area);
+}
+
+/// `0x211  system     50/s` per ID, in as many columns as fit `width`, at most `room` rows (the last cell
+/// then says how many more).
+fn id_columns(app: &App, theme: Theme, width: usize, room: usize) -> Vec<Line<'static>> {
+    const CELL: usize = 20;
+    let shown = &app.shown;
+    let columns = ((width + 2) / (CELL + 2)).max(1);
     let capacity = room * columns;
     let overflow = shown.ids.len() > capacity;
     let listed = if overflow { capacity.saturating_sub(1) } else { shown.ids.len() };
@@ -802,6 +831,7 @@ fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: 
     if overflow {
         cells.push(Span::styled(format!("... {} more IDs", shown.ids.len() - listed), theme.dim()));
     }
+    let mut lines = Vec::new();
     if shown.ids.is_empty() {
         lines.push(Line::styled("no frames yet", theme.dim()));
     }
@@ -815,7 +845,7 @@ fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: 
         }
         lines.push(Line::from(row));
     }
-    frame.render_widget(Paragraph::new(lines).block(block("Link health", theme)), area);
+    lines
 }
 
 fn release_text(app: &App) -> String {
