@@ -101,7 +101,7 @@ use MessageKind as K;
 use Wire::{CanV1 as V1, CanV2 as V2, Serial};
 
 const SYSTEM_STATE_MANUAL: &str =
-    "manual Table 3.1 prints 0x151 for V2 system state; firmware sends 0x211 (protocol.md: manual vs code)";
+    "manual Table 3.1 prints 0x151 for V2 system state; firmware sends 0x211 (protocol.md 2.6)";
 
 /// Every identifier the tool knows. V1's period is not documented: the slower 100 ms, so nothing is called
 /// stale early. CAN and RS232 identifiers do not overlap (RS232 ones are above 0x7FF). 0x151 is on two rows:
@@ -135,7 +135,7 @@ pub const CATALOG: &[Entry] = &[
         V2,
         K::VersionRequest,
         "version req",
-        "Scout V2 manual; protocol.md 2.13",
+        "Scout V2 manual; protocol.md 2.12",
     ),
     periodic(
         standard(ID_SYSTEM_STATE),
@@ -153,41 +153,69 @@ pub const CATALOG: &[Entry] = &[
         "motion",
         "manual Table 3.3; protocol.md 2.7",
     ),
-    periodic(standard(ID_LIGHT_STATE), V2, K::LightState, 20, "lights", "manual Table 3.6; protocol.md 2.8"),
-    periodic(standard(ID_MOTOR1_HIGH_SPEED), V2, K::MotorHighSpeed, 20, "motor 1", "manual Table 3.10"),
-    periodic(standard(ID_MOTOR2_HIGH_SPEED), V2, K::MotorHighSpeed, 20, "motor 2", "manual Table 3.10"),
-    periodic(standard(ID_ODOMETRY), V2, K::Odometry, 20, "odometry", "manual Table 3.9; protocol.md 2.12"),
-    periodic(standard(ID_MOTOR1_LOW_SPEED), V2, K::MotorLowSpeed, 100, "driver 1", "manual Table 3.11"),
-    periodic(standard(ID_MOTOR2_LOW_SPEED), V2, K::MotorLowSpeed, 100, "driver 2", "manual Table 3.11"),
+    periodic(standard(ID_LIGHT_STATE), V2, K::LightState, 20, "lights", "manual Table 3.6; protocol.md 2.3"),
+    periodic(
+        standard(ID_MOTOR1_HIGH_SPEED),
+        V2,
+        K::MotorHighSpeed,
+        20,
+        "motor 1",
+        "manual Table 3.10; protocol.md 2.9",
+    ),
+    periodic(
+        standard(ID_MOTOR2_HIGH_SPEED),
+        V2,
+        K::MotorHighSpeed,
+        20,
+        "motor 2",
+        "manual Table 3.10; protocol.md 2.9",
+    ),
+    periodic(standard(ID_ODOMETRY), V2, K::Odometry, 20, "odometry", "manual Table 3.9; protocol.md 2.11"),
+    periodic(
+        standard(ID_MOTOR1_LOW_SPEED),
+        V2,
+        K::MotorLowSpeed,
+        100,
+        "driver 1",
+        "manual Table 3.11; protocol.md 2.10",
+    ),
+    periodic(
+        standard(ID_MOTOR2_LOW_SPEED),
+        V2,
+        K::MotorLowSpeed,
+        100,
+        "driver 2",
+        "manual Table 3.11; protocol.md 2.10",
+    ),
     aperiodic(
         standard(ID_RC_STATE),
         V2,
         K::RcState,
         "rc",
-        "AgileX SDK only, not in the manuals; protocol.md 2.9",
+        "AgileX SDK only, not in the manuals; protocol.md 2.8",
     ),
     aperiodic(
         standard(ID_VERSION_RESPONSE),
         V2,
         K::VersionResponse,
         "version",
-        "Scout V2 manual; protocol.md 2.13",
+        "Scout V2 manual; protocol.md 2.12",
     ),
     aperiodic(standard(ID_SYSTEM_STATE_MANUAL), V2, K::SystemState, "system", SYSTEM_STATE_MANUAL),
-    // CAN V1 (Chinese manual v1.1; protocol.md 5).
+    // CAN V1 (Chinese manual v1.1; protocol.md 3.2).
     command(
         standard(ID_V1_MOTION_COMMAND),
         V1,
         K::MotionCommand,
         "V1 motion cmd",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
     command(
         standard(ID_V1_LIGHT_COMMAND),
         V1,
         K::LightCommand,
         "V1 light cmd",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
         standard(ID_V1_MOTION_STATE),
@@ -195,7 +223,7 @@ pub const CATALOG: &[Entry] = &[
         K::MotionState,
         100,
         "V1 motion",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
         standard(ID_V1_LIGHT_STATE),
@@ -203,7 +231,7 @@ pub const CATALOG: &[Entry] = &[
         K::LightState,
         100,
         "V1 lights",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
         standard(ID_V1_SYSTEM_STATE),
@@ -211,7 +239,7 @@ pub const CATALOG: &[Entry] = &[
         K::SystemState,
         100,
         "system",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
         standard(ID_V1_MOTOR1),
@@ -219,7 +247,7 @@ pub const CATALOG: &[Entry] = &[
         K::MotorHighSpeed,
         100,
         "V1 motor 1",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
         standard(ID_V1_MOTOR2),
@@ -227,9 +255,9 @@ pub const CATALOG: &[Entry] = &[
         K::MotorHighSpeed,
         100,
         "V1 motor 2",
-        "CN manual v1.1; protocol.md 5",
+        "CN manual v1.1; protocol.md 3.2",
     ),
-    // RS232 (manual 3.4.2; protocol.md 6.2): type << 8 | command.
+    // RS232 (manual 3.4.2; protocol.md 4.2): type << 8 | command.
     command(FrameId::serial(TYPE_CONTROL, CMD_MOTION_CONTROL), Serial, K::MotionCommand, "motion cmd", RS232),
     command(FrameId::serial(TYPE_CONTROL, CMD_LIGHT_CONTROL), Serial, K::LightCommand, "light cmd", RS232),
     periodic(FrameId::serial(TYPE_FEEDBACK, CMD_SYSTEM_STATUS), Serial, K::SystemState, 20, "system", RS232),
@@ -253,7 +281,7 @@ pub const CATALOG: &[Entry] = &[
     periodic(FrameId::serial(TYPE_FEEDBACK, CMD_LIGHT_STATUS), Serial, K::LightState, 20, "lights", RS232),
 ];
 
-const RS232: &str = "manual 3.4.2; protocol.md 6.2";
+const RS232: &str = "manual 3.4.2; protocol.md 4.2";
 
 const PERIODIC_COUNT: usize = {
     let (mut count, mut at) = (0, 0);
