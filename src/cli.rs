@@ -92,7 +92,7 @@ pub struct DecodeArgs {
 
     /// Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)
     #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_parser = parse_id)]
-    pub ids: Vec<u32>,
+    pub ids: Vec<crate::protocol::FrameId>,
 
     /// Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame
     #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = parse_msg_name)]
@@ -124,7 +124,7 @@ pub struct MonitorArgs {
 
     /// Only frames with these identifiers (hex, comma-separated)
     #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_parser = parse_id)]
-    pub ids: Vec<u32>,
+    pub ids: Vec<crate::protocol::FrameId>,
 
     /// Only these messages (comma-separated)
     #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = parse_msg_name)]
@@ -615,7 +615,7 @@ impl ColorChoice {
 }
 
 /// Message names accepted by `--msg`: every TRACER message plus the shapes of other frames.
-pub const FILTER_NAMES: &[&str] = &["raw", "invalid", "error_frame", "remote_request"];
+pub const FILTER_NAMES: &[&str] = crate::output::filter::FrameShape::NAMES;
 
 fn parse_msg_name(text: &str) -> Result<&'static str, String> {
     crate::protocol::message::MESSAGE_NAMES
@@ -630,12 +630,8 @@ fn parse_msg_name(text: &str) -> Result<&'static str, String> {
         })
 }
 
-fn parse_id(text: &str) -> Result<u32, String> {
-    let digits = text.trim().trim_start_matches("0x").trim_start_matches("0X");
-    if digits.is_empty() || digits.len() > 8 {
-        return Err(format!("'{text}' is not a hex identifier such as 0x211"));
-    }
-    u32::from_str_radix(digits, 16).map_err(|_| format!("'{text}' is not a hex identifier such as 0x211"))
+fn parse_id(text: &str) -> Result<crate::protocol::FrameId, String> {
+    crate::protocol::FrameId::parse(text.trim())
 }
 
 /// The clap command, for completions, man pages and tests.
@@ -679,8 +675,8 @@ mod tests {
 
     #[test]
     fn ids_and_names_parse() {
-        assert_eq!(parse_id("0x211"), Ok(0x211));
-        assert_eq!(parse_id("aa01"), Ok(0xAA01));
+        assert_eq!(parse_id("0x211"), Ok(crate::protocol::FrameId::Standard(0x211)));
+        assert_eq!(parse_id("aa01"), Ok(crate::protocol::FrameId::Serial(0xAA01)));
         assert!(parse_id("0x").is_err());
         assert!(parse_id("zz").is_err());
         assert_eq!(parse_msg_name("odometry"), Ok("odometry"));

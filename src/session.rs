@@ -14,7 +14,7 @@ use crate::protocol::error_frame::{ErrorFrame, ErrorTally};
 use crate::protocol::message::{
     Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, RcState, SystemState,
 };
-use crate::protocol::{CanFrame, Decoded, Message, ProtocolHint, Wire};
+use crate::protocol::{CanFrame, Decoded, FrameId, Message, ProtocolHint, Wire};
 use crate::recorder::{LogFile, RecordLoss, RecordQueue, Recorder};
 
 /// How many distinct identifiers `RobotStatus::id_counts` keeps.
@@ -40,10 +40,10 @@ pub struct RobotStatus {
     pub error_tally: ErrorTally,
     pub detector: ProtocolDetector,
     pub frames: u64,
-    /// Frames per identifier: CAN standard IDs as-is, extended ones with bit 31 set, RS232 frames as
-    /// type << 8 | command. At most [`MAX_COUNTED_IDS`] identifiers; the rest are only in `frames`.
+    /// Frames per identifier, in identifier order. At most [`MAX_COUNTED_IDS`] identifiers; the rest are
+    /// only in `frames`.
     /// Error frames are not here (their "identifier" is a set of error classes): see `error_tally`.
-    pub id_counts: Vec<(u32, u64)>,
+    pub id_counts: Vec<(FrameId, u64)>,
     /// When the robot sent the latest frame: the kernel's receive timestamp on SocketCAN (so a backlog
     /// drained late, after a suspension say, is seen as old), the time it was read on other links.
     pub last_frame: Option<Instant>,
@@ -60,11 +60,7 @@ impl RobotStatus {
                 return;
             }
         }
-        let key = match frame {
-            LinkFrame::Can(frame) if frame.is_extended() => frame.id() | 0x8000_0000,
-            LinkFrame::Can(frame) => frame.id(),
-            LinkFrame::Serial(frame) => u32::from(frame.id()),
-        };
+        let key = frame.frame_id();
         if let Some((_, count)) = self.id_counts.iter_mut().find(|(id, _)| *id == key) {
             *count += 1;
         } else if self.id_counts.len() < MAX_COUNTED_IDS {

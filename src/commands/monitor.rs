@@ -22,11 +22,11 @@ use crate::link::{LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
 use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
 use crate::output::{Event, EventWriter, Format, FrameRef};
-use crate::protocol::catalog::{Periodic, PERIODIC};
+use crate::protocol::catalog::{Entry, PERIODIC, STALE_PERIODS};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
 use crate::protocol::frame::ERR_FLAG;
-use crate::protocol::{self, CanFrame, FrameKind, ProtocolHint};
+use crate::protocol::{self, CanFrame, FrameId, FrameKind, ProtocolHint};
 pub use crate::recorder::LogFile;
 use crate::recorder::{push_raw_line, Recorder};
 use crate::{session, signals};
@@ -39,8 +39,6 @@ const FLUSH_AGE: Duration = Duration::from_millis(50);
 const POLL: Duration = Duration::from_millis(50);
 /// How often staleness, silence and the link's counters are checked.
 const TICK: Duration = Duration::from_millis(25);
-/// A periodic frame is stale after this many periods without it.
-const STALE_PERIODS: u32 = 5;
 /// Identifiers other than standard CAN ones counted individually (extended IDs from a flood are unbounded).
 const MAX_OTHER_IDS: usize = 256;
 /// Repeated problems (error frames, socket drops, serial checksum errors) are reported at most this often.
@@ -233,14 +231,12 @@ impl Count {
     }
 }
 
-/// How an identifier is printed in the summary.
+/// What kind of frame a row of the summary counts (besides standard CAN data frames), in the rows' order.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum IdKind {
-    Extended,
+enum RowKind {
+    Data,
     Remote,
-    RemoteExtended,
     Fd,
-    FdExtended,
     Error,
     Serial,
 }
@@ -248,7 +244,7 @@ enum IdKind {
 /// Per-identifier counts: a table for the 2048 standard identifiers, a bounded list for everything else.
 struct Counts {
     standard: Box<[Count]>,
-    others: Vec<((IdKind, u32), Count)>,
+    others: Vec<((RowKind, FrameId), Count)>,
     /// Frames of identifiers beyond `MAX_OTHER_IDS`.
     overflow: u64,
 }
@@ -265,17 +261,15 @@ impl Counts {
                 return;
             }
             LinkFrame::Can(frame) => {
-                let kind = match (frame.kind(), frame.is_extended()) {
-                    (FrameKind::Error, _) => IdKind::Error,
-                    (FrameKind::Remote, false) => IdKind::Remote,
-                    (FrameKind::Remote, true) => IdKind::RemoteExtended,
-                    (FrameKind::Fd, false) => IdKind::Fd,
-                    (FrameKind::Fd, true) => IdKind::FdExtended,
-                    (FrameKind::Data, _) => IdKind::Extended,
+                let kind = match frame.kind() {
+                    FrameKind::Error => RowKind::Error,
+                    FrameKind::Remote => RowKind::Remote,
+                    FrameKind::Fd => RowKind::Fd,
+                    FrameKind::Data => RowKind::Data,
                 };
-                (kind, frame.id())
+                (kind, frame.frame_id())
             }
-            LinkFrame::Serial(frame) => (IdKind::Serial, u32::from(frame.id())),
+            LinkFrame::Serial(frame) => (RowKind::Serial, frame.frame_id()),
         };
         if let Some((_, count)) = self.others.iter_mut().find(|(k, _)| *k == key) {
             count.add(secs, msg);
@@ -288,20 +282,19 @@ impl Counts {
         }
     }
 
-    /// Every identifier seen, in order: standard CAN, then the others by kind and value.
+    /// Every identifier seen, in order: standard CAN, then the others by kind and identifier.
     fn rows(&self) -> Vec<(String, Count)> {
         let mut rows: Vec<(String, Count)> = (0..self.standard.len())
             .filter(|&id| self.standard[id].frames > 0)
-            .map(|id| (format!("0x{id:03X}"), self.standard[id]))
+            .map(|id| (FrameId::Standard(id as u16).to_string(), self.standard[id]))
             .collect();
         let mut others = self.others.clone();
         others.sort_by_key(|(key, _)| *key);
         rows.extend(others.into_iter().map(|((kind, id), count)| {
             let label = match kind {
-                IdKind::Remote | IdKind::Fd => format!("0x{id:03X}"),
-                IdKind::Extended | IdKind::RemoteExtended | IdKind::FdExtended => format!("0x{id:08X}"),
-                IdKind::Error => format!("0x{:08X}", id | ERR_FLAG),
-                IdKind::Serial => format!("0x{id:04X}"),
+                // An error frame's "identifier" is its error classes, printed as candump does.
+                RowKind::Error => format!("0x{:08X}", id.value() | ERR_FLAG),
+                _ => id.to_string(),
             };
             (label, count)
         }));
@@ -312,7 +305,9 @@ impl Counts {
 /// One expected periodic frame and whether it has gone stale.
 #[derive(Clone, Copy, Debug)]
 struct Tracker {
-    what: &'static Periodic,
+    what: &'static Entry,
+    /// The entry's period.
+    period: Duration,
     /// Wall-clock arrival and link timestamp of the last one.
     last: Option<(Instant, f64)>,
     stale: bool,
@@ -446,7 +441,7 @@ impl<W: Output> Monitor<W> {
             trackers: PERIODIC
                 .iter()
                 .filter(|what| (what.wire == protocol::Wire::Serial) == serial)
-                .map(|what| Tracker { what, last: None, stale: false })
+                .filter_map(|what| Some(Tracker { what, period: what.period?, last: None, stale: false }))
                 .collect(),
             started,
             last_frame: None,
@@ -632,25 +627,26 @@ impl<W: Output> Monitor<W> {
 
     fn stale_check(&mut self, now: Instant, scale: f64) {
         // One line per period: "no 0x211 system_state, 0x221 motion_state for 100 ms (expected every 20 ms)".
-        let mut lines: Vec<(u64, String)> = Vec::new();
+        let mut lines: Vec<(u128, String)> = Vec::new();
         for tracker in &mut self.trackers {
             let Some((seen, _)) = tracker.last else { continue };
-            let limit = Duration::from_millis(tracker.what.period_ms * u64::from(STALE_PERIODS));
+            let limit = tracker.period * STALE_PERIODS;
             if tracker.stale || now.duration_since(seen) < limit.mul_f64(scale) {
                 continue;
             }
             tracker.stale = true;
-            let name = format!("0x{:03X} {}", tracker.what.id, tracker.what.name);
-            match lines.iter_mut().find(|(period, _)| *period == tracker.what.period_ms) {
+            let name = format!("{} {}", tracker.what.id, tracker.what.name());
+            let period = tracker.period.as_millis();
+            match lines.iter_mut().find(|(line_period, _)| *line_period == period) {
                 Some((_, names)) => {
                     names.push_str(", ");
                     names.push_str(&name);
                 }
-                None => lines.push((tracker.what.period_ms, name)),
+                None => lines.push((period, name)),
             }
         }
         for (period, names) in lines {
-            let limit = Duration::from_millis(period * u64::from(STALE_PERIODS));
+            let limit = Duration::from_millis(period as u64) * STALE_PERIODS;
             self.warnings.push(format!(
                 "warning: no {names} on {} for {} (expected every {period} ms)",
                 self.name,
@@ -729,8 +725,8 @@ impl<W: Output> Monitor<W> {
 /// Notes the arrival of an expected periodic frame; says so when a stale one resumes.
 fn track(trackers: &mut [Tracker], warnings: &mut Vec<String>, frame: &LinkFrame, now: Instant, secs: f64) {
     let id = match frame {
-        LinkFrame::Can(frame) if frame.is_standard_data() => frame.id(),
-        LinkFrame::Serial(frame) => u32::from(frame.id()),
+        LinkFrame::Can(frame) if frame.is_standard_data() => frame.frame_id(),
+        LinkFrame::Serial(frame) => frame.frame_id(),
         LinkFrame::Can(_) => return,
     };
     let Some(tracker) = trackers.iter_mut().find(|tracker| tracker.what.id == id) else { return };
@@ -739,7 +735,7 @@ fn track(trackers: &mut [Tracker], warnings: &mut Vec<String>, frame: &LinkFrame
         // Link timestamps (kernel receive times on SocketCAN), to the millisecond.
         let gap = tracker.last.map_or(0.0, |(_, last)| (secs - last).max(0.0));
         let gap = Duration::from_millis((gap * 1000.0).round() as u64);
-        warnings.push(format!("0x{:03X} {} resumed after a gap of {}", id, tracker.what.name, human(gap)));
+        warnings.push(format!("{} {} resumed after a gap of {}", id, tracker.what.name(), human(gap)));
     }
     tracker.last = Some((now, secs));
 }
@@ -850,7 +846,7 @@ mod tests {
     fn csv_header_comes_first_and_filters_apply() {
         let start = Instant::now();
         let mut opts = options(Format::Csv);
-        opts.filter = Filter::new(&[0x311], &[]);
+        opts.filter = Filter::new(&[FrameId::Standard(0x311)], &[]);
         let mut monitor = Monitor::starting_at("can0", "can0", false, opts, Vec::new(), start);
         monitor.frame(&can(0x211, &STATE, T0), start).unwrap();
         monitor.frame(&can(0x311, &[0, 0, 0, 10, 0, 0, 0, 20], T0 + 0.01), start).unwrap();
@@ -1060,7 +1056,7 @@ mod tests {
         let path = dir.path().join("bus.log");
         let start = Instant::now();
         let mut opts = options(Format::Text);
-        opts.filter = Filter::new(&[0x999], &[]);
+        opts.filter = Filter::new(&[FrameId::Standard(0x999)], &[]);
         let mut monitor = Monitor::starting_at("can0", "can0", false, opts, Vec::new(), start);
         monitor.log = Some(Recorder::start(LogFile::create(&path).unwrap(), "can0").unwrap());
         monitor.frame(&can(0x211, &STATE, T0), start).unwrap();

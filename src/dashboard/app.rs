@@ -18,12 +18,11 @@ use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WA
 use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
-use crate::protocol::Wire;
+use crate::protocol::{FrameId, Wire};
 use crate::recorder::RecordLoss;
 use crate::session::RobotStatus;
 
-/// Distance between the wheel centres, m (manual: "wheelbase" 360 mm, which is the track).
-pub const TRACK_M: f64 = 0.36;
+pub use crate::protocol::constants::TRACK_M;
 /// Battery samples kept for the sparkline, one per [`BATTERY_SAMPLE`].
 pub const BATTERY_HISTORY: usize = 120;
 pub const BATTERY_SAMPLE: Duration = Duration::from_secs(1);
@@ -33,8 +32,6 @@ pub const BATTERY_GAUGE_TOP_DV: u16 = 265;
 pub const RATE_WINDOW: Duration = Duration::from_secs(1);
 /// The system state (0x211) is stale when older than this (the robot sends one every 20 ms).
 pub const STATUS_STALE: Duration = Duration::from_millis(100);
-/// A feedback message is stale after this many of its periods without a frame (and never before 100 ms).
-pub const STALE_PERIODS: u32 = 5;
 /// How long a one-line message stays on screen.
 pub const MESSAGE_TTL: Duration = Duration::from_secs(10);
 /// Faster than this a wheel cannot go (TRACER: 2.3 m/s no-load); a bigger odometer step is a reset or a
@@ -201,8 +198,7 @@ pub struct PoseView {
 /// One identifier of the link-health table.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct IdView {
-    /// CAN standard ID; extended IDs with bit 31 set; RS232 frames as type << 8 | command.
-    pub id: u32,
+    pub id: FrameId,
     /// Frames per second over the last full window; `None` before the first window ends.
     pub fps: Option<u32>,
     /// For a known feedback message not seen for too long: for how long, in tenths of a second.
@@ -316,22 +312,22 @@ fn normalize_angle(angle: f64) -> f64 {
 #[derive(Clone, Debug, Default)]
 struct Rates {
     /// Start of the current window: when, total frames, counts per ID.
-    window: Option<(Instant, u64, BTreeMap<u32, u64>)>,
-    fps: BTreeMap<u32, u32>,
+    window: Option<(Instant, u64, BTreeMap<FrameId, u64>)>,
+    fps: BTreeMap<FrameId, u32>,
     total_fps: Option<u32>,
     /// Per ID: the last count seen and the update at which it last went up.
-    last_rise: BTreeMap<u32, (u64, Instant)>,
+    last_rise: BTreeMap<FrameId, (u64, Instant)>,
 }
 
 impl Rates {
-    fn update(&mut self, counts: &[(u32, u64)], frames: u64, now: Instant) {
+    fn update(&mut self, counts: &[(FrameId, u64)], frames: u64, now: Instant) {
         for &(id, count) in counts {
             let entry = self.last_rise.entry(id).or_insert((count, now));
             if count > entry.0 {
                 *entry = (count, now);
             }
         }
-        let current: BTreeMap<u32, u64> = counts.iter().copied().collect();
+        let current: BTreeMap<FrameId, u64> = counts.iter().copied().collect();
         match &self.window {
             None => self.window = Some((now, frames, current)),
             Some((start, start_frames, start_counts)) => {
@@ -369,44 +365,20 @@ impl Rates {
 }
 
 /// How often the robot sends a feedback identifier, for the ones whose period is known.
-pub fn feedback_period(id: u32) -> Option<Duration> {
-    catalog::periodic_frame(id).map(|entry| entry.period())
+pub fn feedback_period(id: FrameId) -> Option<Duration> {
+    catalog::periodic_frame(id).and_then(|entry| entry.period)
 }
 
-/// How long a feedback identifier may be silent before it is stale; `None` for identifiers that are not
-/// periodic robot feedback (commands from another host, other devices, version replies).
-pub fn stale_after(id: u32) -> Option<Duration> {
-    feedback_period(id).map(|period| (period * STALE_PERIODS).max(STATUS_STALE))
+/// How long a feedback identifier may be silent before it is stale (the catalog's limit, never under
+/// [`STATUS_STALE`]); `None` for identifiers that are not periodic robot feedback (commands from another
+/// host, other devices, version replies).
+pub fn stale_after(id: FrameId) -> Option<Duration> {
+    catalog::periodic_frame(id).and_then(|entry| entry.stale_after()).map(|limit| limit.max(STATUS_STALE))
 }
 
-/// What an identifier carries, for the link-health table: the catalog's label for robot feedback.
-pub fn id_name(id: u32) -> &'static str {
-    if let Some(entry) = catalog::periodic_frame(id) {
-        return entry.label;
-    }
-    match id {
-        0x111 => "motion cmd",
-        0x121 => "light cmd",
-        0x241 => "rc",
-        0x411 => "version req",
-        0x41A => "version",
-        0x421 => "mode cmd",
-        0x441 => "clear cmd",
-        0x130 => "V1 motion cmd",
-        0x140 => "V1 light cmd",
-        0x5501 => "motion cmd",
-        0x5502 => "light cmd",
-        _ => "",
-    }
-}
-
-/// An identifier as printed: `0x211`, RS232 `0xAA01`, extended CAN `1234ABCDx`.
-pub fn id_label(id: u32) -> String {
-    if id & 0x8000_0000 != 0 {
-        format!("{:08X}x", id & 0x1FFF_FFFF)
-    } else {
-        format!("0x{id:03X}")
-    }
+/// What an identifier carries, for the link-health table: the catalog's label.
+pub fn id_name(id: FrameId) -> &'static str {
+    catalog::label(id).unwrap_or("")
 }
 
 fn deciseconds(duration: Duration) -> u64 {
@@ -688,7 +660,7 @@ impl App {
     }
 
     /// The identifiers of known feedback messages that stopped arriving.
-    pub fn stale_ids(&self) -> Vec<u32> {
+    pub fn stale_ids(&self) -> Vec<FrameId> {
         self.shown.ids.iter().filter(|id| id.stale_deciseconds.is_some()).map(|id| id.id).collect()
     }
 }
@@ -712,6 +684,10 @@ pub fn scale_percent(scale: f64) -> i64 {
 mod tests {
     use super::*;
     use crate::protocol::message::{MotionCommand, SystemState};
+
+    fn standard(id: u16) -> FrameId {
+        FrameId::Standard(id)
+    }
 
     fn status_at(at: Instant) -> RobotStatus {
         RobotStatus {
@@ -824,7 +800,7 @@ mod tests {
         for tick in 0..=60u64 {
             let now = at(base, tick * 50);
             let (fast, slow) = if tick <= 40 { (tick * 5 / 2, tick / 2) } else { (100, tick / 2) };
-            status.id_counts = vec![(0x211, fast), (0x261, slow), (0x111, 3)];
+            status.id_counts = vec![(standard(0x211), fast), (standard(0x261), slow), (standard(0x111), 3)];
             status.frames = fast + slow + 3;
             if tick <= 40 {
                 status.system.as_mut().unwrap().0 = now;
@@ -834,7 +810,7 @@ mod tests {
                 let ids = &app.shown().ids;
                 assert_eq!(
                     ids.iter().map(|i| (i.id, i.fps)).collect::<Vec<_>>(),
-                    [(0x111, Some(0)), (0x211, Some(50)), (0x261, Some(10))]
+                    [(standard(0x111), Some(0)), (standard(0x211), Some(50)), (standard(0x261), Some(10))]
                 );
                 assert_eq!(app.shown().total_fps, Some(60));
                 assert!(app.stale_ids().is_empty());
@@ -842,7 +818,7 @@ mod tests {
             }
         }
         // 1 s after the last 0x211 (which rose at tick 40): stale, with its age; 0x111 is not feedback.
-        assert_eq!(app.stale_ids(), [0x211]);
+        assert_eq!(app.stale_ids(), [standard(0x211)]);
         assert_eq!(app.shown().ids[1].stale_deciseconds, Some(10));
         assert_eq!(app.shown().status_age, StatusAge::Stale { deciseconds: 10 });
         assert_eq!(app.shown().ids[2].fps, Some(10));
@@ -878,13 +854,13 @@ mod tests {
         let base = Instant::now();
         let mut app = App::new("can0", Limits::default(), false);
         let mut status = status_at(base);
-        status.id_counts = vec![(0x211, 1)];
+        status.id_counts = vec![(standard(0x211), 1)];
         update(&mut app, &status, base);
         let first = app.fingerprint();
         // A count byte and a few ms of age are not shown.
         status.system.as_mut().unwrap().1.count = 2;
         status.system.as_mut().unwrap().0 = at(base, 20);
-        status.id_counts = vec![(0x211, 2)];
+        status.id_counts = vec![(standard(0x211), 2)];
         status.frames = 2;
         update(&mut app, &status, at(base, 50));
         assert_eq!(app.fingerprint(), first);

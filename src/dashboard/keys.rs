@@ -10,6 +10,7 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use super::app::{Arming, Prompt};
 use super::teleop::{Key, KeyAction};
+use crate::protocol::{can, FrameId};
 
 /// What a key asks for, before what is on screen decides what happens (see [`dispatch`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -370,7 +371,7 @@ pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'stat
 /// The paragraphs of `tracerctl dashboard --help` before the keys.
 const HELP_BEFORE: &str = "\
 The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
-is not disturbed). The first arrow key, m, c or l asks \"Arm driving?\"; y arms (0x421 command mode, then
+is not disturbed). The first arrow key, m, c or l asks \"Arm driving?\"; y arms ({MODE_COMMAND} command mode, then
 motion commands at 50 Hz), a disarms at once. --watch forbids arming. The state, ARMED or WATCHING, is on
 screen.";
 
@@ -389,7 +390,9 @@ pub const KEY_COLUMN: usize = 10;
 /// `tracerctl dashboard --help` after the options: how arming works, every key of [`BINDINGS`] with the
 /// help overlay's words, and how releases and stalls are handled.
 pub fn help_text() -> String {
-    let mut text = format!("{HELP_BEFORE}\n\nKeys:\n");
+    let before =
+        HELP_BEFORE.replace("{MODE_COMMAND}", &FrameId::Standard(can::ID_CONTROL_MODE as u16).to_string());
+    let mut text = format!("{before}\n\nKeys:\n");
     for row in BINDINGS {
         let _ = writeln!(text, "  {:<KEY_COLUMN$}{}", row.shown, row.help);
     }

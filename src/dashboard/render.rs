@@ -14,7 +14,7 @@ use ratatui::widgets::{Block, Clear, Gauge, Paragraph, RenderDirection, Row, Spa
 use ratatui::Frame;
 
 use super::app::{
-    id_label, id_name, scale_percent, severity_rank, speed_text, App, Arming, BatteryZone, FaultLine, Prompt,
+    id_name, scale_percent, severity_rank, speed_text, App, Arming, BatteryZone, FaultLine, Prompt,
     StatusAge, BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
@@ -23,7 +23,7 @@ use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WA
 use crate::protocol::message::{
     light_mode_name, MODE_CAN, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };
-use crate::protocol::{FlagTable, Flags, Severity, Wire};
+use crate::protocol::{FlagTable, Flags, FrameId, Severity, Wire};
 
 /// Below this the panels do not fit and a short text view is drawn instead.
 const MIN_PANELS: (u16, u16) = (60, 20);
@@ -714,7 +714,7 @@ fn stale_line(app: &App, theme: Theme) -> Line<'static> {
     } else {
         let list: Vec<String> = stale
             .iter()
-            .map(|id| format!("{} {}", id_label(id.id), age_text(id.stale_deciseconds.unwrap_or(0))))
+            .map(|id| format!("{} {}", id.id, age_text(id.stale_deciseconds.unwrap_or(0))))
             .collect();
         Line::styled(format!("STALE: {}", list.join(", ")), theme.alarm())
     }
@@ -751,7 +751,10 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     let mut used = 0usize;
     let width = usize::from(area.width.saturating_sub(2));
     for id in &shown.ids {
-        let label = if id.id < 0x1000 { format!("{:03X}", id.id) } else { id_label(id.id) };
+        let label = match id.id {
+            FrameId::Standard(id) => format!("{id:03X}"),
+            other => other.to_string(),
+        };
         let text = format!("{label}:{}", id.fps.map_or_else(|| "-".to_string(), |f| f.to_string()));
         let needed = text.len() + usize::from(used > 0);
         if used + needed > width && used > 0 {
@@ -823,7 +826,7 @@ fn id_columns(app: &App, theme: Theme, width: usize, room: usize) -> Vec<Line<'s
                 (None, Some(fps)) => format!("{fps}/s"),
                 (None, None) => "-".to_string(),
             };
-            let text = format!("{:<6}{:<9}{:>5}", id_label(id.id), truncate(id_name(id.id), 8), rate);
+            let text = format!("{:<6}{:<9}{:>5}", id.id.to_string(), truncate(id_name(id.id), 8), rate);
             let style = if id.stale_deciseconds.is_some() { theme.alarm() } else { Style::new() };
             Span::styled(text, style)
         })
@@ -1134,8 +1137,8 @@ mod tests {
             let slow = tick / 2;
             status.id_counts = [0x211, 0x221, 0x231, 0x251, 0x252, 0x311]
                 .iter()
-                .map(|id| (*id, fast))
-                .chain([(0x261, slow), (0x262, slow)])
+                .map(|id| (FrameId::Standard(*id), fast))
+                .chain([(FrameId::Standard(0x261), slow), (FrameId::Standard(0x262), slow)])
                 .collect();
             status.id_counts.sort_unstable();
             status.frames = 6 * fast + 2 * slow;
@@ -1366,8 +1369,8 @@ mod tests {
         status.odometry = Some(Odometry { left_mm: 120_000, right_mm: 120_400 });
         status.id_counts = [0x211, 0x221, 0x231, 0x251, 0x252, 0x311]
             .iter()
-            .map(|id| (*id, 250))
-            .chain([(0x261, 50), (0x262, 50)])
+            .map(|id| (FrameId::Standard(*id), 250))
+            .chain([(FrameId::Standard(0x261), 50), (FrameId::Standard(0x262), 50)])
             .collect();
         status.id_counts.sort_unstable();
         for tick in 1..=60 {

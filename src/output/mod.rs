@@ -63,10 +63,10 @@ impl Event<'_> {
     pub fn msg_name(&self) -> &'static str {
         match self.shape() {
             Shape::Message(decoded) => decoded.message.name(),
-            Shape::Invalid(_) => "invalid",
-            Shape::ErrorFrame(_) => "error_frame",
-            Shape::Remote => "remote_request",
-            Shape::Raw => "raw",
+            Shape::Invalid(_) => filter::FrameShape::Invalid.name(),
+            Shape::ErrorFrame(_) => filter::FrameShape::ErrorFrame.name(),
+            Shape::Remote => filter::FrameShape::RemoteRequest.name(),
+            Shape::Raw => filter::FrameShape::Raw.name(),
         }
     }
 

@@ -3,7 +3,9 @@
 //! V1 and V2 use disjoint identifiers except 0x151: V1's system state (with a checksum in byte 7), and the
 //! ID the TRACER V2 manual gives for system state (firmware sends 0x211). See `docs/protocol.md`.
 
+use super::catalog::{self, StandardIds};
 use super::frame::CanFrame;
+use super::id::FrameId;
 use super::message::*;
 use super::payload::{self, Layout};
 
@@ -62,17 +64,12 @@ pub struct EncodeError {
     pub wire: &'static str,
 }
 
+/// The catalog's V1 identifiers that V2 does not use (0x151 is shared and excluded).
+static V1_ONLY: StandardIds = StandardIds::only_on(Wire::CanV1, &[]);
+
 /// True for identifiers only protocol V1 uses (0x151 is shared and excluded).
 pub fn is_v1_only_id(id: u32) -> bool {
-    matches!(
-        id,
-        ID_V1_MOTION_COMMAND
-            | ID_V1_MOTION_STATE
-            | ID_V1_LIGHT_COMMAND
-            | ID_V1_LIGHT_STATE
-            | ID_V1_MOTOR1
-            | ID_V1_MOTOR2
-    )
+    V1_ONLY.contains(id)
 }
 
 /// V1 checksum over a frame of `dlc` bytes: (id low + id high + dlc + data[0..dlc-1]) mod 256.
@@ -221,15 +218,9 @@ fn decode_0x151(data: &[u8], hint: ProtocolHint) -> Result<Option<Decoded>, Deco
 }
 
 fn decode_v1(id: u32, data: &[u8]) -> Result<Option<Decoded>, DecodeError> {
-    let name = match id {
-        ID_V1_MOTION_COMMAND => "motion_command",
-        ID_V1_MOTION_STATE => "motion_state",
-        ID_V1_LIGHT_COMMAND => "light_command",
-        ID_V1_LIGHT_STATE => "light_state",
-        ID_V1_SYSTEM_STATE => "system_state",
-        _ => "motor_high_speed",
-    };
     if data.len() < 8 {
+        let entry = catalog::entry(FrameId::Standard(id as u16), Wire::CanV1);
+        let name = entry.map_or("message", |entry| entry.name());
         return Err(DecodeError::TooShort { id, name, need: 8, got: data.len() });
     }
     let computed = v1_checksum(id, data);

@@ -1,5 +1,7 @@
-//! The robot's battery facts, written once, each with the manual section it comes from
-//! (TRACER user manual v2.0.0).
+//! The robot's facts, written once, each with the manual section it comes from (TRACER user manual
+//! v2.0.0): battery thresholds and the chassis geometry. Identifiers and feedback periods are in
+//! [`super::catalog`]; command limits, control modes and fault-clear codes next to the messages that carry
+//! them, in [`super::message`].
 //!
 //! Thresholds are in 0.1 V, the unit the robot reports (0x211 / 0x151 bytes 2-3, RS232 0x01 d2-3).
 //! The manual says "lower than" for each; a reported value has 0.1 V resolution, so the users choose their
@@ -21,6 +23,10 @@ pub const BATTERY_CUTOFF_DV: u16 = 215;
 pub const BATTERY_THRESHOLDS: [(u16, &str); 3] =
     [(BATTERY_WARNING_DV, "warning"), (BATTERY_FAULT_DV, "fault"), (BATTERY_CUTOFF_DV, "cut-off")];
 
+/// Distance between the wheel centres, m: manual 1.2 Tech specifications, "Wheelbase (mm) 360" (on a
+/// two-wheel differential drive that is the track).
+pub const TRACK_M: f64 = 0.36;
+
 /// A value in 0.1 V as volts: the nearest `f64`, so `volts(225)` is the literal `22.5`.
 pub const fn volts(decivolts: u16) -> f64 {
     decivolts as f64 / 10.0
@@ -28,4 +34,4 @@ pub const fn volts(decivolts: u16) -> f64 {
 
 #[cfg(test)]
 #[path = "constants_tests.rs"]
-mod tests;
+pub(crate) mod tests;

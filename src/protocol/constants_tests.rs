@@ -60,7 +60,7 @@ fn spells_a_threshold(line: &str) -> bool {
     volts_literal || (about_volts && decivolts_literal)
 }
 
-fn rust_files(dir: &Path, found: &mut Vec<PathBuf>) {
+pub(crate) fn rust_files(dir: &Path, found: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
         if path.is_dir() {
@@ -72,7 +72,7 @@ fn rust_files(dir: &Path, found: &mut Vec<PathBuf>) {
 }
 
 /// The code before an inline `#[cfg(test)] mod tests { ... }` (test expectations may spell values out).
-fn shipped_part(text: &str) -> &str {
+pub(crate) fn shipped_part(text: &str) -> &str {
     let mut offset = 0;
     let mut lines = text.lines().peekable();
     while let Some(line) = lines.next() {

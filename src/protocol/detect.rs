@@ -3,7 +3,9 @@
 //! Unlike AgileX's detector, seeing both is not an error: the verdict says what was seen and decoding goes on.
 
 use super::can::{self, ProtocolHint};
+use super::catalog::StandardIds;
 use super::frame::CanFrame;
+use super::message::{MessageKind, Wire};
 
 /// What the traffic so far says about the protocol version.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -23,12 +25,14 @@ pub struct ProtocolDetector {
     pub v2_frames: u64,
 }
 
+/// The catalog's V2 identifiers that V1 does not use, without the version query: it comes from other AgileX
+/// bases (the Scout V2 manual), so it says nothing about which TRACER firmware is on the bus.
+static V2_ONLY: StandardIds =
+    StandardIds::only_on(Wire::CanV2, &[MessageKind::VersionRequest, MessageKind::VersionResponse]);
+
 /// Identifiers only V2 firmware sends (feedback), or a V2 host sends.
 pub fn is_v2_only_id(id: u32) -> bool {
-    matches!(
-        id,
-        0x111 | 0x121 | 0x211 | 0x221 | 0x231 | 0x241 | 0x251 | 0x252 | 0x261 | 0x262 | 0x311 | 0x421 | 0x441
-    )
+    V2_ONLY.contains(id)
 }
 
 impl ProtocolDetector {
@@ -94,5 +98,18 @@ mod tests {
         assert_eq!((detector.verdict(), detector.hint()), (Verdict::Mixed, ProtocolHint::Auto));
         assert_eq!((detector.v1_frames, detector.v2_frames), (1, 1));
         assert_eq!(detector.describe(), "mixed V1 and V2 traffic (1 V2-only frames, 1 V1-only frames)");
+    }
+
+    /// The sets derived from the catalog are the ones detection used before the catalog existed.
+    #[test]
+    fn version_specific_identifiers_are_todays() {
+        let v2: Vec<u32> = (0..0x800).filter(|&id| is_v2_only_id(id)).collect();
+        let v2_before =
+            [0x111, 0x121, 0x211, 0x221, 0x231, 0x241, 0x251, 0x252, 0x261, 0x262, 0x311, 0x421, 0x441];
+        assert_eq!(v2, v2_before);
+        let v1: Vec<u32> = (0..0x800).filter(|&id| can::is_v1_only_id(id)).collect();
+        assert_eq!(v1, [0x130, 0x131, 0x140, 0x141, 0x201, 0x202]);
+        assert!(!is_v2_only_id(0x151) && !can::is_v1_only_id(0x151), "0x151 is shared");
+        assert!(!is_v2_only_id(0x1000) && !can::is_v1_only_id(u32::MAX));
     }
 }

@@ -397,7 +397,7 @@ pub struct VersionResponse {
 }
 
 /// Everything the TRACER speaks, in both directions.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, strum::EnumCount)]
 pub enum Message {
     MotionCommand(MotionCommand),
     PercentMotionCommand(PercentMotionCommand),
@@ -417,23 +417,28 @@ pub enum Message {
 }
 
 impl Message {
+    /// What kind of message this is: encodings of the same thing share one kind.
+    pub fn kind(&self) -> MessageKind {
+        match self {
+            Message::MotionCommand(_) | Message::PercentMotionCommand(_) => MessageKind::MotionCommand,
+            Message::LightCommand(_) => MessageKind::LightCommand,
+            Message::ControlModeCommand(_) => MessageKind::ControlModeCommand,
+            Message::FaultClear(_) => MessageKind::FaultClear,
+            Message::VersionRequest => MessageKind::VersionRequest,
+            Message::SystemState(_) => MessageKind::SystemState,
+            Message::MotionState(_) => MessageKind::MotionState,
+            Message::LightState(_) => MessageKind::LightState,
+            Message::RcState(_) => MessageKind::RcState,
+            Message::MotorHighSpeed(_) | Message::MotorDriverState(_) => MessageKind::MotorHighSpeed,
+            Message::MotorLowSpeed(_) => MessageKind::MotorLowSpeed,
+            Message::Odometry(_) => MessageKind::Odometry,
+            Message::VersionResponse(_) => MessageKind::VersionResponse,
+        }
+    }
+
     /// The stable message name of JSON `msg`. Encodings of the same thing share one name.
     pub fn name(&self) -> &'static str {
-        match self {
-            Message::MotionCommand(_) | Message::PercentMotionCommand(_) => "motion_command",
-            Message::LightCommand(_) => "light_command",
-            Message::ControlModeCommand(_) => "control_mode_command",
-            Message::FaultClear(_) => "fault_clear",
-            Message::VersionRequest => "version_request",
-            Message::SystemState(_) => "system_state",
-            Message::MotionState(_) => "motion_state",
-            Message::LightState(_) => "light_state",
-            Message::RcState(_) => "rc_state",
-            Message::MotorHighSpeed(_) | Message::MotorDriverState(_) => "motor_high_speed",
-            Message::MotorLowSpeed(_) => "motor_low_speed",
-            Message::Odometry(_) => "odometry",
-            Message::VersionResponse(_) => "version_response",
-        }
+        self.kind().name()
     }
 
     /// True for messages that can make the robot move.
@@ -447,26 +452,105 @@ impl Message {
     }
 }
 
+/// The kinds of message, named as JSON `msg` names them (`system_state`); the order is the order of
+/// [`MESSAGE_NAMES`].
+#[derive(
+    Clone, Copy, Debug, PartialEq, Eq, Hash, strum::IntoStaticStr, strum::VariantNames, strum::EnumIter,
+)]
+#[strum(serialize_all = "snake_case")]
+pub enum MessageKind {
+    MotionCommand,
+    LightCommand,
+    ControlModeCommand,
+    FaultClear,
+    VersionRequest,
+    SystemState,
+    MotionState,
+    LightState,
+    RcState,
+    MotorHighSpeed,
+    MotorLowSpeed,
+    Odometry,
+    VersionResponse,
+}
+
+impl MessageKind {
+    /// The stable name (`system_state`).
+    pub fn name(self) -> &'static str {
+        self.into()
+    }
+}
+
 /// Every message name, in a fixed order (for filters and help text).
-pub const MESSAGE_NAMES: &[&str] = &[
-    "motion_command",
-    "light_command",
-    "control_mode_command",
-    "fault_clear",
-    "version_request",
-    "system_state",
-    "motion_state",
-    "light_state",
-    "rc_state",
-    "motor_high_speed",
-    "motor_low_speed",
-    "odometry",
-    "version_response",
-];
+pub const MESSAGE_NAMES: &[&str] = <MessageKind as strum::VariantNames>::VARIANTS;
 
 /// A message together with the encoding it came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Decoded {
     pub wire: Wire,
     pub message: Message,
+}
+
+#[cfg(test)]
+mod tests {
+    use strum::{EnumCount, IntoEnumIterator};
+
+    use super::*;
+
+    /// One message of every variant (the count below fails when a variant is added without one here).
+    fn one_of_each() -> [Message; Message::COUNT] {
+        [
+            Message::MotionCommand(MotionCommand::default()),
+            Message::PercentMotionCommand(PercentMotionCommand::default()),
+            Message::LightCommand(Lights::default()),
+            Message::ControlModeCommand(0),
+            Message::FaultClear(0),
+            Message::VersionRequest,
+            Message::SystemState(SystemState::default()),
+            Message::MotionState(MotionState::default()),
+            Message::LightState(Lights::default()),
+            Message::RcState(RcState::default()),
+            Message::MotorHighSpeed(MotorHighSpeed::default()),
+            Message::MotorDriverState(MotorDriverState::default()),
+            Message::MotorLowSpeed(MotorLowSpeed::default()),
+            Message::Odometry(Odometry::default()),
+            Message::VersionResponse(VersionResponse::default()),
+        ]
+    }
+
+    #[test]
+    fn message_names_are_the_names_messages_have() {
+        let names: Vec<&str> = one_of_each().iter().map(Message::name).collect();
+        for name in &names {
+            assert!(MESSAGE_NAMES.contains(name), "{name} missing from MESSAGE_NAMES");
+        }
+        for name in MESSAGE_NAMES {
+            assert!(names.contains(name), "no message is named {name}");
+        }
+        assert_eq!(MessageKind::iter().map(MessageKind::name).collect::<Vec<_>>(), MESSAGE_NAMES);
+    }
+
+    #[test]
+    fn names_are_the_stable_json_names() {
+        assert_eq!(
+            MESSAGE_NAMES,
+            [
+                "motion_command",
+                "light_command",
+                "control_mode_command",
+                "fault_clear",
+                "version_request",
+                "system_state",
+                "motion_state",
+                "light_state",
+                "rc_state",
+                "motor_high_speed",
+                "motor_low_speed",
+                "odometry",
+                "version_response",
+            ]
+        );
+        assert_eq!(Message::PercentMotionCommand(Default::default()).name(), "motion_command");
+        assert_eq!(Message::MotorDriverState(Default::default()).name(), "motor_high_speed");
+    }
 }

@@ -18,4 +18,4 @@ pub use faults::{FlagInfo, FlagTable, Flags, Severity};
 pub use fields::{for_each_field, Field, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};
 pub use id::FrameId;
-pub use message::{Decoded, Message, Wire};
+pub use message::{Decoded, Message, MessageKind, Wire};

@@ -95,7 +95,7 @@ impl Default for SimConfig {
     fn default() -> Self {
         Self {
             wire: SimWire::CanV2,
-            track_m: 0.36,
+            track_m: crate::protocol::constants::TRACK_M,
             wheel_diameter_m: 0.15,
             max_linear: 2.3,
             max_angular: 3.0,

@@ -181,8 +181,7 @@ pub fn frames(seen: &Observation) -> Check {
 fn id_list(status: &RobotStatus, most: usize) -> String {
     let mut ids = status.id_counts.clone();
     ids.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
-    let mut list: Vec<String> =
-        ids.iter().take(most).map(|(id, count)| format!("0x{:03X} x{count}", id & 0x1FFF_FFFF)).collect();
+    let mut list: Vec<String> = ids.iter().take(most).map(|(id, count)| format!("{id} x{count}")).collect();
     if ids.len() > most {
         list.push(format!("and {} more", ids.len() - most));
     }
@@ -308,7 +307,12 @@ pub fn other_senders(seen: &Observation) -> Check {
     let found: Vec<String> = COMMAND_IDS
         .iter()
         .filter_map(|(id, name)| {
-            let count = seen.status.id_counts.iter().find(|(seen_id, _)| seen_id == id)?.1;
+            let count = seen
+                .status
+                .id_counts
+                .iter()
+                .find(|(seen_id, _)| seen_id.standard_index() == Some(*id as usize))?
+                .1;
             Some(format!("0x{id:03X} {name} x{count}"))
         })
         .collect();
@@ -574,7 +578,11 @@ mod tests {
         }
         let status =
             session.wait_for(Duration::from_secs(2), |s| (s.frames == 158).then(|| s.clone())).unwrap();
-        assert_eq!(status.id_counts, vec![(0x7A0, 5)], "error frames are not identifiers");
+        assert_eq!(
+            status.id_counts,
+            vec![(crate::protocol::FrameId::Standard(0x7A0), 5)],
+            "error frames are not identifiers"
+        );
         assert_eq!(status.error_tally.frames, 153);
         let mut status = status;
         status.rx.error_frames = 153; // the SocketCAN receiver counts them; the in-process channel does not
