@@ -491,3 +491,30 @@ impl Summary {
 fn mode_text(wire: Wire, value: u8) -> String {
     control_mode_name(wire, value).map_or_else(|| format!("unknown (0x{value:02X})"), str::to_string)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rows_are_ordered_and_printed_as_the_table_lists_them() {
+        let mut keys = [
+            RowKey::Other,
+            RowKey::Fd(FrameId::Standard(0x123)),
+            RowKey::Serial(FrameId::Serial(0xAA01)),
+            RowKey::Error(FrameId::Extended(0x4)),
+            RowKey::Can(FrameId::Extended(0x123)),
+            RowKey::Can(FrameId::Standard(0x7FF)),
+            RowKey::Can(FrameId::Standard(0x1)),
+        ];
+        keys.sort();
+        let printed: Vec<String> = keys.iter().map(RowKey::to_string).collect();
+        assert_eq!(
+            printed,
+            ["0x001", "0x7FF", "0x00000123", "0x20000004", "0xAA01", "0x123 (FD)", "other ids (beyond 4096)"]
+        );
+        assert_eq!(RowKey::Can(FrameId::Standard(0x211)).standard_index(), Some(0x211));
+        assert_eq!(RowKey::Fd(FrameId::Standard(0x211)).standard_index(), None);
+        assert_eq!(RowKey::Can(FrameId::Extended(0x211)).standard_index(), None);
+    }
+}
