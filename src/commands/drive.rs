@@ -112,138 +112,17 @@ fn execute_with(
     context: &Context,
 ) -> Result<u8> {
     let signal = &context.signal;
-    let target = (
-        args.linear.clamp(-limits.max_linear, limits.max_linear),
-        args.angular.clamp(-limits.max_angular, limits.max_angular),
-    );
-    if target != (args.linear, args.angular) {
-        writeln!(
-            out,
-            "capped: {:+.3} m/s {:+.3} rad/s -> {:+.3} m/s {:+.3} rad/s (--max-linear {}, --max-angular {})",
-            args.linear, args.angular, target.0, target.1, limits.max_linear, limits.max_angular
-        )?;
-    }
-
-    let first = live::first_status_unless(session, || signal.received().is_some());
-    if let (Some(status), name) = (signal.exit_status(), signal.name()) {
-        writeln!(out, "{name} before driving: nothing was sent")?;
+    let target = capped_target(args, limits, out)?;
+    if let Some(status) = check_before_driving(session, args, out, context)? {
         return Ok(status);
-    }
-    match first {
-        Some((state, wire)) => {
-            let protocol = match wire {
-                Wire::Serial => "RS232".to_string(),
-                _ => session.status().detector.describe(),
-            };
-            writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
-            if let Some(reason) = live::not_drivable(&state, wire) {
-                if !args.ignore_faults {
-                    return Err(Failure::not_done(format!(
-                        "not driving: {reason} (--ignore-faults to try anyway)"
-                    ))
-                    .into());
-                }
-                writeln!(out, "warning: {reason}; driving anyway (--ignore-faults)")?;
-            }
-        }
-        None => {
-            let reason = live::no_status_message(session, &session.status());
-            if !args.ignore_faults {
-                return Err(Failure::not_done(format!(
-                    "not driving: {reason} (--ignore-faults to try anyway)"
-                ))
-                .into());
-            }
-            writeln!(out, "warning: {reason}; driving anyway (--ignore-faults)")?;
-        }
-    }
-    if context.suspended_early.load(std::sync::atomic::Ordering::SeqCst) {
-        return Err(Failure {
-            code: FAILURE,
-            message: "suspended before driving started: drive ended (run it again to drive)".to_string(),
-        }
-        .into());
     }
 
     let sender = MotionSender::start(session.tx.clone(), Codec::new(session.wire()), limits, WATCHDOG)?;
     *context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
 
-    let started = Instant::now();
-    let mut last_status = Instant::now() - STATUS_EVERY_PIPE;
-    let mut last_mode_request = Instant::now();
-    let mut last_iteration = Instant::now();
-    let mut follow = Follow::default();
-    let mut suspend_seen: Option<Instant> = None;
-    let overwrite = std::io::stderr().is_terminal();
-    let status_every = if overwrite { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE };
-    let end = loop {
-        if let (Some(signo), name) = (signal.exit_status(), signal.name()) {
-            break End::Signal(name, signo);
-        }
-        // After a gap in this loop (suspended with the rest of the process, or blocked on a slow
-        // terminal), let the sender take its next tick first: it alone knows whether commands stopped.
-        let since = last_iteration.elapsed();
-        last_iteration = Instant::now();
-        if since > GAP_LIMIT {
-            std::thread::sleep(PERIOD * 2);
-        }
-        let stats = sender.stats();
-        match stats.hold {
-            Some(Hold::Gap(gap)) => break End::Suspended(gap.max(stats.last_gap.unwrap_or_default())),
-            Some(Hold::Watchdog) => break End::Watchdog,
-            // SIGTSTP sent zeros and stops the process; after SIGCONT the sender sees the gap. A SIGCONT so
-            // quick that no gap shows still ends the drive: the hold is never lifted by drive.
-            Some(Hold::Suspend) => {
-                let since = *suspend_seen.get_or_insert_with(Instant::now);
-                if since.elapsed() > GAP_LIMIT * 2 {
-                    break End::SuspendResumed;
-                }
-            }
-            _ => {}
-        }
-        if args.duration.is_some_and(|duration| started.elapsed() >= duration) {
-            break End::TimeUp;
-        }
-        sender.set_target(target.0, target.1);
-        if crate::control::panicked() {
-            break End::LinkLost("an internal error (a thread panicked)".to_string());
-        }
-        let status = session.status();
-        if let Some(error) = status.link_error.clone() {
-            break End::LinkLost(error);
-        }
-        // Had feedback, and it stopped: do not keep driving blind. (On CAN, `last_frame` is when the robot
-        // sent it, so a backlog read late does not count as fresh.)
-        if status.last_frame.is_some_and(|at| at.elapsed() > FEEDBACK_LOST) {
-            break End::LinkLost(format!("no frames from the robot for {} s", FEEDBACK_LOST.as_secs()));
-        }
-        if let Some((state, wire)) = status.fresh_system(Duration::from_millis(200)) {
-            if state.is_estop() && !args.ignore_faults {
-                break End::EStop;
-            }
-            // Power-cycle or RC override put the robot in another mode: ask for command mode again.
-            if wire == Wire::CanV2
-                && state.control_mode != MODE_CAN
-                && last_mode_request.elapsed() >= MODE_RETRY
-            {
-                sender.request_mode_enable();
-                last_mode_request = Instant::now();
-            }
-        }
-        if follow.observe(&status, stats.sent) && !args.ignore_faults {
-            break End::NotFollowing(robot_words(&status));
-        }
-        if last_status.elapsed() >= status_every {
-            let line = status_line(started.elapsed(), target, &sender, &status);
-            let written = if overwrite { write!(out, "\r\x1b[K{line}") } else { writeln!(out, "{line}") };
-            if let Err(error) = written.and_then(|()| out.flush()) {
-                break End::OutputGone(error.to_string());
-            }
-            last_status = Instant::now();
-        }
-        std::thread::sleep(REFRESH);
-    };
-
+    let mut drive = DriveLoop::new(session, args, target, &sender);
+    let end = drive.run(out, signal);
+    let DriveLoop { started, follow, overwrite, .. } = drive;
     let stats = match end {
         End::TimeUp => sender.ramp_down_and_stop(&limits),
         _ => sender.stop(),
@@ -259,6 +138,216 @@ fn execute_with(
     }
     let elapsed = started.elapsed().as_secs_f64();
     let report = report(&stats, &follow, session);
+    outcome(end, &stats, &follow, elapsed, &report, session, out)
+}
+
+/// The speed to drive at, within the limits; says so when the request was capped.
+fn capped_target(args: &DriveArgs, limits: Limits, out: &mut impl Write) -> Result<(f64, f64)> {
+    let target = (
+        args.linear.clamp(-limits.max_linear, limits.max_linear),
+        args.angular.clamp(-limits.max_angular, limits.max_angular),
+    );
+    if target != (args.linear, args.angular) {
+        writeln!(
+            out,
+            "capped: {:+.3} m/s {:+.3} rad/s -> {:+.3} m/s {:+.3} rad/s (--max-linear {}, --max-angular {})",
+            args.linear, args.angular, target.0, target.1, limits.max_linear, limits.max_angular
+        )?;
+    }
+    Ok(target)
+}
+
+/// Waits for the robot's first status and refuses to drive a robot that cannot (unless --ignore-faults).
+/// `Some(exit status)` when a signal came first: nothing was sent.
+fn check_before_driving(
+    session: &Session,
+    args: &DriveArgs,
+    out: &mut impl Write,
+    context: &Context,
+) -> Result<Option<u8>> {
+    let signal = &context.signal;
+    let first = live::first_status_unless(session, || signal.received().is_some());
+    if let (Some(status), name) = (signal.exit_status(), signal.name()) {
+        writeln!(out, "{name} before driving: nothing was sent")?;
+        return Ok(Some(status));
+    }
+    let refusal = match first {
+        Some((state, wire)) => {
+            let protocol = match wire {
+                Wire::Serial => "RS232".to_string(),
+                _ => session.status().detector.describe(),
+            };
+            writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
+            live::not_drivable(&state, wire)
+        }
+        None => Some(live::no_status_message(session, &session.status())),
+    };
+    if let Some(reason) = refusal {
+        if !args.ignore_faults {
+            return Err(
+                Failure::not_done(format!("not driving: {reason} (--ignore-faults to try anyway)")).into()
+            );
+        }
+        writeln!(out, "warning: {reason}; driving anyway (--ignore-faults)")?;
+    }
+    if context.suspended_early.load(std::sync::atomic::Ordering::SeqCst) {
+        return Err(Failure {
+            code: FAILURE,
+            message: "suspended before driving started: drive ended (run it again to drive)".to_string(),
+        }
+        .into());
+    }
+    Ok(None)
+}
+
+/// The main loop's state: it refreshes the target, watches the sender and the robot, and prints the status.
+struct DriveLoop<'a> {
+    session: &'a Session,
+    args: &'a DriveArgs,
+    target: (f64, f64),
+    sender: &'a MotionSender,
+    started: Instant,
+    last_status: Instant,
+    last_mode_request: Instant,
+    last_iteration: Instant,
+    follow: Follow,
+    suspend_seen: Option<Instant>,
+    /// On a terminal the status line overwrites itself.
+    overwrite: bool,
+    status_every: Duration,
+}
+
+impl<'a> DriveLoop<'a> {
+    fn new(session: &'a Session, args: &'a DriveArgs, target: (f64, f64), sender: &'a MotionSender) -> Self {
+        let overwrite = std::io::stderr().is_terminal();
+        Self {
+            session,
+            args,
+            target,
+            sender,
+            started: Instant::now(),
+            last_status: Instant::now() - STATUS_EVERY_PIPE,
+            last_mode_request: Instant::now(),
+            last_iteration: Instant::now(),
+            follow: Follow::default(),
+            suspend_seen: None,
+            overwrite,
+            status_every: if overwrite { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE },
+        }
+    }
+
+    /// Drives until something ends the drive.
+    fn run(&mut self, out: &mut impl Write, signal: &SignalFlag) -> End {
+        loop {
+            if let Some(end) = self.step(out, signal) {
+                return end;
+            }
+            std::thread::sleep(REFRESH);
+        }
+    }
+
+    /// One iteration: `Some` when the drive must end.
+    fn step(&mut self, out: &mut impl Write, signal: &SignalFlag) -> Option<End> {
+        if let (Some(signo), name) = (signal.exit_status(), signal.name()) {
+            return Some(End::Signal(name, signo));
+        }
+        // After a gap in this loop (suspended with the rest of the process, or blocked on a slow
+        // terminal), let the sender take its next tick first: it alone knows whether commands stopped.
+        let since = self.last_iteration.elapsed();
+        self.last_iteration = Instant::now();
+        if since > GAP_LIMIT {
+            std::thread::sleep(PERIOD * 2);
+        }
+        let stats = self.sender.stats();
+        if let Some(end) = self.sender_held(&stats) {
+            return Some(end);
+        }
+        if self.args.duration.is_some_and(|duration| self.started.elapsed() >= duration) {
+            return Some(End::TimeUp);
+        }
+        self.sender.set_target(self.target.0, self.target.1);
+        if crate::control::panicked() {
+            return Some(End::LinkLost("an internal error (a thread panicked)".to_string()));
+        }
+        let status = self.session.status();
+        if let Some(end) = self.watch_robot(&status, &stats) {
+            return Some(end);
+        }
+        self.print_status(out, &status)
+    }
+
+    /// The sender held the robot at zero (a gap in its clock, its watchdog, or SIGTSTP).
+    fn sender_held(&mut self, stats: &SenderStats) -> Option<End> {
+        match stats.hold {
+            Some(Hold::Gap(gap)) => Some(End::Suspended(gap.max(stats.last_gap.unwrap_or_default()))),
+            Some(Hold::Watchdog) => Some(End::Watchdog),
+            // SIGTSTP sent zeros and stops the process; after SIGCONT the sender sees the gap. A SIGCONT so
+            // quick that no gap shows still ends the drive: the hold is never lifted by drive.
+            Some(Hold::Suspend) => {
+                let since = *self.suspend_seen.get_or_insert_with(Instant::now);
+                (since.elapsed() > GAP_LIMIT * 2).then_some(End::SuspendResumed)
+            }
+            _ => None,
+        }
+    }
+
+    /// The link, the feedback, the E-stop, the mode and whether the robot follows the command.
+    fn watch_robot(&mut self, status: &RobotStatus, stats: &SenderStats) -> Option<End> {
+        if let Some(error) = status.link_error.clone() {
+            return Some(End::LinkLost(error));
+        }
+        // Had feedback, and it stopped: do not keep driving blind. (On CAN, `last_frame` is when the robot
+        // sent it, so a backlog read late does not count as fresh.)
+        if status.last_frame.is_some_and(|at| at.elapsed() > FEEDBACK_LOST) {
+            return Some(End::LinkLost(format!(
+                "no frames from the robot for {} s",
+                FEEDBACK_LOST.as_secs()
+            )));
+        }
+        if let Some((state, wire)) = status.fresh_system(Duration::from_millis(200)) {
+            if state.is_estop() && !self.args.ignore_faults {
+                return Some(End::EStop);
+            }
+            // Power-cycle or RC override put the robot in another mode: ask for command mode again.
+            if wire == Wire::CanV2
+                && state.control_mode != MODE_CAN
+                && self.last_mode_request.elapsed() >= MODE_RETRY
+            {
+                self.sender.request_mode_enable();
+                self.last_mode_request = Instant::now();
+            }
+        }
+        if self.follow.observe(status, stats.sent) && !self.args.ignore_faults {
+            return Some(End::NotFollowing(robot_words(status)));
+        }
+        None
+    }
+
+    /// The status line, when it is due; `Some` when the output went away.
+    fn print_status(&mut self, out: &mut impl Write, status: &RobotStatus) -> Option<End> {
+        if self.last_status.elapsed() < self.status_every {
+            return None;
+        }
+        let line = status_line(self.started.elapsed(), self.target, self.sender, status);
+        let written = if self.overwrite { write!(out, "\r\x1b[K{line}") } else { writeln!(out, "{line}") };
+        if let Err(error) = written.and_then(|()| out.flush()) {
+            return Some(End::OutputGone(error.to_string()));
+        }
+        self.last_status = Instant::now();
+        None
+    }
+}
+
+/// The exit status or the error for how the drive ended, with the report.
+fn outcome(
+    end: End,
+    stats: &SenderStats,
+    follow: &Follow,
+    elapsed: f64,
+    report: &str,
+    session: &Session,
+    out: &mut impl Write,
+) -> Result<u8> {
     match end {
         End::TimeUp => {
             writeln!(out, "stopped after {elapsed:.2} s (time up): {report}")?;

@@ -18,7 +18,7 @@ use anyhow::{Context, Result};
 
 use crate::cli::{Cli, MonitorArgs};
 use crate::exit::{self, DATA_ERROR, FAILURE, SUCCESS};
-use crate::link::{LinkChoice, LinkFrame, LinkKind, Received, RxStats};
+use crate::link::{FrameRx, LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
 use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
 use crate::output::{Event, EventWriter, Format, FrameRef};
@@ -29,6 +29,7 @@ use crate::protocol::frame::ERR_FLAG;
 use crate::protocol::{self, CanFrame, FrameId, FrameKind, ProtocolHint};
 pub use crate::recorder::LogFile;
 use crate::recorder::{push_raw_line, Recorder};
+use crate::signals::SignalFlag;
 use crate::{session, signals};
 
 /// Output is written at the latest when the buffer holds this much...
@@ -83,77 +84,17 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
 
     let start = Instant::now();
     let deadline = args.duration.map(|duration| start + duration);
-    let mut next_tick = start + TICK;
-    let end = loop {
-        if flag.received().is_some() {
-            break End::Signal;
-        }
-        let now = Instant::now();
-        if deadline.is_some_and(|deadline| now >= deadline) {
-            break End::Duration;
-        }
-        if now >= next_tick {
-            monitor.tick(now, rx.stats());
-            next_tick = now + TICK;
-            monitor.print_warnings();
-        }
-        // With output waiting, only take frames that are already there: none waiting means flush now.
-        let wait = if monitor.has_unflushed() {
-            Duration::ZERO
-        } else {
-            let mut wait = POLL.min(next_tick.saturating_duration_since(now));
-            if let Some(deadline) = deadline {
-                wait = wait.min(deadline.saturating_duration_since(now));
-            }
-            wait
-        };
-        let step = match rx.recv(wait) {
-            Ok(Some(received)) => {
-                let now = if kernel_stamps { session::sent_at(&received.ts) } else { Instant::now() };
-                monitor.frame(&received, now)
-            }
-            Ok(None) => monitor.flush(),
-            Err(error) if error.kind() == io::ErrorKind::UnexpectedEof => break End::Eof,
-            Err(error) => break End::LinkError(error),
-        };
-        monitor.warnings.extend(rx.take_notes());
-        monitor.print_warnings();
-        if let Err(error) = step {
-            if exit::is_broken_pipe(&error) {
-                return Ok(monitor.close_log().unwrap_or(SUCCESS));
-            }
-            return Err(error);
-        }
+    let end = match receive_until_end(&mut monitor, rx.as_mut(), &flag, deadline, kernel_stamps) {
+        Ok(end) => end,
+        Err(error) => return quiet_if_broken_pipe(&mut monitor, error),
     };
     let elapsed = start.elapsed();
     drop(simulator);
     monitor.warnings.extend(rx.take_notes());
     monitor.print_warnings();
-    // Standard output gets what is queued; after a signal (or a second one), only a moment more.
-    let mut grace: Option<Instant> = None;
-    let written = monitor.flush().and_then(|()| {
-        monitor
-            .out
-            .finish(|| {
-                flag.received().is_some() && grace.get_or_insert_with(Instant::now).elapsed() >= OUTPUT_GRACE
-            })
-            .context("cannot write to standard output")
-    });
-    if let Err(error) = written {
-        if exit::is_broken_pipe(&error) {
-            return Ok(monitor.close_log().unwrap_or(SUCCESS));
-        }
-        return Err(error);
+    if let Err(error) = drain_output(&mut monitor, &flag) {
+        return quiet_if_broken_pipe(&mut monitor, error);
     }
-    // Lines still queued when the grace ran out count as dropped too.
-    if monitor.out.dropped_lines > monitor.output_dropped {
-        monitor.output_dropped = monitor.out.dropped_lines;
-        monitor.fell_behind();
-    }
-    if let Some(stall) = monitor.out.stalled() {
-        monitor.output_stall = monitor.output_stall.max(stall);
-    }
-    monitor.print_warnings();
     // The totals below include drops and checksum errors not yet reported as warnings.
     let stats = rx.stats();
     let (mut status, why) = match &end {
@@ -180,6 +121,84 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
         }
     }
     Ok(status)
+}
+
+/// Receives, prints and checks frames until a signal, the deadline, the end of the source or a link error.
+/// An error is one writing the output or the log.
+fn receive_until_end(
+    monitor: &mut Monitor<OutputQueue>,
+    rx: &mut dyn FrameRx,
+    flag: &SignalFlag,
+    deadline: Option<Instant>,
+    kernel_stamps: bool,
+) -> Result<End> {
+    let mut next_tick = Instant::now() + TICK;
+    loop {
+        if flag.received().is_some() {
+            return Ok(End::Signal);
+        }
+        let now = Instant::now();
+        if deadline.is_some_and(|deadline| now >= deadline) {
+            return Ok(End::Duration);
+        }
+        if now >= next_tick {
+            monitor.tick(now, rx.stats());
+            next_tick = now + TICK;
+            monitor.print_warnings();
+        }
+        // With output waiting, only take frames that are already there: none waiting means flush now.
+        let wait = if monitor.has_unflushed() {
+            Duration::ZERO
+        } else {
+            let mut wait = POLL.min(next_tick.saturating_duration_since(now));
+            if let Some(deadline) = deadline {
+                wait = wait.min(deadline.saturating_duration_since(now));
+            }
+            wait
+        };
+        let step = match rx.recv(wait) {
+            Ok(Some(received)) => {
+                let now = if kernel_stamps { session::sent_at(&received.ts) } else { Instant::now() };
+                monitor.frame(&received, now)
+            }
+            Ok(None) => monitor.flush(),
+            Err(error) if error.kind() == io::ErrorKind::UnexpectedEof => return Ok(End::Eof),
+            Err(error) => return Ok(End::LinkError(error)),
+        };
+        monitor.warnings.extend(rx.take_notes());
+        monitor.print_warnings();
+        step?;
+    }
+}
+
+/// Standard output gets what is queued; after a signal (or a second one), only a moment more. Lines still
+/// queued when that moment is over count as dropped.
+fn drain_output(monitor: &mut Monitor<OutputQueue>, flag: &SignalFlag) -> Result<()> {
+    let mut grace: Option<Instant> = None;
+    monitor.flush()?;
+    monitor
+        .out
+        .finish(|| {
+            flag.received().is_some() && grace.get_or_insert_with(Instant::now).elapsed() >= OUTPUT_GRACE
+        })
+        .context("cannot write to standard output")?;
+    if monitor.out.dropped_lines > monitor.output_dropped {
+        monitor.output_dropped = monitor.out.dropped_lines;
+        monitor.fell_behind();
+    }
+    if let Some(stall) = monitor.out.stalled() {
+        monitor.output_stall = monitor.output_stall.max(stall);
+    }
+    monitor.print_warnings();
+    Ok(())
+}
+
+/// A reader of standard output that went away ends the monitor quietly (`monitor | head`).
+fn quiet_if_broken_pipe<W: Output>(monitor: &mut Monitor<W>, error: anyhow::Error) -> Result<u8> {
+    if exit::is_broken_pipe(&error) {
+        return Ok(monitor.close_log().unwrap_or(SUCCESS));
+    }
+    Err(error)
 }
 
 enum End {

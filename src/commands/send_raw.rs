@@ -70,28 +70,8 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         return Err(usage(format!("--repeat {} --period {} is too long", args.repeat, args.period)));
     }
     let hint: ProtocolHint = cli.protocol.into();
-    let plan = args
-        .frames
-        .iter()
-        .enumerate()
-        .map(|(index, text)| {
-            plan(text, serial_link, args.fix_checksum, hint).map_err(|reason| {
-                let which =
-                    if args.frames.len() > 1 { format!("frame {} ", index + 1) } else { String::new() };
-                usage(format!("{which}'{text}': {reason}; nothing was sent"))
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let forced: Vec<&Planned> = plan.iter().filter(|planned| planned.needs_force).collect();
-    if !forced.is_empty() && !args.force {
-        let list: Vec<String> =
-            forced.iter().map(|planned| format!("{} ({})", planned.text, planned.meaning)).collect();
-        return Err(usage(format!(
-            "refusing to send frames that can move the robot or enable motion: {}. Make sure the robot may move \
-             (wheels off the ground, or room around it), then add --force; nothing was sent",
-            list.join("; ")
-        )));
-    }
+    let plan = plan_all(&args.frames, serial_link, args.fix_checksum, hint)?;
+    refuse_motion_without_force(&plan, args.force)?;
     for planned in &plan {
         crate::say!("tracerctl: {} = {}", planned.text, planned.meaning);
     }
@@ -99,29 +79,11 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
     let (link, simulator) = session::open_link(&choice, None)?;
     let wire_ok = (link.wire == Wire::Serial) == serial_link;
     anyhow::ensure!(wire_ok, "{} is not the kind of link the frames were written for", link.name);
-    let main = std::thread::current();
-    let suspended = Arc::new(AtomicBool::new(false));
-    let stopped = Arc::new(AtomicBool::new(false));
-    let flag = {
-        let (main_too, suspended, stopped) = (main.clone(), Arc::clone(&suspended), Arc::clone(&stopped));
-        signals::listen_suspendable(
-            move |_| main.unpark(),
-            // SIGTSTP: the repeats end with zero frames before the process stops; after SIGCONT it does not
-            // carry on (a gap never resumes motion).
-            move || {
-                suspended.store(true, Ordering::SeqCst);
-                main_too.unpark();
-                let deadline = Instant::now() + Duration::from_millis(100);
-                while !stopped.load(Ordering::SeqCst) && Instant::now() < deadline {
-                    std::thread::sleep(Duration::from_millis(1));
-                }
-            },
-        )?
-    };
+    let stops = Stops::listen()?;
     let mut rx = link.rx;
-    let stop = || flag.received().is_some() || suspended.load(Ordering::SeqCst);
+    let stop = || stops.flag.received().is_some() || stops.suspended.load(Ordering::SeqCst);
     let result = send(link.tx.as_ref(), Some(rx.as_mut()), &plan, args.repeat, period, &stop);
-    stopped.store(true, Ordering::SeqCst);
+    stops.stopped.store(true, Ordering::SeqCst);
     let total = plan.len() as u64 * u64::from(args.repeat);
     let report = match result {
         Ok(report) => report,
@@ -135,6 +97,90 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
         }
     };
     drop(simulator);
+    say_what_was_sent(&report, &stops.flag, total, &link.name, queue_full_meaning(link.kind));
+    if stops.suspended.load(Ordering::SeqCst) {
+        return Err(anyhow::anyhow!(
+            "suspended (SIGTSTP): the repeats ended with zero-velocity frames; run send-raw again to send more"
+        ));
+    }
+    Ok(stops.flag.exit_status().unwrap_or(SUCCESS))
+}
+
+/// Every frame of the command line parsed and described; the first that is not a frame is a usage error.
+fn plan_all(
+    frames: &[String],
+    serial_link: bool,
+    fix_checksum: bool,
+    hint: ProtocolHint,
+) -> Result<Vec<Planned>> {
+    frames
+        .iter()
+        .enumerate()
+        .map(|(index, text)| {
+            plan(text, serial_link, fix_checksum, hint).map_err(|reason| {
+                let which = if frames.len() > 1 { format!("frame {} ", index + 1) } else { String::new() };
+                usage(format!("{which}'{text}': {reason}; nothing was sent"))
+            })
+        })
+        .collect()
+}
+
+/// Frames that can move the robot or enable motion are only sent with `--force`.
+fn refuse_motion_without_force(plan: &[Planned], force: bool) -> Result<()> {
+    let forced: Vec<&Planned> = plan.iter().filter(|planned| planned.needs_force).collect();
+    if !forced.is_empty() && !force {
+        let list: Vec<String> =
+            forced.iter().map(|planned| format!("{} ({})", planned.text, planned.meaning)).collect();
+        return Err(usage(format!(
+            "refusing to send frames that can move the robot or enable motion: {}. Make sure the robot may move \
+             (wheels off the ground, or room around it), then add --force; nothing was sent",
+            list.join("; ")
+        )));
+    }
+    Ok(())
+}
+
+/// What ends the repeats: a termination signal, or SIGTSTP (`suspended`), which waits for the zero frames
+/// (`stopped`) before the process stops.
+struct Stops {
+    flag: signals::SignalFlag,
+    suspended: Arc<AtomicBool>,
+    stopped: Arc<AtomicBool>,
+}
+
+impl Stops {
+    /// Listens from now on; a signal wakes this (the main) thread from its wait for the next repeat.
+    fn listen() -> Result<Self> {
+        let main = std::thread::current();
+        let suspended = Arc::new(AtomicBool::new(false));
+        let stopped = Arc::new(AtomicBool::new(false));
+        let (main_too, suspended_too, stopped_too) =
+            (main.clone(), Arc::clone(&suspended), Arc::clone(&stopped));
+        let flag = signals::listen_suspendable(
+            move |_| main.unpark(),
+            // SIGTSTP: the repeats end with zero frames before the process stops; after SIGCONT it does not
+            // carry on (a gap never resumes motion).
+            move || {
+                suspended_too.store(true, Ordering::SeqCst);
+                main_too.unpark();
+                let deadline = Instant::now() + Duration::from_millis(100);
+                while !stopped_too.load(Ordering::SeqCst) && Instant::now() < deadline {
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+            },
+        )?;
+        Ok(Self { flag, suspended, stopped })
+    }
+}
+
+/// The closing lines on stderr: how many frames left, how many did not, and the stop frames.
+fn say_what_was_sent(
+    report: &Report,
+    flag: &signals::SignalFlag,
+    total: u64,
+    link_name: &str,
+    queue_full: &str,
+) {
     let plural = |n: u64| if n == 1 { "" } else { "s" };
     match flag.received() {
         Some(_) => crate::say!(
@@ -142,27 +188,21 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
             flag.name(),
             report.sent,
             plural(total),
-            link.name
+            link_name
         ),
-        None => crate::say!("tracerctl: sent {} frame{} on {}", report.sent, plural(report.sent), link.name),
+        None => crate::say!("tracerctl: sent {} frame{} on {}", report.sent, plural(report.sent), link_name),
     }
     if report.not_sent > 0 {
         crate::say!(
             "tracerctl: {} frame{} not sent ({})",
             report.not_sent,
             plural(report.not_sent),
-            queue_full_meaning(link.kind)
+            queue_full
         );
     }
     if report.stop_frames > 0 {
         crate::say!("tracerctl: then {} zero-velocity frames to stop the robot", report.stop_frames);
     }
-    if suspended.load(std::sync::atomic::Ordering::SeqCst) {
-        return Err(anyhow::anyhow!(
-            "suspended (SIGTSTP): the repeats ended with zero-velocity frames; run send-raw again to send more"
-        ));
-    }
-    Ok(flag.exit_status().unwrap_or(SUCCESS))
 }
 
 /// Parses one frame for the link's wire and describes it.

@@ -11,7 +11,7 @@ use anyhow::{Context, Result};
 
 use crate::cli::{Cli, RcSwitchChoice, SimArgs};
 use crate::exit::SUCCESS;
-use crate::link::{self, LinkChoice};
+use crate::link::{self, Link, LinkChoice};
 use crate::signals;
 use crate::sim::{serve, FaultKind, RcSwitch, SimConfig, SimState, SimWire};
 
@@ -46,8 +46,14 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         config.battery_drain_factor = factor;
     }
 
+    let link = open_served_link(cli, args.pty, &mut config)?;
+    serve_until_done(config, link, args.duration)
+}
+
+/// The link to serve on (a new pseudo-terminal with `pty`), announced on standard output; the wire follows.
+fn open_served_link(cli: &Cli, pty: bool, config: &mut SimConfig) -> Result<Link> {
     let mut stdout = std::io::stdout().lock();
-    let link = if args.pty {
+    let link = if pty {
         config.wire = SimWire::Serial;
         let (master, slave) = serialport::TTYPort::pair().context("cannot create a pseudo-terminal")?;
         let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no name")?;
@@ -70,21 +76,16 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
             }
         }
     };
+    Ok(link)
+}
 
+/// Serves until a signal, the duration or the end of the link, injecting faults read from standard input and
+/// reporting changes on stderr.
+fn serve_until_done(config: SimConfig, link: Link, duration: Option<Duration>) -> Result<u8> {
     let link_kind = link.kind;
     let running = serve::start(config, link)?;
     let signal = signals::listen(|_| {})?;
-    let (lines, inbox) = mpsc::channel::<String>();
-    std::thread::Builder::new()
-        .name("tracerctl-sim-stdin".into())
-        .spawn(move || {
-            for line in std::io::stdin().lock().lines().map_while(Result::ok) {
-                if lines.send(line).is_err() {
-                    break;
-                }
-            }
-        })
-        .context("cannot start the input thread")?;
+    let inbox = read_stdin_lines()?;
 
     let started = Instant::now();
     let mut last_report = String::new();
@@ -93,25 +94,11 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
     // The status lines are for a person watching; with nobody reading them (a closed stderr) the simulator
     // goes on serving.
     let mut stderr = std::io::stderr().lock();
-    while signal.received().is_none() && args.duration.is_none_or(|d| started.elapsed() < d) {
+    while signal.received().is_none() && duration.is_none_or(|d| started.elapsed() < d) {
         if running.has_ended() {
             break;
         }
-        while let Ok(line) = inbox.try_recv() {
-            let line = line.trim();
-            if line.is_empty() {
-                continue;
-            }
-            match line.parse::<FaultKind>() {
-                Ok(fault) => {
-                    running.inject(fault);
-                    let _ = writeln!(stderr, "sim: injected {line}");
-                }
-                Err(error) => {
-                    let _ = writeln!(stderr, "sim: {error}");
-                }
-            }
-        }
+        inject_faults(&running, &inbox, &mut stderr);
         let not_sent = running.not_sent();
         if not_sent >= next_not_sent_report {
             let _ = writeln!(
@@ -139,6 +126,41 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         );
     }
     Ok(SUCCESS)
+}
+
+/// The lines of standard input, read on their own thread (a test or a second terminal types faults there).
+fn read_stdin_lines() -> Result<mpsc::Receiver<String>> {
+    let (lines, inbox) = mpsc::channel::<String>();
+    std::thread::Builder::new()
+        .name("tracerctl-sim-stdin".into())
+        .spawn(move || {
+            for line in std::io::stdin().lock().lines().map_while(Result::ok) {
+                if lines.send(line).is_err() {
+                    break;
+                }
+            }
+        })
+        .context("cannot start the input thread")?;
+    Ok(inbox)
+}
+
+/// Injects each fault named by a line that came in; says what it did with each non-empty line.
+fn inject_faults(running: &serve::Running, inbox: &mpsc::Receiver<String>, stderr: &mut impl Write) {
+    while let Ok(line) = inbox.try_recv() {
+        let line = line.trim();
+        if line.is_empty() {
+            continue;
+        }
+        match line.parse::<FaultKind>() {
+            Ok(fault) => {
+                running.inject(fault);
+                let _ = writeln!(stderr, "sim: injected {line}");
+            }
+            Err(error) => {
+                let _ = writeln!(stderr, "sim: {error}");
+            }
+        }
+    }
 }
 
 /// One line of what changed that a person watching the simulator cares about (no speeds: they change

@@ -1,27 +1,28 @@
 //! `decode --summary`: the report a technician reads. Memory is bounded: per-ID tables, capped event lists.
 
+mod json;
+mod report;
+mod text;
+
 use std::collections::{HashMap, HashSet};
-use std::fmt::Write as _;
+use std::fmt;
 use std::hash::{Hash, Hasher};
-use std::time::{Duration, UNIX_EPOCH};
 
-use serde_json::{json, Value as Json};
+use serde_json::Value as Json;
 
-use super::{totals_line, InputStats};
-use crate::candump::{Timestamp, TimestampKind};
+use super::InputStats;
+use crate::candump::Timestamp;
 use crate::output::{Event, FrameRef, Shape};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ERROR_CLASSES;
-use crate::protocol::faults::{FlagTable, Flags};
-use crate::protocol::message::{control_mode_name, vehicle_state_name, Message, Wire};
-use crate::protocol::{Decoded, FrameKind};
+use crate::protocol::frame::ERR_FLAG;
+use crate::protocol::message::{control_mode_name, vehicle_state_name, Message, SystemState, Wire};
+use crate::protocol::{Decoded, FrameId, FrameKind};
 
 /// At most this many mode and vehicle-state events are listed; the rest are counted.
 const MAX_LISTED_EVENTS: usize = 200;
 /// Identifiers beyond this many (extended, serial, FD) share one "other" row, so memory stays bounded.
 const MAX_OTHER_IDS: usize = 4096;
-/// The key of that row.
-const OTHER_KEY: u64 = u64::MAX;
 
 /// A wheel odometer step larger than this between consecutive frames is a reset, not travel.
 const ODOMETER_JUMP_MM: i64 = 2_000;
@@ -75,9 +76,59 @@ struct At {
     frame: u64,
 }
 
-#[derive(Debug, Default)]
+/// What one row of the per-identifier table counts. The variants' order is the table's: standard then
+/// extended CAN identifiers, error frames, RS232 identifiers, standard-ID CAN FD frames, the overflow row.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+enum RowKey {
+    /// A classic CAN data or remote frame (standard or extended; extended CAN FD frames too).
+    Can(FrameId),
+    /// A CAN error frame, by its error-class bits (an extended identifier without `ERR_FLAG`).
+    Error(FrameId),
+    /// An RS232 frame.
+    Serial(FrameId),
+    /// A CAN FD frame with a standard identifier: listed apart from the classic frame with that number.
+    Fd(FrameId),
+    /// Every identifier beyond the first `MAX_OTHER_IDS` non-standard ones.
+    Other,
+}
+
+impl RowKey {
+    fn of(event: &Event) -> Self {
+        match event.frame {
+            FrameRef::Can(frame) => match frame.kind() {
+                FrameKind::Error => Self::Error(frame.frame_id()),
+                _ if frame.is_extended() => Self::Can(frame.frame_id()),
+                FrameKind::Fd => Self::Fd(frame.frame_id()),
+                _ => Self::Can(frame.frame_id()),
+            },
+            FrameRef::Serial(frame) => Self::Serial(frame.frame_id()),
+        }
+    }
+
+    /// The slot in the 2048-entry table, for a classic standard identifier.
+    fn standard_index(self) -> Option<usize> {
+        match self {
+            Self::Can(id) => id.standard_index(),
+            _ => None,
+        }
+    }
+}
+
+impl fmt::Display for RowKey {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::Can(id) | Self::Serial(id) => write!(f, "{id}"),
+            // As candump prints an error frame: with the error flag.
+            Self::Error(id) => write!(f, "0x{:08X}", id.value() | ERR_FLAG),
+            Self::Fd(id) => write!(f, "{id} (FD)"),
+            Self::Other => write!(f, "other ids (beyond {MAX_OTHER_IDS})"),
+        }
+    }
+}
+
+#[derive(Debug)]
 struct IdStats {
-    key: u64,
+    key: RowKey,
     name: &'static str,
     count: u64,
     first: Option<Timestamp>,
@@ -91,11 +142,41 @@ struct IdStats {
     invalid: u64,
 }
 
+impl IdStats {
+    fn new(key: RowKey) -> Self {
+        Self {
+            key,
+            name: "",
+            count: 0,
+            first: None,
+            last: None,
+            worst_gap_ns: 0,
+            worst_gap_at: None,
+            last_counter: None,
+            counter_skips: 0,
+            frames_lost: 0,
+            counter_repeats: 0,
+            invalid: 0,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, Default)]
 struct FaultSeen {
     first: Option<At>,
     last: Option<At>,
     frames: u64,
+}
+
+/// Records `at` for every bit set in `bits`, one slot per bit.
+fn see_bits(slots: &mut [FaultSeen], bits: u16, at: At) {
+    for (bit, seen) in slots.iter_mut().enumerate() {
+        if bits & (1 << bit) != 0 {
+            seen.first.get_or_insert(at);
+            seen.last = Some(at);
+            seen.frames += 1;
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -142,7 +223,7 @@ pub struct Summary {
     /// Index into `ids` + 1 for each standard identifier; 0 = not seen.
     standard_index: Box<[u32; 2048]>,
     /// Index into `ids` for every other key (extended, error, serial, FD).
-    other_index: HashMap<u64, usize>,
+    other_index: HashMap<RowKey, usize>,
     ids: Vec<IdStats>,
     interfaces: Interfaces,
     last_iface: String,
@@ -205,22 +286,6 @@ fn nanos(ts: &Timestamp) -> u128 {
     ts.as_nanos()
 }
 
-/// A key per identifier: standard CAN ids as-is, extended with bit 32, error frames bit 33, serial bit 34.
-fn id_key(event: &Event) -> u64 {
-    match event.frame {
-        FrameRef::Can(frame) => {
-            let id = u64::from(frame.id());
-            match frame.kind() {
-                FrameKind::Error => id | 1 << 33,
-                _ if frame.is_extended() => id | 1 << 32,
-                FrameKind::Fd => id | 1 << 35,
-                _ => id,
-            }
-        }
-        FrameRef::Serial(frame) => u64::from(frame.id()) | 1 << 34,
-    }
-}
-
 /// The rolling count byte a message carries, if any.
 fn counter(decoded: &Decoded) -> Option<u8> {
     match decoded.message {
@@ -248,7 +313,7 @@ impl Summary {
             self.interfaces.see(event.iface);
         }
         let shape = event.shape();
-        let stats = self.id_stats(id_key(event));
+        let stats = self.id_stats(RowKey::of(event));
         stats.count += 1;
         stats.name = event.msg_name();
         if let Some(ts) = event.ts {
@@ -291,26 +356,26 @@ impl Summary {
         }
     }
 
-    fn id_stats(&mut self, key: u64) -> &mut IdStats {
-        let slot = if key < 2048 {
-            let index = self.standard_index[key as usize];
+    fn id_stats(&mut self, key: RowKey) -> &mut IdStats {
+        let slot = if let Some(standard) = key.standard_index() {
+            let index = self.standard_index[standard];
             if index == 0 {
-                self.ids.push(IdStats { key, ..IdStats::default() });
-                self.standard_index[key as usize] = self.ids.len() as u32;
+                self.ids.push(IdStats::new(key));
+                self.standard_index[standard] = self.ids.len() as u32;
                 self.ids.len() - 1
             } else {
                 index as usize - 1
             }
         } else {
             let key = if self.other_index.len() >= MAX_OTHER_IDS && !self.other_index.contains_key(&key) {
-                OTHER_KEY
+                RowKey::Other
             } else {
                 key
             };
             match self.other_index.get(&key) {
                 Some(index) => *index,
                 None => {
-                    self.ids.push(IdStats { key, ..IdStats::default() });
+                    self.ids.push(IdStats::new(key));
                     self.other_index.insert(key, self.ids.len() - 1);
                     self.ids.len() - 1
                 }
@@ -329,49 +394,7 @@ impl Summary {
 
     fn message(&mut self, decoded: &Decoded, at: At) {
         match decoded.message {
-            Message::SystemState(state) => {
-                let wire = decoded.wire;
-                let mode = (state.control_mode, wire);
-                if self.mode.is_some_and(|previous| previous.0 != mode.0) || self.mode.is_none() {
-                    let name = |(value, wire): (u8, Wire)| mode_text(wire, value);
-                    let text = match self.mode {
-                        Some(previous) => format!("control mode {} -> {}", name(previous), name(mode)),
-                        None => format!("control mode {} (first status)", name(mode)),
-                    };
-                    self.note(at, text);
-                }
-                self.mode = Some(mode);
-                if self.vehicle != Some(state.vehicle_state) {
-                    let name = vehicle_state_name(state.vehicle_state).unwrap_or("unknown");
-                    let text = match self.vehicle {
-                        Some(previous) => format!(
-                            "vehicle state {} -> {name}{}",
-                            vehicle_state_name(previous).unwrap_or("unknown"),
-                            if state.is_estop() { " (E-stop pressed)" } else { "" }
-                        ),
-                        None => format!("vehicle state {name} (first status)"),
-                    };
-                    self.note(at, text);
-                }
-                self.vehicle = Some(state.vehicle_state);
-                let table = usize::from(wire != Wire::CanV2);
-                for bit in 0..16 {
-                    if state.fault_code & (1 << bit) != 0 {
-                        let seen = &mut self.system_faults[table][bit];
-                        seen.first.get_or_insert(at);
-                        seen.last = Some(at);
-                        seen.frames += 1;
-                    }
-                }
-                let volts = i64::from(state.battery_decivolts);
-                if self.battery_min.is_none_or(|min| volts < min.value) {
-                    self.battery_min = Some(Extreme { value: volts, at });
-                }
-                if self.battery_max.is_none_or(|max| volts > max.value) {
-                    self.battery_max = Some(Extreme { value: volts, at });
-                }
-                self.battery_last = Some(Extreme { value: volts, at });
-            }
+            Message::SystemState(state) => self.system_state(&state, decoded.wire, at),
             Message::MotionState(state) => {
                 keep_max_abs(&mut self.measured_linear, state.linear_mm_s.into(), at);
                 keep_max_abs(&mut self.measured_angular, state.angular_mrad_s.into(), at);
@@ -386,25 +409,14 @@ impl Summary {
                 keep_max_abs(&mut self.commanded_angular, cmd.angular_1e5() / 100, at);
             }
             Message::MotorHighSpeed(motor) if matches!(motor.motor, 1 | 2) => {
-                let index = usize::from(motor.motor - 1);
-                keep_max_abs(&mut self.rpm[index], motor.rpm.into(), at);
-                keep_max_abs(&mut self.current[index], motor.current_deciamps.into(), at);
+                self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
             }
             Message::MotorDriverState(motor) if matches!(motor.motor, 1 | 2) => {
-                let index = usize::from(motor.motor - 1);
-                keep_max_abs(&mut self.rpm[index], motor.rpm.into(), at);
-                keep_max_abs(&mut self.current[index], motor.current_deciamps.into(), at);
+                self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
             }
             Message::MotorLowSpeed(motor) => {
                 let index = usize::from(motor.motor.clamp(1, 3) - 1);
-                for bit in 0..8 {
-                    if motor.driver_state & (1 << bit) != 0 {
-                        let seen = &mut self.driver_faults[index][bit];
-                        seen.first.get_or_insert(at);
-                        seen.last = Some(at);
-                        seen.frames += 1;
-                    }
-                }
+                see_bits(&mut self.driver_faults[index], motor.driver_state.into(), at);
             }
             Message::Odometry(odo) => {
                 self.wheels[0].update(odo.left_mm.into());
@@ -414,375 +426,95 @@ impl Summary {
         }
     }
 
+    fn system_state(&mut self, state: &SystemState, wire: Wire, at: At) {
+        self.note_mode_change(state.control_mode, wire, at);
+        self.note_vehicle_change(state, at);
+        let table = usize::from(wire != Wire::CanV2);
+        see_bits(&mut self.system_faults[table], state.fault_code, at);
+        let volts = i64::from(state.battery_decivolts);
+        if self.battery_min.is_none_or(|min| volts < min.value) {
+            self.battery_min = Some(Extreme { value: volts, at });
+        }
+        if self.battery_max.is_none_or(|max| volts > max.value) {
+            self.battery_max = Some(Extreme { value: volts, at });
+        }
+        self.battery_last = Some(Extreme { value: volts, at });
+    }
+
+    fn note_mode_change(&mut self, control_mode: u8, wire: Wire, at: At) {
+        let mode = (control_mode, wire);
+        if self.mode.is_some_and(|previous| previous.0 != mode.0) || self.mode.is_none() {
+            let name = |(value, wire): (u8, Wire)| mode_text(wire, value);
+            let text = match self.mode {
+                Some(previous) => format!("control mode {} -> {}", name(previous), name(mode)),
+                None => format!("control mode {} (first status)", name(mode)),
+            };
+            self.note(at, text);
+        }
+        self.mode = Some(mode);
+    }
+
+    fn note_vehicle_change(&mut self, state: &SystemState, at: At) {
+        if self.vehicle != Some(state.vehicle_state) {
+            let name = vehicle_state_name(state.vehicle_state).unwrap_or("unknown");
+            let text = match self.vehicle {
+                Some(previous) => format!(
+                    "vehicle state {} -> {name}{}",
+                    vehicle_state_name(previous).unwrap_or("unknown"),
+                    if state.is_estop() { " (E-stop pressed)" } else { "" }
+                ),
+                None => format!("vehicle state {name} (first status)"),
+            };
+            self.note(at, text);
+        }
+        self.vehicle = Some(state.vehicle_state);
+    }
+
+    /// Motor `number` (1 or 2): the largest speed and current seen.
+    fn motor_extremes(&mut self, number: u8, rpm: i64, current_deciamps: i64, at: At) {
+        let index = usize::from(number - 1);
+        keep_max_abs(&mut self.rpm[index], rpm, at);
+        keep_max_abs(&mut self.current[index], current_deciamps, at);
+    }
+
     /// The text report.
     pub fn report(&self, stats: &InputStats, detector: &ProtocolDetector) -> String {
-        let mut out = String::new();
-        let w = &mut out;
-        let _ = writeln!(w, "Input");
-        let _ = writeln!(w, "  {}", totals_line(stats));
-        for (name, serial) in &stats.serial {
-            let _ = writeln!(
-                w,
-                "  serial {name}: {} bytes, {} frames, {} bad checksums, {} bad length bytes, {} bad frame types, \
-                 {} bytes skipped, {} sync losses",
-                serial.bytes,
-                serial.frames,
-                serial.bad_checksum,
-                serial.bad_length,
-                serial.bad_type,
-                serial.skipped_bytes,
-                serial.sync_losses
-            );
-        }
-        if !self.interfaces.names.is_empty() {
-            let _ = write!(w, "  interfaces: {}", self.interfaces.names.join(", "));
-            match self.interfaces.not_listed() {
-                0 => {}
-                n if self.interfaces.extra_overflow => {
-                    let _ = write!(w, " and more than {n} more");
-                }
-                n => {
-                    let _ = write!(w, " and {n} more");
-                }
-            }
-            let _ = writeln!(w);
-        }
-        let _ = writeln!(w, "  protocol: {}", detector.describe());
-        let _ = writeln!(w, "  time span: {}", self.span_text());
-
-        let _ = writeln!(w, "\nFrames per ID");
-        let _ = writeln!(
-            w,
-            "  {:<10} {:<22} {:>10} {:>9} {:>10}  lost (count-byte skips)",
-            "id", "message", "frames", "rate/s", "worst gap"
-        );
-        let mut ids: Vec<&IdStats> = self.ids.iter().collect();
-        ids.sort_by_key(|stats| stats.key);
-        for stats in ids {
-            let rate = match (stats.first, stats.last) {
-                (Some(first), Some(last)) if stats.count > 1 && nanos(&last) > nanos(&first) => {
-                    format!("{:.1}", (stats.count - 1) as f64 / ((nanos(&last) - nanos(&first)) as f64 / 1e9))
-                }
-                _ => "-".to_string(),
-            };
-            let gap = if stats.worst_gap_ns > 0 {
-                format!("{:.3} s", stats.worst_gap_ns as f64 / 1e9)
-            } else {
-                "-".to_string()
-            };
-            let lost = if stats.last_counter.is_some() {
-                let mut text = format!("{} in {} skips", stats.frames_lost, stats.counter_skips);
-                if stats.counter_repeats > 0 {
-                    let _ = write!(text, ", {} repeated", stats.counter_repeats);
-                }
-                text
-            } else {
-                "-".to_string()
-            };
-            let mut lost = lost;
-            if stats.invalid > 0 {
-                let _ = write!(lost, " ({} invalid)", stats.invalid);
-            }
-            let _ = writeln!(
-                w,
-                "  {:<10} {:<22} {:>10} {:>9} {:>10}  {}",
-                key_text(stats.key),
-                stats.name,
-                stats.count,
-                rate,
-                gap,
-                lost
-            );
-        }
-
-        let _ = writeln!(w, "\nControl mode and vehicle state");
-        if self.events.is_empty() {
-            let _ = writeln!(w, "  no system-state frames");
-        }
-        for (at, text) in &self.events {
-            let _ = writeln!(w, "  {}  {text}", at_text(at));
-        }
-        if self.events_not_listed > 0 {
-            let _ = writeln!(w, "  ... and {} more changes not listed", self.events_not_listed);
-        }
-
-        let _ = writeln!(w, "\nFaults (first and last seen)");
-        let mut any_fault = false;
-        for (table_index, table) in [FlagTable::SystemV2, FlagTable::SystemV1Serial].into_iter().enumerate() {
-            for (bit, seen) in self.system_faults[table_index].iter().enumerate() {
-                any_fault |= fault_line(w, "system", table, bit as u32, seen);
-            }
-        }
-        for (motor, bits) in self.driver_faults.iter().enumerate() {
-            let label = ["motor 1", "motor 2", "motor ?"][motor];
-            for (bit, seen) in bits.iter().enumerate() {
-                any_fault |= fault_line(w, label, FlagTable::DriverState, bit as u32, seen);
-            }
-        }
-        if !any_fault {
-            let _ = writeln!(w, "  none");
-        }
-
-        let _ = writeln!(w, "\nBattery");
-        match (self.battery_min, self.battery_max, self.battery_last) {
-            (Some(min), Some(max), Some(last)) => {
-                let _ = writeln!(w, "  min {} at {}", volts(min.value), at_text(&min.at));
-                let _ = writeln!(w, "  max {} at {}", volts(max.value), at_text(&max.at));
-                let _ = writeln!(w, "  last {} at {}", volts(last.value), at_text(&last.at));
-            }
-            _ => {
-                let _ = writeln!(w, "  no system-state frames");
-            }
-        }
-
-        let _ = writeln!(w, "\nOdometry");
-        for (name, wheel) in ["left", "right"].iter().zip(&self.wheels) {
-            match (wheel.first, wheel.last) {
-                (Some(first), Some(last)) => {
-                    let _ = write!(
-                        w,
-                        "  {name:<5} travelled {:.3} m, net {:+.3} m (odometer {:.3} -> {:.3} m)",
-                        wheel.travelled_mm as f64 / 1000.0,
-                        (last - first) as f64 / 1000.0,
-                        first as f64 / 1000.0,
-                        last as f64 / 1000.0
-                    );
-                    if wheel.resets > 0 {
-                        let _ = write!(w, ", {} odometer jumps ignored", wheel.resets);
-                    }
-                    let _ = writeln!(w);
-                }
-                _ => {
-                    let _ = writeln!(w, "  {name:<5} no odometry frames");
-                }
-            }
-        }
-
-        let _ = writeln!(w, "\nTop speeds");
-        let speed = |extreme: &Option<Extreme>, unit: &str| match extreme {
-            Some(e) => format!("{:+.3} {unit} at {}", e.value as f64 / 1000.0, at_text(&e.at)),
-            None => "-".to_string(),
-        };
-        let _ = writeln!(w, "  measured linear   {}", speed(&self.measured_linear, "m/s"));
-        let _ = writeln!(w, "  measured angular  {}", speed(&self.measured_angular, "rad/s"));
-        let _ = writeln!(w, "  commanded linear  {}", speed(&self.commanded_linear, "m/s"));
-        let _ = writeln!(w, "  commanded angular {}", speed(&self.commanded_angular, "rad/s"));
-        for motor in 0..2 {
-            if let (Some(rpm), Some(current)) = (self.rpm[motor], self.current[motor]) {
-                let _ = writeln!(
-                    w,
-                    "  motor {}           {:+} rpm at {}; current {:.1} A at {}",
-                    motor + 1,
-                    rpm.value,
-                    at_text(&rpm.at),
-                    current.value as f64 / 10.0,
-                    at_text(&current.at)
-                );
-            }
-        }
-
-        let errors: Vec<String> = ERROR_CLASSES
-            .iter()
-            .zip(self.error_classes)
-            .filter(|(_, count)| *count > 0)
-            .map(|((_, name), count)| format!("{name} x{count}"))
-            .collect();
-        if !errors.is_empty() || stats.candump_dropped > 0 {
-            let _ = writeln!(w, "\nBus errors");
-            if !errors.is_empty() {
-                let _ = writeln!(w, "  error frames: {}", errors.join(", "));
-            }
-            if stats.candump_dropped > 0 {
-                let _ =
-                    writeln!(w, "  candump reported {} frames dropped by the socket", stats.candump_dropped);
-            }
-        }
-
-        let _ = writeln!(w, "\nRejected input");
-        if stats.rejected.rejected.is_empty() {
-            let _ = writeln!(w, "  none");
-        }
-        for rejection in &stats.rejected.rejected {
-            let _ = writeln!(w, "  {:>8}  {}", rejection.count, rejection.describe_after_count());
-        }
-        if stats.skipped.total() > 0 {
-            let _ = writeln!(w, "  skipped lines: {}", stats.skipped.describe());
-        }
-        out
+        text::render(&self.build_report(stats, detector))
     }
 
     /// The same report as JSON.
     pub fn to_json(&self, stats: &InputStats, detector: &ProtocolDetector) -> Json {
-        let ts = |ts: Option<Timestamp>| ts.map(|t| exact_seconds(&t));
-        let at = |at: &At| json!({ "ts": ts(at.ts), "frame": at.frame });
-        let mut ids: Vec<&IdStats> = self.ids.iter().collect();
-        ids.sort_by_key(|stats| stats.key);
-        let ids: Vec<Json> = ids
-            .iter()
-            .map(|s| {
-                json!({
-                    "id": key_text(s.key), "msg": s.name, "frames": s.count,
-                    "first": ts(s.first), "last": ts(s.last),
-                    "worst_gap": (s.worst_gap_ns > 0).then(|| s.worst_gap_ns as f64 / 1e9),
-                    "worst_gap_at": ts(s.worst_gap_at),
-                    "frames_lost": s.last_counter.map(|_| s.frames_lost),
-                    "count_skips": s.last_counter.map(|_| s.counter_skips),
-                    "count_repeats": s.last_counter.map(|_| s.counter_repeats),
-                    "invalid": s.invalid,
-                })
-            })
-            .collect();
-        let mut faults = Vec::new();
-        for (table_index, table) in [FlagTable::SystemV2, FlagTable::SystemV1Serial].into_iter().enumerate() {
-            for (bit, seen) in self.system_faults[table_index].iter().enumerate() {
-                if let (Some(first), Some(last)) = (seen.first, seen.last) {
-                    let info = table.info(bit as u32);
-                    faults.push(json!({"source": "system", "name": info.name, "severity": info.severity.as_str(),
-                        "action": info.action, "frames": seen.frames, "first": at(&first), "last": at(&last)}));
-                }
-            }
-        }
-        for (motor, bits) in self.driver_faults.iter().enumerate() {
-            for (bit, seen) in bits.iter().enumerate() {
-                if let (Some(first), Some(last)) = (seen.first, seen.last) {
-                    let info = FlagTable::DriverState.info(bit as u32);
-                    faults.push(json!({"source": format!("motor{}", motor + 1), "name": info.name,
-                        "severity": info.severity.as_str(), "action": info.action, "frames": seen.frames,
-                        "first": at(&first), "last": at(&last)}));
-                }
-            }
-        }
-        let extreme = |e: &Option<Extreme>, scale: f64| {
-            e.map(|e| json!({"value": e.value as f64 / scale, "at": at(&e.at)}))
-        };
-        json!({
-            "lines": stats.lines,
-            "frames": stats.frames,
-            "decoded_lines": stats.decoded_lines,
-            "rejected_lines": stats.rejected_lines,
-            "skipped": {"blank": stats.skipped.blank, "comment": stats.skipped.comment,
-                "error_text": stats.skipped.error_text, "can_xl": stats.skipped.can_xl, "dropcount": stats.skipped.dropcount},
-            "rejected": stats.rejected.rejected.iter().map(|r| {
-                let mut object = json!({"reason": r.reason, "count": r.count, "first_at": r.first_at});
-                if let Some(longest) = r.longest {
-                    object["longest"] = json!(longest);
-                }
-                object
-            }).collect::<Vec<_>>(),
-            "invalid_frames": stats.invalid_frames,
-            "candump_dropped": stats.candump_dropped,
-            "protocol": detector.describe(),
-            "interfaces": self.interfaces.names,
-            "interfaces_not_listed": self.interfaces.not_listed(),
-            "first": ts(self.first),
-            "last": ts(self.last),
-            "ids": ids,
-            "events": self.events.iter().map(|(a, text)| json!({"at": at(a), "event": text})).collect::<Vec<_>>(),
-            "events_not_listed": self.events_not_listed,
-            "faults": faults,
-            "battery": {"min": extreme(&self.battery_min, 10.0), "max": extreme(&self.battery_max, 10.0), "last": extreme(&self.battery_last, 10.0)},
-            "odometry": self.wheels.iter().map(|w| json!({"travelled": w.travelled_mm as f64 / 1000.0,
-                "net": w.first.zip(w.last).map(|(f, l)| (l - f) as f64 / 1000.0), "resets": w.resets})).collect::<Vec<_>>(),
-            "top_speeds": {"measured_linear": extreme(&self.measured_linear, 1000.0), "measured_angular": extreme(&self.measured_angular, 1000.0),
-                "commanded_linear": extreme(&self.commanded_linear, 1000.0), "commanded_angular": extreme(&self.commanded_angular, 1000.0)},
-            "motors": (0..2).map(|m| json!({"motor": m + 1, "rpm": extreme(&self.rpm[m], 1.0), "current": extreme(&self.current[m], 10.0)})).collect::<Vec<_>>(),
-            "error_frames": ERROR_CLASSES.iter().zip(self.error_classes).filter(|(_, n)| *n > 0).map(|((_, name), n)| json!({"class": name, "frames": n})).collect::<Vec<_>>(),
-            "serial": stats.serial.iter().map(|(name, s)| json!({"input": name, "bytes": s.bytes, "frames": s.frames,
-                "bad_checksum": s.bad_checksum, "bad_length": s.bad_length, "bad_type": s.bad_type,
-                "skipped_bytes": s.skipped_bytes, "sync_losses": s.sync_losses})).collect::<Vec<_>>(),
-        })
+        json::render(&self.build_report(stats, detector))
     }
-
-    fn span_text(&self) -> String {
-        match (self.first, self.last) {
-            (Some(first), Some(last)) => {
-                let length = nanos(&last).saturating_sub(nanos(&first)) as f64 / 1e9;
-                format!("{} .. {} ({length:.3} s)", ts_text(&first), ts_text(&last))
-            }
-            _ => "no timestamps".to_string(),
-        }
-    }
-}
-
-fn fault_line(out: &mut String, source: &str, table: FlagTable, bit: u32, seen: &FaultSeen) -> bool {
-    let (Some(first), Some(last)) = (seen.first, seen.last) else { return false };
-    let info = Flags::new(table, 1 << bit).iter().next().unwrap_or_else(|| table.info(bit));
-    let _ = writeln!(
-        out,
-        "  {source:<8} {} [{}] in {} frames, first {}, last {}\n           {}: {}",
-        info.name,
-        info.severity,
-        seen.frames,
-        at_text(&first),
-        at_text(&last),
-        info.meaning,
-        info.action
-    );
-    true
-}
-
-/// Seconds as the nearest f64 to the exact decimal, so JSON shows `0.3`, not `0.30000000000000004`.
-fn exact_seconds(ts: &Timestamp) -> f64 {
-    let text = if ts.nanos % 1000 == 0 {
-        format!("{}.{:06}", ts.secs, ts.nanos / 1000)
-    } else {
-        format!("{}.{:09}", ts.secs, ts.nanos)
-    };
-    text.parse().unwrap_or_else(|_| ts.as_secs_f64())
-}
-
-fn volts(decivolts: i64) -> String {
-    format!("{:.1} V", decivolts as f64 / 10.0)
 }
 
 fn mode_text(wire: Wire, value: u8) -> String {
     control_mode_name(wire, value).map_or_else(|| format!("unknown (0x{value:02X})"), str::to_string)
 }
 
-fn key_text(key: u64) -> String {
-    let id = key & 0xFFFF_FFFF;
-    if key == OTHER_KEY {
-        format!("other ids (beyond {MAX_OTHER_IDS})")
-    } else if key & 1 << 34 != 0 {
-        format!("0x{id:04X}")
-    } else if key & 1 << 33 != 0 {
-        format!("0x{:08X}", id | 0x2000_0000)
-    } else if key & 1 << 32 != 0 {
-        format!("0x{id:08X}")
-    } else if key & 1 << 35 != 0 {
-        format!("0x{id:03X} (FD)")
-    } else {
-        format!("0x{id:03X}")
-    }
-}
+#[cfg(test)]
+mod tests {
+    use super::*;
 
-/// The first second of the year 10000, which RFC 3339 (four-digit years) cannot show.
-const YEAR_10000_SECS: u64 = 253_402_300_800;
-
-/// Absolute stamps as UTC date-time, relative ones as seconds since the start of the capture. A stamp
-/// beyond the year 9999 (a corrupted line) is shown as the number of seconds it holds.
-fn ts_text(ts: &Timestamp) -> String {
-    match ts.kind {
-        TimestampKind::Absolute if ts.secs < YEAR_10000_SECS => {
-            let time = UNIX_EPOCH + Duration::new(ts.secs, ts.nanos);
-            let mut text = String::new();
-            match write!(text, "{}", humantime::format_rfc3339_micros(time)) {
-                Ok(()) => text,
-                Err(_) => seconds_text(ts),
-            }
-        }
-        TimestampKind::Absolute => seconds_text(ts),
-        TimestampKind::Relative => format!("+{}.{:06} s", ts.secs, ts.nanos / 1000),
-    }
-}
-
-fn seconds_text(ts: &Timestamp) -> String {
-    format!("{}.{:06} s", ts.secs, ts.nanos / 1000)
-}
-
-fn at_text(at: &At) -> String {
-    match &at.ts {
-        Some(ts) => ts_text(ts),
-        None => format!("frame #{}", at.frame),
+    #[test]
+    fn rows_are_ordered_and_printed_as_the_table_lists_them() {
+        let mut keys = [
+            RowKey::Other,
+            RowKey::Fd(FrameId::Standard(0x123)),
+            RowKey::Serial(FrameId::Serial(0xAA01)),
+            RowKey::Error(FrameId::Extended(0x4)),
+            RowKey::Can(FrameId::Extended(0x123)),
+            RowKey::Can(FrameId::Standard(0x7FF)),
+            RowKey::Can(FrameId::Standard(0x1)),
+        ];
+        keys.sort();
+        let printed: Vec<String> = keys.iter().map(RowKey::to_string).collect();
+        assert_eq!(
+            printed,
+            ["0x001", "0x7FF", "0x00000123", "0x20000004", "0xAA01", "0x123 (FD)", "other ids (beyond 4096)"]
+        );
+        assert_eq!(RowKey::Can(FrameId::Standard(0x211)).standard_index(), Some(0x211));
+        assert_eq!(RowKey::Fd(FrameId::Standard(0x211)).standard_index(), None);
+        assert_eq!(RowKey::Can(FrameId::Extended(0x211)).standard_index(), None);
     }
 }
