@@ -235,8 +235,8 @@ pub struct ModeArgs {
 #[derive(Debug, Args)]
 pub struct ClearErrorsArgs {
     /// Which faults to clear
-    #[arg(value_enum, default_value_t = crate::link::ClearTarget::All)]
-    pub target: crate::link::ClearTarget,
+    #[arg(value_enum, default_value_t = crate::protocol::ClearTarget::All)]
+    pub target: crate::protocol::ClearTarget,
 
     /// How long to watch the status afterwards (0 to 10m)
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]

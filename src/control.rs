@@ -23,8 +23,9 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::link::{is_queue_full, Codec, FrameTx, LinkFrame};
+use crate::link::{is_queue_full, FrameTx, LinkFrame};
 use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
+use crate::protocol::Codec;
 
 /// The chassis wants a motion command every 20 ms (and stops by itself after 500 ms without one).
 pub const PERIOD: Duration = Duration::from_millis(20);

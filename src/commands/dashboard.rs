@@ -19,9 +19,10 @@ use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
 use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
-use crate::link::{ClearTarget, Codec, LinkChoice, LinkKind};
+use crate::link::{LinkChoice, LinkKind};
+use crate::protocol::codec::clear_description;
 use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
-use crate::protocol::Wire;
+use crate::protocol::{ClearTarget, Codec};
 use crate::session::{RobotStatus, Session};
 use crate::signals;
 
@@ -556,7 +557,8 @@ fn handle(
             let sent = frames.iter().map(|frame| driving.session.send(frame)).collect::<Result<Vec<_>>>();
             let text = match sent {
                 Ok(_) => {
-                    format!("fault clear sent ({}): watch the faults panel", clear_words(driving.session))
+                    let what = clear_description(driving.session.wire(), ClearTarget::All);
+                    format!("fault clear sent ({what}): watch the faults panel")
                 }
                 Err(error) => format!("cannot send the fault clear: {error:#}"),
             };
@@ -578,15 +580,6 @@ fn handle(
             };
             app.set_message(text, now);
         }
-    }
-}
-
-/// What a fault clear sends on this link, in words.
-fn clear_words(session: &Session) -> &'static str {
-    match session.wire() {
-        Wire::CanV2 => "0x441 all",
-        Wire::CanV1 => "V1 clear codes in 0x130",
-        Wire::Serial => "RS232 clear codes",
     }
 }
 

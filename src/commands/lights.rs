@@ -13,13 +13,14 @@ use std::io::Write;
 use anyhow::Result;
 
 use super::live;
-use super::mode::{plural, send_until};
 use crate::cli::{Cli, LightModeChoice, LightsArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::output::plural;
 use crate::protocol::message::{
     light_mode_name, Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON, MODE_STANDBY,
 };
 use crate::protocol::Wire;
+use crate::session::confirm::send_until;
 use crate::session::Session;
 
 /// Sends after the first one, if the light state does not match yet.
@@ -196,7 +197,8 @@ mod tests {
     use std::time::Duration;
 
     use super::*;
-    use crate::link::{Codec, LinkFrame};
+    use crate::link::LinkFrame;
+    use crate::protocol::Codec;
 
     fn args(front: Option<LightModeChoice>, brightness: Option<u8>) -> LightsArgs {
         LightsArgs {

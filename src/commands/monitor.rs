@@ -27,7 +27,7 @@ use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
 use crate::protocol::frame::ERR_FLAG;
 use crate::protocol::{self, CanFrame, FrameKind, ProtocolHint};
-pub use crate::recorder::LogFile;
+use crate::recorder::LogFile;
 use crate::recorder::{push_raw_line, Recorder};
 use crate::{session, signals};
 

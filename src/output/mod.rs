@@ -99,6 +99,15 @@ impl Event<'_> {
     }
 }
 
+/// `s` for any count but one: `1 time`, `2 times`.
+pub fn plural(count: impl Into<u64>) -> &'static str {
+    if count.into() == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
 /// Output format of `decode` and `monitor`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum Format {
