@@ -13,7 +13,7 @@ use std::time::Duration;
 use anyhow::Result;
 
 use super::live;
-use crate::cli::{ClearErrorsArgs, Cli};
+use super::Global;
 use crate::exit::{Failure, SUCCESS};
 use crate::link::LinkFrame;
 use crate::output::plural;
@@ -42,14 +42,22 @@ pub struct Item {
     pub action: &'static str,
 }
 
-pub fn run(cli: &Cli, args: &ClearErrorsArgs) -> Result<u8> {
-    let session = live::open(cli, true)?;
+/// `tracerctl clear-errors`' settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub target: ClearTarget,
+    /// How long to watch the status afterwards.
+    pub timeout: Duration,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let session = live::open(global, true)?;
     execute(&session, args, &mut std::io::stdout().lock())
 }
 
 /// Clears faults on an open session; the report goes to `out`, a failure (something remains) is the
 /// error.
-pub fn execute(session: &Session, args: &ClearErrorsArgs, out: &mut impl Write) -> Result<u8> {
+pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Result<u8> {
     let before_state = live::first_status(session);
     if session.wire() == Wire::CanV2 {
         session

@@ -12,14 +12,14 @@ use anyhow::Result;
 use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use super::live;
-use crate::cli::{Cli, DashboardArgs};
+use super::Global;
 use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
 use crate::dashboard::app::{App, Arming, Prompt, Snapshot, TeleopView};
 use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
 use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
-use crate::link::{LinkChoice, LinkKind};
+use crate::link::LinkKind;
 use crate::protocol::codec::clear_description;
 use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
 use crate::protocol::{ClearTarget, Codec};
@@ -52,7 +52,17 @@ enum End {
     LinkLost(String),
 }
 
-pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
+/// `tracerctl dashboard`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub limits: Limits,
+    /// Never arm driving, never send anything.
+    pub watch: bool,
+    /// Write a candump log of the session to this file.
+    pub record: Option<std::path::PathBuf>,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
     if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {
         return Err(Failure {
             code: USAGE,
@@ -62,10 +72,9 @@ pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
         }
         .into());
     }
-    let limits = args.limits.limits()?;
-    let choice = LinkChoice::from_args(&cli.link)?;
-    let session = Session::open_recording(&choice, cli.protocol.into(), None, args.record.as_deref())?;
-    let color = cli.color.enabled(true);
+    let limits = args.limits;
+    let session = Session::open_recording(&global.link, global.protocol, None, args.record.as_deref())?;
+    let color = global.color.enabled(true);
 
     let (end, stopped) = {
         let screen = Screen::enter()?;

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 
 use super::live;
-use crate::cli::{Cli, DriveArgs};
+use super::Global;
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
 use crate::link::queue_full_meaning;
@@ -62,8 +62,22 @@ enum End {
     OutputGone(String),
 }
 
-pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
-    let limits = args.limits.limits()?;
+/// `tracerctl drive`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// m/s, + forward (capped by the limits).
+    pub linear: f64,
+    /// rad/s, + counter-clockwise.
+    pub angular: f64,
+    /// How long to drive; `None`: until a signal.
+    pub duration: Option<Duration>,
+    pub limits: Limits,
+    /// Start even with the E-stop pressed or a latched fault.
+    pub ignore_faults: bool,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let limits = args.limits;
     // Signals first: a Ctrl-C while the link opens or the robot is awaited must end the command cleanly.
     let sender_slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
     let suspended_early = Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -84,7 +98,7 @@ pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
             },
         )?
     };
-    let session = live::open(cli, true)?;
+    let session = live::open(global, true)?;
     let context = Context { signal, sender_slot, suspended_early };
     execute_with(&session, args, limits, &mut std::io::stderr(), &context).map_err(|error| {
         // A broken pipe is a quiet success for output nobody reads any more (decode | head), not for the
@@ -107,7 +121,7 @@ struct Context {
 /// Drives on an open session; progress and the result go to `out`.
 fn execute_with(
     session: &Session,
-    args: &DriveArgs,
+    args: &Options,
     limits: Limits,
     out: &mut impl Write,
     context: &Context,

@@ -8,11 +8,12 @@
 //! again up to twice within `--timeout`, as real firmware may miss one.
 
 use std::io::Write;
+use std::time::Duration;
 
 use anyhow::Result;
 
 use super::live;
-use crate::cli::{Cli, ModeArgs, ModeChoice};
+use super::Global;
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::plural;
 use crate::protocol::message::{vehicle_state_name, SystemState, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
@@ -23,13 +24,29 @@ use crate::session::Session;
 /// Sends after the first one, if the robot has not switched yet.
 const RESENDS: u32 = 2;
 
-pub fn run(cli: &Cli, args: &ModeArgs) -> Result<u8> {
-    let session = live::open(cli, true)?;
+/// The control mode to ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModeChoice {
+    Can,
+    Serial,
+    Standby,
+}
+
+/// `tracerctl mode`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub mode: ModeChoice,
+    /// How long to wait for the robot to confirm.
+    pub timeout: Duration,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let session = live::open(global, true)?;
     execute(&session, args, &mut std::io::stdout().lock())
 }
 
 /// Switches the mode on an open session; the result goes to `out`, a failure is the error.
-pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Result<u8> {
+pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Result<u8> {
     // The link kind is known at once; V1 only after listening, so check RS232 before waiting.
     if session.wire() == Wire::Serial {
         mode_code(Wire::Serial, args.mode)?;

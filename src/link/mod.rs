@@ -149,29 +149,11 @@ pub fn now_timestamp() -> Timestamp {
     Timestamp { secs: since.as_secs(), nanos: since.subsec_nanos(), kind: TimestampKind::Absolute }
 }
 
-/// Link options after validation.
+/// Which link to open (the command line's link options, checked).
 #[derive(Clone, Debug)]
 pub enum LinkChoice {
     SocketCan { iface: String },
     Serial { path: std::path::PathBuf, baud: u32 },
     Sim,
     Replay { path: std::path::PathBuf, speed: f64 },
-}
-
-impl LinkChoice {
-    /// From the global command-line options.
-    pub fn from_args(args: &crate::cli::LinkArgs) -> anyhow::Result<Self> {
-        if args.sim {
-            return Ok(Self::Sim);
-        }
-        if let Some(path) = &args.replay {
-            // The range is checked by clap (`--speed`).
-            return Ok(Self::Replay { path: path.clone(), speed: args.speed() });
-        }
-        match args.serial.as_slice() {
-            [] => Ok(Self::SocketCan { iface: args.iface() }),
-            [path] => Ok(Self::Serial { path: path.clone(), baud: args.baud() }),
-            _ => anyhow::bail!("give one --serial port for a live link"),
-        }
-    }
 }

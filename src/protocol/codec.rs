@@ -25,7 +25,7 @@ impl LinkFrame {
 }
 
 /// What a fault clear targets.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ClearTarget {
     All,
     Motor1,
