@@ -15,6 +15,7 @@ mod faults;
 mod formats;
 mod fuzz;
 mod generated;
+mod layers;
 mod monitor;
 mod plot;
 mod recording;
