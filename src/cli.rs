@@ -1,12 +1,18 @@
-//! The command-line definition: the single source for parsing, `--help`, shell completions and man pages.
+//! The command line: the single source for parsing, `--help`, shell completions and man pages, and the
+//! boundary of the program. Here clap's arguments become the plain settings of each command (checked once,
+//! with errors that name the options); [`run`] dispatches them. Nothing else in the crate knows clap or
+//! the options' spelling.
 
 use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::output::Format;
-use crate::protocol::ProtocolHint;
+use crate::commands::{self, usage, Global};
+use crate::control::{LimitError, LimitName, Limits};
+use crate::link::LinkChoice;
+use crate::output::{ColorChoice, Format};
+use crate::protocol::{ClearTarget, ProtocolHint};
 
 const ABOUT: &str = "Decode, monitor, drive and diagnose the AgileX TRACER robot";
 
@@ -26,8 +32,8 @@ pub struct Cli {
     pub protocol: ProtocolArg,
 
     /// When to colour output (colour is never used with NO_COLOR set)
-    #[arg(long, global = true, value_enum, default_value_t = ColorChoice::Auto, value_name = "WHEN")]
-    pub color: ColorChoice,
+    #[arg(long, global = true, value_enum, default_value_t = ColorArg::Auto, value_name = "WHEN")]
+    pub color: ColorArg,
 
     #[command(flatten)]
     pub link: LinkArgs,
@@ -79,8 +85,8 @@ pub struct DecodeArgs {
     pub inputs: Vec<String>,
 
     /// Output format
-    #[arg(long, short = 'f', value_enum, default_value_t = Format::Text)]
-    pub format: Format,
+    #[arg(long, short = 'f', value_enum, default_value_t = FormatArg::Text)]
+    pub format: FormatArg,
 
     /// Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance
     #[arg(long, short = 's')]
@@ -112,11 +118,49 @@ pub struct DecodeArgs {
     pub plot: Option<PathBuf>,
 }
 
+impl DecodeArgs {
+    fn options(self, serial: Vec<PathBuf>) -> commands::decode::Options {
+        commands::decode::Options {
+            inputs: self.inputs,
+            serial,
+            format: self.format.into(),
+            summary: self.summary,
+            strict: self.strict,
+            ids: self.ids,
+            messages: self.messages,
+            delta_stamps: self.delta_stamps,
+            no_progress: self.no_progress,
+            plot: self.plot,
+        }
+    }
+}
+
+/// `--format` of decode and monitor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum FormatArg {
+    /// One readable line per frame.
+    Text,
+    /// One JSON object per line (schema in docs/json.md).
+    Json,
+    /// Comma-separated values with a fixed header (for spreadsheets).
+    Csv,
+}
+
+impl From<FormatArg> for Format {
+    fn from(value: FormatArg) -> Self {
+        match value {
+            FormatArg::Text => Format::Text,
+            FormatArg::Json => Format::Json,
+            FormatArg::Csv => Format::Csv,
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct MonitorArgs {
     /// Output format
-    #[arg(long, short = 'f', value_enum, default_value_t = Format::Text)]
-    pub format: Format,
+    #[arg(long, short = 'f', value_enum, default_value_t = FormatArg::Text)]
+    pub format: FormatArg,
 
     /// Print frames as candump -L lines instead of decoding them (so not with --format)
     #[arg(long, conflicts_with = "format")]
@@ -143,6 +187,20 @@ pub struct MonitorArgs {
     pub silence: std::time::Duration,
 }
 
+impl MonitorArgs {
+    fn options(self) -> commands::monitor::Options {
+        commands::monitor::Options {
+            format: self.format.into(),
+            raw: self.raw,
+            ids: self.ids,
+            messages: self.messages,
+            log: self.log,
+            duration: self.duration,
+            silence: self.silence,
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct DriveArgs {
     /// Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)
@@ -163,6 +221,18 @@ pub struct DriveArgs {
     /// Start even with the E-stop pressed or a latched fault (the robot may still refuse)
     #[arg(long)]
     pub ignore_faults: bool,
+}
+
+impl DriveArgs {
+    fn options(self) -> anyhow::Result<commands::drive::Options> {
+        Ok(commands::drive::Options {
+            linear: self.linear,
+            angular: self.angular,
+            duration: self.duration,
+            limits: self.limits.limits()?,
+            ignore_faults: self.ignore_faults,
+        })
+    }
 }
 
 /// Caps and ramps of the commands that move the robot (drive, dashboard).
@@ -194,9 +264,10 @@ pub struct MotionLimitArgs {
 }
 
 impl MotionLimitArgs {
-    /// The validated limits (caps clamped to the protocol's).
-    pub fn limits(&self) -> anyhow::Result<crate::control::Limits> {
-        crate::control::Limits {
+    /// The validated limits (caps clamped to the protocol's). Limits that contradict each other are a
+    /// command-line mistake, like a number out of range: a usage error that names the options.
+    pub fn limits(&self) -> anyhow::Result<Limits> {
+        Limits {
             max_linear: self.max_linear,
             max_angular: self.max_angular,
             linear_accel: self.accel,
@@ -205,15 +276,40 @@ impl MotionLimitArgs {
             angular_decel: self.angular_decel,
         }
         .validated()
-        // Limits that contradict each other are a command-line mistake, like a number out of range.
-        .map_err(|error| {
-            crate::exit::Failure { code: crate::exit::USAGE, message: format!("{error:#}") }.into()
-        })
+        .map_err(|error| usage(limit_error_text(error)))
+    }
+}
+
+/// A [`LimitError`] in the words of the command line.
+fn limit_error_text(error: LimitError) -> String {
+    let option = |name| match name {
+        LimitName::MaxLinear => "--max-linear",
+        LimitName::MaxAngular => "--max-angular",
+        LimitName::LinearAccel => "--accel",
+        LimitName::AngularAccel => "--angular-accel",
+        LimitName::LinearDecel => "--decel",
+        LimitName::AngularDecel => "--angular-decel",
+    };
+    match error {
+        LimitError::NotPositive { name, value } => {
+            format!("{} must be a positive number, not {value}", option(name))
+        }
+        LimitError::BrakingWeaker { angular, decel, accel } => {
+            let (decel_option, accel_option, unit) = if angular {
+                ("--angular-decel", "--angular-accel", "rad/s²")
+            } else {
+                ("--decel", "--accel", "m/s²")
+            };
+            format!(
+                "{decel_option} ({decel} {unit}) must be at least {accel_option} ({accel} {unit}): braking is never \
+                 weaker than speeding up"
+            )
+        }
     }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ModeChoice {
+pub enum ModeArg {
     /// CAN command mode (0x421 = 0x01)
     Can,
     /// Serial command mode (0x421 = 0x02)
@@ -222,33 +318,78 @@ pub enum ModeChoice {
     Standby,
 }
 
+impl From<ModeArg> for commands::mode::ModeChoice {
+    fn from(value: ModeArg) -> Self {
+        match value {
+            ModeArg::Can => Self::Can,
+            ModeArg::Serial => Self::Serial,
+            ModeArg::Standby => Self::Standby,
+        }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct ModeArgs {
     #[arg(value_enum)]
-    pub mode: ModeChoice,
+    pub mode: ModeArg,
 
     /// How long to wait for the robot to confirm (0 to 10m)
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
     pub timeout: std::time::Duration,
 }
 
+impl ModeArgs {
+    fn options(self) -> commands::mode::Options {
+        commands::mode::Options { mode: self.mode.into(), timeout: self.timeout }
+    }
+}
+
 #[derive(Debug, Args)]
 pub struct ClearErrorsArgs {
     /// Which faults to clear
-    #[arg(value_enum, default_value_t = crate::link::ClearTarget::All)]
-    pub target: crate::link::ClearTarget,
+    #[arg(value_enum, default_value_t = ClearTargetArg::All)]
+    pub target: ClearTargetArg,
 
     /// How long to watch the status afterwards (0 to 10m)
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
     pub timeout: std::time::Duration,
 }
 
+impl ClearErrorsArgs {
+    fn options(self) -> commands::clear_errors::Options {
+        let target = match self.target {
+            ClearTargetArg::All => ClearTarget::All,
+            ClearTargetArg::Motor1 => ClearTarget::Motor1,
+            ClearTargetArg::Motor2 => ClearTarget::Motor2,
+        };
+        commands::clear_errors::Options { target, timeout: self.timeout }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum LightModeChoice {
+pub enum ClearTargetArg {
+    All,
+    Motor1,
+    Motor2,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LightModeArg {
     Off,
     On,
     Breath,
     Custom,
+}
+
+impl From<LightModeArg> for commands::lights::LightModeChoice {
+    fn from(value: LightModeArg) -> Self {
+        match value {
+            LightModeArg::Off => Self::Off,
+            LightModeArg::On => Self::On,
+            LightModeArg::Breath => Self::Breath,
+            LightModeArg::Custom => Self::Custom,
+        }
+    }
 }
 
 #[derive(Debug, Args)]
@@ -256,7 +397,7 @@ pub enum LightModeChoice {
 pub struct LightsArgs {
     /// Front light mode
     #[arg(long, value_enum)]
-    pub front: Option<LightModeChoice>,
+    pub front: Option<LightModeArg>,
 
     /// Front brightness for --front custom, percent (0-100)
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
@@ -264,7 +405,7 @@ pub struct LightsArgs {
 
     /// Rear light mode (reserved on TRACER: sent, but the firmware ignores it)
     #[arg(long, value_enum)]
-    pub rear: Option<LightModeChoice>,
+    pub rear: Option<LightModeArg>,
 
     /// Rear brightness for --rear custom, percent (0-100)
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
@@ -277,6 +418,19 @@ pub struct LightsArgs {
     /// How long to wait for the light state to confirm (0 to 10m)
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
     pub timeout: std::time::Duration,
+}
+
+impl LightsArgs {
+    fn options(self) -> commands::lights::Options {
+        commands::lights::Options {
+            front: self.front.map(Into::into),
+            brightness: self.brightness,
+            rear: self.rear.map(Into::into),
+            rear_brightness: self.rear_brightness,
+            release: self.release,
+            timeout: self.timeout,
+        }
+    }
 }
 
 #[derive(Debug, Args)]
@@ -302,6 +456,18 @@ pub struct SendRawArgs {
     pub fix_checksum: bool,
 }
 
+impl SendRawArgs {
+    fn options(self) -> commands::send_raw::Options {
+        commands::send_raw::Options {
+            frames: self.frames,
+            repeat: self.repeat,
+            period: self.period,
+            force: self.force,
+            fix_checksum: self.fix_checksum,
+        }
+    }
+}
+
 const DOCTOR_AFTER_HELP: &str = "\
 Checks in order: kernel CAN support, the interface (exists, up, 500 kbit/s, error state and counters) or
 the serial port; then, listening to the robot: frames arriving, protocol version (or the RS232 frame
@@ -325,8 +491,28 @@ pub struct DoctorArgs {
     pub listen: std::time::Duration,
 
     /// Output format
-    #[arg(long, short = 'f', value_enum, default_value_t = crate::commands::doctor::report::ReportFormat::Text)]
-    pub format: crate::commands::doctor::report::ReportFormat,
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
+}
+
+impl DoctorArgs {
+    fn options(self) -> commands::doctor::Options {
+        use commands::doctor::report::ReportFormat;
+        let format = match self.format {
+            ReportFormatArg::Text => ReportFormat::Text,
+            ReportFormatArg::Json => ReportFormat::Json,
+        };
+        commands::doctor::Options { probe: self.probe, listen: self.listen, format }
+    }
+}
+
+/// `doctor --format`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ReportFormatArg {
+    /// One line per check, then the verdict
+    Text,
+    /// One JSON object (docs/json.md)
+    Json,
 }
 
 #[derive(Debug, Args)]
@@ -341,6 +527,16 @@ pub struct DashboardArgs {
     /// Write a candump log of the session (frames received and sent) to FILE
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+}
+
+impl DashboardArgs {
+    fn options(self) -> anyhow::Result<commands::dashboard::Options> {
+        Ok(commands::dashboard::Options {
+            limits: self.limits.limits()?,
+            watch: self.watch,
+            record: self.record,
+        })
+    }
 }
 
 #[derive(Debug, Args)]
@@ -368,6 +564,37 @@ pub struct SimArgs {
     /// Stop after this long (at most 30 days); default: until Ctrl-C
     #[arg(long, value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(RUN_TIME))]
     pub duration: Option<std::time::Duration>,
+}
+
+impl SimArgs {
+    /// The settings, once the link options fit a simulator: it serves a link, so not `--sim` or `--replay`,
+    /// and `--pty` is a link of its own. Checked here because clap does not check a subcommand's options
+    /// against global ones given before it.
+    fn options(self, link: &LinkArgs) -> anyhow::Result<commands::sim::Options> {
+        if link.sim {
+            return Err(usage("`sim` is the simulator itself: leave out --sim"));
+        }
+        if link.replay.is_some() {
+            return Err(usage("`sim` serves a link: --replay does not apply"));
+        }
+        if self.pty && (link.iface.is_some() || !link.serial.is_empty()) {
+            return Err(usage(
+                "--pty serves on a new pseudo-terminal: leave out --iface and --serial (or drop --pty to serve on them)",
+            ));
+        }
+        let rc = self.rc.map(|swb| match swb {
+            RcSwitchChoice::Top => crate::sim::RcSwitch::Top,
+            RcSwitchChoice::Middle => crate::sim::RcSwitch::Middle,
+        });
+        Ok(commands::sim::Options {
+            pty: self.pty,
+            faults: self.faults,
+            rc,
+            battery: self.battery,
+            drain: self.drain,
+            duration: self.duration,
+        })
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -530,6 +757,39 @@ impl LinkArgs {
     pub fn speed(&self) -> f64 {
         self.speed.unwrap_or(1.0)
     }
+
+    /// The live link these options choose.
+    pub fn choice(&self) -> anyhow::Result<LinkChoice> {
+        if self.sim {
+            return Ok(LinkChoice::Sim);
+        }
+        if let Some(path) = &self.replay {
+            // The range is checked by clap (`--speed`).
+            return Ok(LinkChoice::Replay { path: path.clone(), speed: self.speed() });
+        }
+        match self.serial.as_slice() {
+            [] => Ok(LinkChoice::SocketCan { iface: self.iface() }),
+            [path] => Ok(LinkChoice::Serial { path: path.clone(), baud: self.baud() }),
+            _ => anyhow::bail!("give one --serial port for a live link"),
+        }
+    }
+
+    /// `decode` reads files: the options of live links do not apply (its `--serial` are captures).
+    fn refuse_live(&self) -> anyhow::Result<()> {
+        let live = [
+            (self.sim, "--sim"),
+            (self.replay.is_some(), "--replay"),
+            (self.iface.is_some(), "--iface"),
+            (self.baud.is_some(), "--baud"),
+            (self.speed.is_some(), "--speed"),
+        ];
+        match live.iter().find(|(given, _)| *given) {
+            Some((_, option)) => Err(usage(format!(
+                "{option} is for live links; decode reads files (candump logs, or RS232 captures with --serial)"
+            ))),
+            None => Ok(()),
+        }
+    }
 }
 
 /// What each link option is for, added as a tip to clap's conflict and missing-argument errors.
@@ -574,6 +834,51 @@ pub struct CompletionsArgs {
     pub shell: clap_complete::Shell,
 }
 
+/// The completion script of this command line for `shell`.
+pub fn completion_script(shell: clap_complete::Shell) -> Vec<u8> {
+    let mut out = Vec::new();
+    clap_complete::generate(shell, &mut command(), "tracerctl", &mut out);
+    out
+}
+
+/// Runs the parsed command line: each command's settings (usage errors first), the global ones, then the
+/// command. Returns the exit status.
+pub fn run(cli: Cli) -> anyhow::Result<u8> {
+    let Cli { protocol, color, link, command } = cli;
+    let global = |link: LinkChoice| Global { link, color: color.into(), protocol: protocol.into() };
+    // What `decode` and `completions` get: they open no link.
+    let offline = || global(LinkChoice::SocketCan { iface: link.iface() });
+    match command {
+        Command::Decode(args) => {
+            link.refuse_live()?;
+            let serial = link.serial.clone();
+            commands::decode::run(&offline(), &args.options(serial))
+        }
+        Command::Completions(args) => commands::completions::run(
+            &offline(),
+            &commands::completions::Options { script: completion_script(args.shell) },
+        ),
+        Command::Monitor(args) => commands::monitor::run(&global(link.choice()?), &args.options()),
+        Command::Drive(args) => {
+            let options = args.options()?;
+            commands::drive::run(&global(link.choice()?), &options)
+        }
+        Command::Doctor(args) => commands::doctor::run(&global(link.choice()?), &args.options()),
+        Command::Mode(args) => commands::mode::run(&global(link.choice()?), &args.options()),
+        Command::ClearErrors(args) => commands::clear_errors::run(&global(link.choice()?), &args.options()),
+        Command::Lights(args) => commands::lights::run(&global(link.choice()?), &args.options()),
+        Command::SendRaw(args) => commands::send_raw::run(&global(link.choice()?), &args.options()),
+        Command::Sim(args) => {
+            let options = args.options(&link)?;
+            commands::sim::run(&global(link.choice()?), &options)
+        }
+        Command::Dashboard(args) => {
+            let options = args.options()?;
+            commands::dashboard::run(&global(link.choice()?), &options)
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ProtocolArg {
     /// Decide from the traffic
@@ -595,21 +900,18 @@ impl From<ProtocolArg> for ProtocolHint {
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ColorChoice {
+pub enum ColorArg {
     Auto,
     Always,
     Never,
 }
 
-impl ColorChoice {
-    /// Whether to colour a stream that is (or is not) a terminal; NO_COLOR always wins.
-    pub fn enabled(self, is_terminal: bool) -> bool {
-        let no_color = std::env::var_os("NO_COLOR").is_some_and(|value| !value.is_empty());
-        match self {
-            _ if no_color => false,
-            ColorChoice::Always => true,
-            ColorChoice::Never => false,
-            ColorChoice::Auto => is_terminal,
+impl From<ColorArg> for ColorChoice {
+    fn from(value: ColorArg) -> Self {
+        match value {
+            ColorArg::Auto => ColorChoice::Auto,
+            ColorArg::Always => ColorChoice::Always,
+            ColorArg::Never => ColorChoice::Never,
         }
     }
 }
@@ -778,6 +1080,32 @@ mod tests {
         assert_eq!(cli.link.baud(), 9600);
         assert_eq!(ok(&["tracerctl", "--sim", "monitor"]).link.baud(), DEFAULT_BAUD);
         assert_eq!(ok(&["tracerctl", "--iface", "vcan0", "monitor"]).link.iface(), "vcan0");
+    }
+
+    #[test]
+    fn limits_that_contradict_each_other_are_usage_errors_naming_the_options() {
+        use clap::Parser;
+        let limits = |args: &[&str]| {
+            let cli = Cli::try_parse_from(args).unwrap();
+            let Command::Drive(args) = cli.command else { panic!() };
+            args.limits.limits()
+        };
+        let error = limits(&["tracerctl", "drive", "--decel", "0.3"]).unwrap_err();
+        assert_eq!(error.downcast_ref::<crate::exit::Failure>().map(|f| f.code), Some(crate::exit::USAGE));
+        let error = error.to_string();
+        assert!(error.contains("--decel (0.3 m/s²) must be at least --accel (0.5 m/s²)"), "{error}");
+        let error = limits(&["tracerctl", "drive", "--angular-decel", "0.5"]).unwrap_err().to_string();
+        assert_eq!(
+            error,
+            "--angular-decel (0.5 rad/s²) must be at least --angular-accel (1 rad/s²): braking is never weaker \
+             than speeding up"
+        );
+        assert_eq!(
+            limit_error_text(LimitError::NotPositive { name: LimitName::AngularAccel, value: f64::NAN }),
+            "--angular-accel must be a positive number, not NaN"
+        );
+        let clamped = limits(&["tracerctl", "drive", "--max-linear", "9"]).unwrap();
+        assert_eq!(clamped.max_linear, crate::protocol::message::LINEAR_LIMIT);
     }
 
     #[test]

@@ -23,8 +23,9 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::link::{is_queue_full, Codec, FrameTx, LinkFrame};
+use crate::link::{is_queue_full, FrameTx, LinkFrame};
 use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
+use crate::protocol::Codec;
 
 /// The chassis wants a motion command every 20 ms (and stops by itself after 500 ms without one).
 pub const PERIOD: Duration = Duration::from_millis(20);
@@ -72,35 +73,67 @@ impl Default for Limits {
     }
 }
 
+/// One of the [`Limits`], to say which one is wrong.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LimitName {
+    MaxLinear,
+    MaxAngular,
+    LinearAccel,
+    AngularAccel,
+    LinearDecel,
+    AngularDecel,
+}
+
+impl LimitName {
+    fn words(self) -> &'static str {
+        match self {
+            LimitName::MaxLinear => "the linear speed cap",
+            LimitName::MaxAngular => "the angular speed cap",
+            LimitName::LinearAccel => "the linear acceleration",
+            LimitName::AngularAccel => "the angular acceleration",
+            LimitName::LinearDecel => "the linear deceleration",
+            LimitName::AngularDecel => "the angular deceleration",
+        }
+    }
+}
+
+/// Limits that cannot drive a ramp. Plain words: the command line names its own options.
+#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
+pub enum LimitError {
+    #[error("{} must be a positive number, not {value}", name.words())]
+    NotPositive { name: LimitName, value: f64 },
+    /// Braking (`decel`) weaker than speeding up (`accel`), linear (m/s²) or angular (rad/s²).
+    #[error(
+        "{} ({decel}) must be at least {} ({accel}): braking is never weaker than speeding up",
+        if *angular { LimitName::AngularDecel.words() } else { LimitName::LinearDecel.words() },
+        if *angular { LimitName::AngularAccel.words() } else { LimitName::LinearAccel.words() }
+    )]
+    BrakingWeaker { angular: bool, decel: f64, accel: f64 },
+}
+
 impl Limits {
     /// Clamps caps to the protocol limits and rejects nonsense (braking weaker than accelerating too).
-    pub fn validated(self) -> Result<Self> {
-        let positive = |value: f64, what: &str| {
-            anyhow::ensure!(
-                value.is_finite() && value > 0.0,
-                "{what} must be a positive number, not {value}"
-            );
-            Ok(())
+    pub fn validated(self) -> Result<Self, LimitError> {
+        let positive = |value: f64, name: LimitName| {
+            if value.is_finite() && value > 0.0 {
+                Ok(())
+            } else {
+                Err(LimitError::NotPositive { name, value })
+            }
         };
-        positive(self.max_linear, "--max-linear")?;
-        positive(self.max_angular, "--max-angular")?;
-        positive(self.linear_accel, "--accel")?;
-        positive(self.angular_accel, "--angular-accel")?;
-        positive(self.linear_decel, "--decel")?;
-        positive(self.angular_decel, "--angular-decel")?;
-        anyhow::ensure!(
-            self.linear_decel >= self.linear_accel,
-            "--decel ({} m/s²) must be at least --accel ({} m/s²): braking is never weaker than speeding up",
-            self.linear_decel,
-            self.linear_accel
-        );
-        anyhow::ensure!(
-            self.angular_decel >= self.angular_accel,
-            "--angular-decel ({} rad/s²) must be at least --angular-accel ({} rad/s²): braking is never \
-             weaker than speeding up",
-            self.angular_decel,
-            self.angular_accel
-        );
+        positive(self.max_linear, LimitName::MaxLinear)?;
+        positive(self.max_angular, LimitName::MaxAngular)?;
+        positive(self.linear_accel, LimitName::LinearAccel)?;
+        positive(self.angular_accel, LimitName::AngularAccel)?;
+        positive(self.linear_decel, LimitName::LinearDecel)?;
+        positive(self.angular_decel, LimitName::AngularDecel)?;
+        for (angular, decel, accel) in
+            [(false, self.linear_decel, self.linear_accel), (true, self.angular_decel, self.angular_accel)]
+        {
+            if decel < accel {
+                return Err(LimitError::BrakingWeaker { angular, decel, accel });
+            }
+        }
         Ok(Self {
             max_linear: self.max_linear.min(LINEAR_LIMIT),
             max_angular: self.max_angular.min(ANGULAR_LIMIT),
@@ -664,8 +697,13 @@ mod tests {
 
     #[test]
     fn braking_weaker_than_accelerating_is_refused() {
-        let error = Limits { linear_decel: 0.3, ..Limits::default() }.validated().unwrap_err().to_string();
-        assert!(error.contains("--decel (0.3 m/s²) must be at least --accel (0.5 m/s²)"), "{error}");
+        let error = Limits { linear_decel: 0.3, ..Limits::default() }.validated().unwrap_err();
+        assert_eq!(error, LimitError::BrakingWeaker { angular: false, decel: 0.3, accel: 0.5 });
+        assert_eq!(
+            error.to_string(),
+            "the linear deceleration (0.3) must be at least the linear acceleration (0.5): braking is never \
+             weaker than speeding up"
+        );
         assert!(Limits { angular_decel: 0.5, ..Limits::default() }.validated().is_err());
         assert!(Limits { linear_decel: f64::INFINITY, ..Limits::default() }.validated().is_err());
     }

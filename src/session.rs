@@ -1,6 +1,8 @@
 //! A live session with the robot: the link, a reader thread that keeps the latest robot status, and the
 //! codec for sending. Every live command (monitor aside, which reads frames itself) is built on it.
 
+pub mod confirm;
+
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
@@ -8,13 +10,13 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::link::{self, Codec, FrameRx, FrameTx, LinkChoice, LinkFrame, LinkKind, RxStats};
+use crate::link::{self, FrameRx, FrameTx, LinkChoice, LinkFrame, LinkKind, RxStats};
 use crate::protocol::detect::{ProtocolDetector, Verdict};
 use crate::protocol::error_frame::{ErrorFrame, ErrorTally};
 use crate::protocol::message::{
     Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, RcState, SystemState,
 };
-use crate::protocol::{CanFrame, Decoded, FrameId, Message, ProtocolHint, Wire};
+use crate::protocol::{CanFrame, Codec, Decoded, FrameId, Message, ProtocolHint, Wire};
 use crate::recorder::{LogFile, RecordLoss, RecordQueue, Recorder};
 
 /// How many distinct identifiers `RobotStatus::id_counts` keeps.

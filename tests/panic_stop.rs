@@ -6,7 +6,8 @@ use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use tracerctl::control::{panicked, Limits, MotionSender, STOP_FRAMES};
-use tracerctl::link::{Codec, FrameTx, LinkFrame};
+use tracerctl::link::{FrameTx, LinkFrame};
+use tracerctl::protocol::Codec;
 use tracerctl::protocol::Wire;
 
 struct Recorder(Mutex<mpsc::Sender<(Instant, LinkFrame)>>);

@@ -13,12 +13,15 @@ use std::time::Duration;
 use anyhow::Result;
 
 use super::live;
-use super::mode::{plural, send_until};
-use crate::cli::{ClearErrorsArgs, Cli};
+use super::Global;
 use crate::exit::{Failure, SUCCESS};
-use crate::link::{ClearTarget, Codec, LinkFrame};
+use crate::link::LinkFrame;
+use crate::output::plural;
+use crate::protocol::codec::clear_description;
 use crate::protocol::message::{VEHICLE_ESTOP, VEHICLE_NORMAL};
+use crate::protocol::{ClearTarget, Codec};
 use crate::protocol::{Severity, Wire};
+use crate::session::confirm::send_until;
 use crate::session::{RobotStatus, Session};
 
 /// Motor low-speed feedback (0x261/0x262) comes every 100 ms: wait this long for the first of both.
@@ -39,14 +42,22 @@ pub struct Item {
     pub action: &'static str,
 }
 
-pub fn run(cli: &Cli, args: &ClearErrorsArgs) -> Result<u8> {
-    let session = live::open(cli, true)?;
+/// `tracerctl clear-errors`' settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub target: ClearTarget,
+    /// How long to watch the status afterwards.
+    pub timeout: Duration,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let session = live::open(global, true)?;
     execute(&session, args, &mut std::io::stdout().lock())
 }
 
 /// Clears faults on an open session; the report goes to `out`, a failure (something remains) is the
 /// error.
-pub fn execute(session: &Session, args: &ClearErrorsArgs, out: &mut impl Write) -> Result<u8> {
+pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Result<u8> {
     let before_state = live::first_status(session);
     if session.wire() == Wire::CanV2 {
         session
@@ -251,14 +262,7 @@ fn hottest_driver(status: &RobotStatus, motor: Option<u8>) -> Option<String> {
 }
 
 fn what_is_sent(wire: Wire, target: ClearTarget, sends: u32) -> String {
-    let what = match (wire, target) {
-        (Wire::CanV2, ClearTarget::All) => "0x441 = 0x00".to_string(),
-        (Wire::CanV2, ClearTarget::Motor1) => "0x441 = 0x01".to_string(),
-        (Wire::CanV2, ClearTarget::Motor2) => "0x441 = 0x02".to_string(),
-        (Wire::CanV1, _) => "the fault-clear codes in zero-speed 0x130 commands".to_string(),
-        (Wire::Serial, _) => "the fault-clear codes in zero-speed RS232 motion commands".to_string(),
-    };
-    format!("{what} ({sends} time{})", plural(sends))
+    format!("{} ({sends} time{})", clear_description(wire, target), plural(sends))
 }
 
 fn count_items(count: usize) -> String {

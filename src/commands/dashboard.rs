@@ -12,7 +12,7 @@ use anyhow::Result;
 use ratatui::crossterm::event::{Event, KeyEvent};
 
 use super::live;
-use crate::cli::{Cli, DashboardArgs};
+use super::Global;
 use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
 use crate::dashboard::app::{App, Arming, Snapshot, TeleopView};
 use crate::dashboard::keys::{self, Context, Effect};
@@ -20,9 +20,10 @@ use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
 use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
-use crate::link::{ClearTarget, Codec, LinkChoice, LinkKind};
+use crate::link::LinkKind;
+use crate::protocol::codec::clear_description;
 use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
-use crate::protocol::Wire;
+use crate::protocol::{ClearTarget, Codec};
 use crate::session::{RobotStatus, Session};
 use crate::signals::{self, SignalFlag};
 
@@ -52,7 +53,17 @@ enum End {
     LinkLost(String),
 }
 
-pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
+/// `tracerctl dashboard`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub limits: Limits,
+    /// Never arm driving, never send anything.
+    pub watch: bool,
+    /// Write a candump log of the session to this file.
+    pub record: Option<std::path::PathBuf>,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
     if !std::io::stdin().is_terminal() || !std::io::stdout().is_terminal() {
         return Err(Failure {
             code: USAGE,
@@ -62,10 +73,9 @@ pub fn run(cli: &Cli, args: &DashboardArgs) -> Result<u8> {
         }
         .into());
     }
-    let limits = args.limits.limits()?;
-    let choice = LinkChoice::from_args(&cli.link)?;
-    let session = Session::open_recording(&choice, cli.protocol.into(), None, args.record.as_deref())?;
-    let color = cli.color.enabled(true);
+    let limits = args.limits;
+    let session = Session::open_recording(&global.link, global.protocol, None, args.record.as_deref())?;
+    let color = global.color.enabled(true);
 
     let (end, stopped) = {
         let screen = Screen::enter()?;
@@ -632,7 +642,8 @@ fn handle(
             let sent = frames.iter().map(|frame| driving.session.send(frame)).collect::<Result<Vec<_>>>();
             let text = match sent {
                 Ok(_) => {
-                    format!("fault clear sent ({}): watch the faults panel", clear_words(driving.session))
+                    let what = clear_description(driving.session.wire(), ClearTarget::All);
+                    format!("fault clear sent ({what}): watch the faults panel")
                 }
                 Err(error) => format!("cannot send the fault clear: {error:#}"),
             };
@@ -693,15 +704,6 @@ fn on_lights(app: &mut App, driving: &Driving, lights_step: &mut usize, now: Ins
         Err(error) => format!("cannot set the lights: {error:#}"),
     };
     app.set_message(text, now);
-}
-
-/// What a fault clear sends on this link, in words.
-fn clear_words(session: &Session) -> &'static str {
-    match session.wire() {
-        Wire::CanV2 => "0x441 all",
-        Wire::CanV1 => "V1 clear codes in 0x130",
-        Wire::Serial => "RS232 clear codes",
-    }
 }
 
 fn release_mode_text(teleop: &Teleop, watch_only: Option<&str>) -> String {

@@ -12,11 +12,12 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 
 use super::live;
-use crate::cli::{Cli, DriveArgs};
+use super::Global;
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
-use crate::link::{queue_full_meaning, Codec};
+use crate::link::queue_full_meaning;
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT, MODE_CAN};
+use crate::protocol::Codec;
 use crate::protocol::Wire;
 use crate::session::{RobotStatus, Session};
 use crate::signals::{self, SignalFlag};
@@ -61,8 +62,22 @@ enum End {
     OutputGone(String),
 }
 
-pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
-    let limits = args.limits.limits()?;
+/// `tracerctl drive`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// m/s, + forward (capped by the limits).
+    pub linear: f64,
+    /// rad/s, + counter-clockwise.
+    pub angular: f64,
+    /// How long to drive; `None`: until a signal.
+    pub duration: Option<Duration>,
+    pub limits: Limits,
+    /// Start even with the E-stop pressed or a latched fault.
+    pub ignore_faults: bool,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let limits = args.limits;
     // Signals first: a Ctrl-C while the link opens or the robot is awaited must end the command cleanly.
     let sender_slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
     let suspended_early = Arc::new(std::sync::atomic::AtomicBool::new(false));
@@ -83,7 +98,7 @@ pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
             },
         )?
     };
-    let session = live::open(cli, true)?;
+    let session = live::open(global, true)?;
     let context = Context { signal, sender_slot, suspended_early };
     execute_with(&session, args, limits, &mut std::io::stderr(), &context).map_err(|error| {
         // A broken pipe is a quiet success for output nobody reads any more (decode | head), not for the
@@ -106,7 +121,7 @@ struct Context {
 /// Drives on an open session; progress and the result go to `out`.
 fn execute_with(
     session: &Session,
-    args: &DriveArgs,
+    args: &Options,
     limits: Limits,
     out: &mut impl Write,
     context: &Context,
@@ -142,7 +157,7 @@ fn execute_with(
 }
 
 /// The speed to drive at, within the limits; says so when the request was capped.
-fn capped_target(args: &DriveArgs, limits: Limits, out: &mut impl Write) -> Result<(f64, f64)> {
+fn capped_target(args: &Options, limits: Limits, out: &mut impl Write) -> Result<(f64, f64)> {
     let target = (
         args.linear.clamp(-limits.max_linear, limits.max_linear),
         args.angular.clamp(-limits.max_angular, limits.max_angular),
@@ -161,7 +176,7 @@ fn capped_target(args: &DriveArgs, limits: Limits, out: &mut impl Write) -> Resu
 /// `Some(exit status)` when a signal came first: nothing was sent.
 fn check_before_driving(
     session: &Session,
-    args: &DriveArgs,
+    args: &Options,
     out: &mut impl Write,
     context: &Context,
 ) -> Result<Option<u8>> {
@@ -203,7 +218,7 @@ fn check_before_driving(
 /// The main loop's state: it refreshes the target, watches the sender and the robot, and prints the status.
 struct DriveLoop<'a> {
     session: &'a Session,
-    args: &'a DriveArgs,
+    args: &'a Options,
     target: (f64, f64),
     sender: &'a MotionSender,
     started: Instant,
@@ -218,7 +233,7 @@ struct DriveLoop<'a> {
 }
 
 impl<'a> DriveLoop<'a> {
-    fn new(session: &'a Session, args: &'a DriveArgs, target: (f64, f64), sender: &'a MotionSender) -> Self {
+    fn new(session: &'a Session, args: &'a Options, target: (f64, f64), sender: &'a MotionSender) -> Self {
         let overwrite = std::io::stderr().is_terminal();
         Self {
             session,

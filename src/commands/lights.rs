@@ -9,31 +9,56 @@
 //! matches (enable, front mode, and the brightness in custom mode).
 
 use std::io::Write;
+use std::time::Duration;
 
 use anyhow::Result;
 
 use super::live;
-use super::mode::{plural, send_until};
-use crate::cli::{Cli, LightModeChoice, LightsArgs};
+use super::Global;
 use crate::exit::{Failure, SUCCESS, USAGE};
+use crate::output::plural;
 use crate::protocol::message::{
     light_mode_name, Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON, MODE_STANDBY,
 };
 use crate::protocol::Wire;
+use crate::session::confirm::send_until;
 use crate::session::Session;
 
 /// Sends after the first one, if the light state does not match yet.
 const RESENDS: u32 = 3;
 
-pub fn run(cli: &Cli, args: &LightsArgs) -> Result<u8> {
+/// A light mode, as asked for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightModeChoice {
+    Off,
+    On,
+    Breath,
+    Custom,
+}
+
+/// `tracerctl lights`' settings (checked against each other by [`requested`]).
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub front: Option<LightModeChoice>,
+    /// Front brightness for custom mode, percent.
+    pub brightness: Option<u8>,
+    pub rear: Option<LightModeChoice>,
+    pub rear_brightness: Option<u8>,
+    /// Hand the lights back to the firmware.
+    pub release: bool,
+    /// How long to wait for the light state to confirm.
+    pub timeout: Duration,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
     // Usage errors before touching the link.
     requested(args)?;
-    let session = live::open(cli, true)?;
+    let session = live::open(global, true)?;
     execute(&session, args, &mut std::io::stdout().lock())
 }
 
 /// Sets the lights on an open session; the result goes to `out`, a failure is the error.
-pub fn execute(session: &Session, args: &LightsArgs, out: &mut impl Write) -> Result<u8> {
+pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Result<u8> {
     let lights = requested(args)?;
     // Settles the protocol version on CAN (the V1 light frame is 0x140); the status itself is only used
     // to explain a failure.
@@ -95,7 +120,7 @@ pub fn execute(session: &Session, args: &LightsArgs, out: &mut impl Write) -> Re
 }
 
 /// The light command the arguments ask for, or a usage error.
-pub fn requested(args: &LightsArgs) -> Result<Lights, Failure> {
+pub fn requested(args: &Options) -> Result<Lights, Failure> {
     let usage = |message: String| Failure { code: USAGE, message };
     if args.release {
         return Ok(Lights::release());
@@ -193,13 +218,12 @@ fn state_source(wire: Wire) -> &'static str {
 
 #[cfg(test)]
 mod tests {
-    use std::time::Duration;
-
     use super::*;
-    use crate::link::{Codec, LinkFrame};
+    use crate::link::LinkFrame;
+    use crate::protocol::Codec;
 
-    fn args(front: Option<LightModeChoice>, brightness: Option<u8>) -> LightsArgs {
-        LightsArgs {
+    fn args(front: Option<LightModeChoice>, brightness: Option<u8>) -> Options {
+        Options {
             front,
             brightness,
             rear: None,
@@ -230,7 +254,7 @@ mod tests {
 
     #[test]
     fn release_is_enable_0() {
-        let release = LightsArgs { release: true, ..args(None, None) };
+        let release = Options { release: true, ..args(None, None) };
         let lights = requested(&release).unwrap();
         let LinkFrame::Can(frame) = Codec::new(Wire::CanV2).lights(lights) else { panic!() };
         assert_eq!(frame.to_string(), "121#0000000000000000");
@@ -245,12 +269,11 @@ mod tests {
         );
         let message = usage_message(requested(&args(Some(LightModeChoice::Custom), None)));
         assert_eq!(message, "--front custom needs --brightness PERCENT (0-100)");
-        let rear = LightsArgs { rear_brightness: Some(5), ..args(Some(LightModeChoice::On), None) };
+        let rear = Options { rear_brightness: Some(5), ..args(Some(LightModeChoice::On), None) };
         assert_eq!(usage_message(requested(&rear)), "--rear-brightness applies only to --rear custom");
-        let rear =
-            LightsArgs { rear: Some(LightModeChoice::Custom), ..args(Some(LightModeChoice::On), None) };
+        let rear = Options { rear: Some(LightModeChoice::Custom), ..args(Some(LightModeChoice::On), None) };
         assert_eq!(usage_message(requested(&rear)), "--rear custom needs --rear-brightness PERCENT (0-100)");
-        let rear = LightsArgs {
+        let rear = Options {
             rear: Some(LightModeChoice::Custom),
             rear_brightness: Some(40),
             ..args(Some(LightModeChoice::Breath), None)

@@ -5,7 +5,7 @@ use std::time::Duration;
 
 use anyhow::Result;
 
-use crate::cli::Cli;
+use super::Global;
 use crate::link::LinkChoice;
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{control_mode_name, vehicle_state_name, SystemState, MODE_RC};
@@ -16,8 +16,8 @@ use crate::session::{RobotStatus, Session};
 pub const STATUS_WAIT: Duration = Duration::from_secs(1);
 
 /// Opens the link the global options choose. `--replay` is refused for commands that send.
-pub fn open(cli: &Cli, sends: bool) -> Result<Session> {
-    let choice = LinkChoice::from_args(&cli.link)?;
+pub fn open(global: &Global, sends: bool) -> Result<Session> {
+    let choice = &global.link;
     if sends && matches!(choice, LinkChoice::Replay { .. }) {
         return Err(crate::exit::Failure {
             code: crate::exit::USAGE,
@@ -26,7 +26,7 @@ pub fn open(cli: &Cli, sends: bool) -> Result<Session> {
         }
         .into());
     }
-    let session = Session::open(&choice, cli.protocol.into(), None)?;
+    let session = Session::open(choice, global.protocol, None)?;
     Ok(session)
 }
 

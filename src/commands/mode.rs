@@ -8,28 +8,45 @@
 //! again up to twice within `--timeout`, as real firmware may miss one.
 
 use std::io::Write;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use anyhow::Result;
 
 use super::live;
-use crate::cli::{Cli, ModeArgs, ModeChoice};
+use super::Global;
 use crate::exit::{Failure, SUCCESS, USAGE};
-use crate::link::{Codec, LinkFrame};
+use crate::output::plural;
 use crate::protocol::message::{vehicle_state_name, SystemState, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
 use crate::protocol::Wire;
-use crate::session::{RobotStatus, Session};
+use crate::session::confirm::send_until;
+use crate::session::Session;
 
 /// Sends after the first one, if the robot has not switched yet.
 const RESENDS: u32 = 2;
 
-pub fn run(cli: &Cli, args: &ModeArgs) -> Result<u8> {
-    let session = live::open(cli, true)?;
+/// The control mode to ask for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ModeChoice {
+    Can,
+    Serial,
+    Standby,
+}
+
+/// `tracerctl mode`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub mode: ModeChoice,
+    /// How long to wait for the robot to confirm.
+    pub timeout: Duration,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let session = live::open(global, true)?;
     execute(&session, args, &mut std::io::stdout().lock())
 }
 
 /// Switches the mode on an open session; the result goes to `out`, a failure is the error.
-pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Result<u8> {
+pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Result<u8> {
     // The link kind is known at once; V1 only after listening, so check RS232 before waiting.
     if session.wire() == Wire::Serial {
         mode_code(Wire::Serial, args.mode)?;
@@ -48,7 +65,7 @@ pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Resu
         session,
         args.timeout,
         RESENDS,
-        || vec![command_frame(&mut session.codec(), args.mode).expect("the mode was checked for this wire")],
+        || vec![session.codec().select_mode(code).expect("the mode was checked for this wire")],
         |status, sent| {
             status
                 .system
@@ -109,16 +126,6 @@ pub fn mode_code(wire: Wire, mode: ModeChoice) -> Result<u8, Failure> {
     }
 }
 
-/// The frame that asks for `mode`: 0x421 on V2 CAN, a zero-speed motion command on RS232 (serial mode)
-/// and V1 (CAN mode); `None` when the wire cannot select that mode (see `mode_code`).
-pub fn command_frame(codec: &mut Codec, mode: ModeChoice) -> Option<LinkFrame> {
-    let code = mode_code(codec.wire, mode).ok()?;
-    match codec.wire {
-        Wire::CanV2 => codec.control_mode(code),
-        Wire::CanV1 | Wire::Serial => Some(codec.enable_command_mode()),
-    }
-}
-
 fn what_is_sent(wire: Wire, code: u8) -> String {
     match wire {
         Wire::CanV2 => format!("0x421 = 0x{code:02X}"),
@@ -134,97 +141,9 @@ pub(crate) fn condition(state: &SystemState, wire: Wire) -> String {
     format!("{vehicle}, {:.1} V, faults: {}", state.battery_voltage(), live::fault_list(state, wire))
 }
 
-pub(crate) fn plural(count: u32) -> &'static str {
-    if count == 1 {
-        ""
-    } else {
-        "s"
-    }
-}
-
-/// What `send_until` saw.
-#[derive(Debug)]
-pub(crate) struct Attempt<T> {
-    /// The confirmation, if it came in time.
-    pub found: Option<T>,
-    /// How many times the frames were sent.
-    pub sends: u32,
-    /// Just before the first send: status received after this is a reply.
-    pub first_sent: Instant,
-}
-
-/// Sends the frames `frames` builds, then waits for `confirmed` (given the status and the time of the
-/// first send); if it does not come, sends again, up to `resends` more times spread evenly over `timeout`.
-pub(crate) fn send_until<T>(
-    session: &Session,
-    timeout: Duration,
-    resends: u32,
-    mut frames: impl FnMut() -> Vec<LinkFrame>,
-    mut confirmed: impl FnMut(&RobotStatus, Instant) -> Option<T>,
-) -> Result<Attempt<T>> {
-    let first_sent = Instant::now();
-    let deadline = first_sent + timeout;
-    let slice = timeout / (resends + 1);
-    let mut sends = 0;
-    for attempt in 0..=resends {
-        for frame in frames() {
-            session.send(&frame)?;
-        }
-        sends += 1;
-        let until =
-            if attempt == resends { deadline } else { (first_sent + slice * (attempt + 1)).min(deadline) };
-        let wait = until.saturating_duration_since(Instant::now());
-        if let Some(found) = session.wait_for(wait, |status| confirmed(status, first_sent)) {
-            return Ok(Attempt { found: Some(found), sends, first_sent });
-        }
-        if session.status().link_error.is_some() {
-            break;
-        }
-    }
-    Ok(Attempt { found: None, sends, first_sent })
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    fn cansend(frame: Option<LinkFrame>) -> String {
-        match frame {
-            Some(LinkFrame::Can(frame)) => frame.to_string(),
-            other => panic!("expected a CAN frame, got {other:?}"),
-        }
-    }
-
-    #[test]
-    fn v2_frames_are_0x421_with_dlc_1() {
-        let mut codec = Codec::new(Wire::CanV2);
-        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Can)), "421#01");
-        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Standby)), "421#00");
-        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Serial)), "421#02");
-        let Some(LinkFrame::Can(frame)) = command_frame(&mut codec, ModeChoice::Can) else { panic!() };
-        assert_eq!(frame.len(), 1);
-    }
-
-    #[test]
-    fn serial_mode_over_rs232_is_a_zero_speed_serial_motion_command() {
-        let mut codec = Codec::new(Wire::Serial);
-        let Some(LinkFrame::Serial(frame)) = command_frame(&mut codec, ModeChoice::Serial) else { panic!() };
-        // 5A A5 0A 55 01 | mode 02, no fault clear, 0 %, 0 % | frame id 00 | checksum
-        let bytes = frame.to_bytes();
-        assert_eq!(&bytes[..11], &[0x5A, 0xA5, 0x0A, 0x55, 0x01, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00]);
-        let sum = bytes[..12].iter().fold(0u8, |sum, byte| sum.wrapping_add(*byte));
-        assert_eq!(bytes[12], sum);
-        assert_eq!(command_frame(&mut codec, ModeChoice::Can), None);
-        assert_eq!(command_frame(&mut codec, ModeChoice::Standby), None);
-    }
-
-    #[test]
-    fn v1_can_mode_is_a_zero_speed_0x130() {
-        let mut codec = Codec::new(Wire::CanV1);
-        let text = cansend(command_frame(&mut codec, ModeChoice::Can));
-        assert!(text.starts_with("130#0100000000000"), "{text}");
-        assert_eq!(command_frame(&mut codec, ModeChoice::Serial), None);
-    }
 
     #[test]
     fn impossible_modes_are_usage_errors_that_say_what_works() {

@@ -12,11 +12,12 @@
 //! per frame.
 
 use std::io::{self, IsTerminal, Write};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::cli::{Cli, MonitorArgs};
+use super::Global;
 use crate::exit::{self, DATA_ERROR, FAILURE, SUCCESS};
 use crate::link::{FrameRx, LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
@@ -27,7 +28,7 @@ use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
 use crate::protocol::frame::ERR_FLAG;
 use crate::protocol::{self, CanFrame, FrameId, FrameKind, ProtocolHint};
-pub use crate::recorder::LogFile;
+use crate::recorder::LogFile;
 use crate::recorder::{push_raw_line, Recorder};
 use crate::signals::SignalFlag;
 use crate::{session, signals};
@@ -49,8 +50,26 @@ const BEHIND_AFTER: Duration = Duration::from_secs(1);
 /// After a signal, how long the output still queued may take to leave before it is given up (and counted).
 const OUTPUT_GRACE: Duration = Duration::from_secs(1);
 
-pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
-    let choice = LinkChoice::from_args(&cli.link)?;
+/// `tracerctl monitor`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    pub format: Format,
+    /// candump -L lines instead of decoded ones.
+    pub raw: bool,
+    /// Only these identifiers (none: all).
+    pub ids: Vec<crate::protocol::FrameId>,
+    /// Only these message names (none: all).
+    pub messages: Vec<&'static str>,
+    /// Also write every frame to this candump log.
+    pub log: Option<PathBuf>,
+    /// Stop after this long; `None`: until a signal.
+    pub duration: Option<Duration>,
+    /// Warn when the bus is silent this long (zero: never).
+    pub silence: Duration,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let choice = global.link.clone();
     // Timing warnings compare arrival times with periods: a replay at N times speed compresses both.
     let time_scale = match choice {
         LinkChoice::Replay { speed, .. } if speed > 0.0 => Some(1.0 / speed),
@@ -60,12 +79,12 @@ pub fn run(cli: &Cli, args: &MonitorArgs) -> Result<u8> {
     let log = args.log.as_deref().map(LogFile::create).transpose()?;
     let (link, simulator) = session::open_link(&choice, None)?;
     let flag = signals::listen(|_| {})?;
-    let options = Options {
+    let options = Settings {
         format: args.format,
-        color: cli.color.enabled(io::stdout().is_terminal()),
+        color: global.color.enabled(io::stdout().is_terminal()),
         raw: args.raw,
         filter: Filter::new(&args.ids, &args.messages),
-        hint: cli.protocol.into(),
+        hint: global.protocol,
         time_scale,
         silence: args.silence,
     };
@@ -210,7 +229,7 @@ enum End {
 
 /// What to print and when to warn.
 #[derive(Clone, Debug)]
-pub struct Options {
+pub struct Settings {
     pub format: Format,
     pub color: bool,
     /// candump -L lines instead of decoded ones.
@@ -391,7 +410,7 @@ pub struct Monitor<W: Output> {
     name: String,
     /// The interface name printed in output lines.
     iface: String,
-    options: Options,
+    options: Settings,
     writer: EventWriter,
     out: W,
     buffer: Vec<u8>,
@@ -422,7 +441,7 @@ pub struct Monitor<W: Output> {
 }
 
 impl<W: Output> Monitor<W> {
-    pub fn new(name: &str, iface: &str, serial: bool, options: Options, out: W) -> Self {
+    pub fn new(name: &str, iface: &str, serial: bool, options: Settings, out: W) -> Self {
         Self::starting_at(name, iface, serial, options, out, Instant::now())
     }
 
@@ -430,7 +449,7 @@ impl<W: Output> Monitor<W> {
         name: &str,
         iface: &str,
         serial: bool,
-        options: Options,
+        options: Settings,
         out: W,
         started: Instant,
     ) -> Self {
@@ -806,8 +825,8 @@ mod tests {
         }
     }
 
-    fn options(format: Format) -> Options {
-        Options {
+    fn options(format: Format) -> Settings {
+        Settings {
             format,
             color: false,
             raw: false,

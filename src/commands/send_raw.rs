@@ -9,15 +9,15 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
-use super::usage;
+use super::{usage, Global};
 use crate::candump;
-use crate::cli::{Cli, SendRawArgs};
 use crate::exit::SUCCESS;
 use crate::link::{is_queue_full, queue_full_meaning};
-use crate::link::{Codec, FrameRx, FrameTx, LinkChoice, LinkFrame};
+use crate::link::{FrameRx, FrameTx, LinkChoice, LinkFrame};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::can::{ProtocolHint, ID_V1_MOTION_COMMAND};
 use crate::protocol::serial::{self, SerialFrame, CMD_MOTION_CONTROL, FRAME_SIZE, TYPE_CONTROL};
+use crate::protocol::Codec;
 use crate::protocol::{self, FrameKind, Wire};
 use crate::{session, signals};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -44,8 +44,23 @@ pub struct Planned {
     pub moves_on: Option<Wire>,
 }
 
-pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
-    let choice = LinkChoice::from_args(&cli.link)?;
+/// `tracerctl send-raw`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Frames in cansend syntax, or RS232 frames in hex.
+    pub frames: Vec<String>,
+    /// Send the frames this many times.
+    pub repeat: u32,
+    /// Milliseconds between repeats.
+    pub period: u64,
+    /// Allow frames that can move the robot.
+    pub force: bool,
+    /// Compute the checksum of RS232 frames.
+    pub fix_checksum: bool,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let choice = global.link.clone();
     let serial_link = match &choice {
         LinkChoice::Replay { .. } => {
             return Err(usage(
@@ -69,7 +84,7 @@ pub fn run(cli: &Cli, args: &SendRawArgs) -> Result<u8> {
     if period.checked_mul(args.repeat).and_then(|total| Instant::now().checked_add(total)).is_none() {
         return Err(usage(format!("--repeat {} --period {} is too long", args.repeat, args.period)));
     }
-    let hint: ProtocolHint = cli.protocol.into();
+    let hint: ProtocolHint = global.protocol;
     let plan = plan_all(&args.frames, serial_link, args.fix_checksum, hint)?;
     refuse_motion_without_force(&plan, args.force)?;
     for planned in &plan {

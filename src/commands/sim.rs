@@ -9,36 +9,36 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use crate::cli::{Cli, RcSwitchChoice, SimArgs};
+use super::Global;
 use crate::exit::SUCCESS;
 use crate::link::{self, Link, LinkChoice};
 use crate::signals;
-use crate::sim::{serve, FaultKind, RcSwitch, SimConfig, SimState, SimWire};
+use crate::sim::{serve, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimState, SimWire};
 
-pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
-    if cli.link.sim {
-        return Err(super::usage("`sim` is the simulator itself: leave out --sim"));
-    }
-    if cli.link.replay.is_some() {
-        return Err(super::usage("`sim` serves a link: --replay does not apply"));
-    }
-    // Not a clap conflict: clap does not check a subcommand's options against global ones given before it.
-    if args.pty && (cli.link.iface.is_some() || !cli.link.serial.is_empty()) {
-        return Err(super::usage(
-            "--pty serves on a new pseudo-terminal: leave out --iface and --serial (or drop --pty to serve on them)",
-        ));
-    }
+/// `tracerctl sim`'s settings (checked by the command line: times and ranges within bounds, `pty` only
+/// with the default link).
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Serve on a new pseudo-terminal instead of the link.
+    pub pty: bool,
+    pub faults: Vec<ScheduledFault>,
+    /// An RC transmitter is on, with SWB here.
+    pub rc: Option<RcSwitch>,
+    /// Starting battery voltage.
+    pub battery: Option<f64>,
+    /// Battery drain speed-up factor.
+    pub drain: Option<f64>,
+    /// Stop after this long; `None`: until a signal.
+    pub duration: Option<Duration>,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let mut config = SimConfig::default();
-    // Parsed and range-checked by clap (`--fault`).
     config.faults.extend(args.faults.iter().copied());
     if let Some(swb) = args.rc {
         config.rc_present = true;
-        config.rc_swb = match swb {
-            RcSwitchChoice::Top => RcSwitch::Top,
-            RcSwitchChoice::Middle => RcSwitch::Middle,
-        };
+        config.rc_swb = swb;
     }
-    // Ranges checked by clap (`--battery`, `--drain`).
     if let Some(volts) = args.battery {
         config.battery_start_v = volts;
     }
@@ -46,12 +46,12 @@ pub fn run(cli: &Cli, args: &SimArgs) -> Result<u8> {
         config.battery_drain_factor = factor;
     }
 
-    let link = open_served_link(cli, args.pty, &mut config)?;
+    let link = open_served_link(global, args.pty, &mut config)?;
     serve_until_done(config, link, args.duration)
 }
 
 /// The link to serve on (a new pseudo-terminal with `pty`), announced on standard output; the wire follows.
-fn open_served_link(cli: &Cli, pty: bool, config: &mut SimConfig) -> Result<Link> {
+fn open_served_link(global: &Global, pty: bool, config: &mut SimConfig) -> Result<Link> {
     let mut stdout = std::io::stdout().lock();
     let link = if pty {
         config.wire = SimWire::Serial;
@@ -63,7 +63,7 @@ fn open_served_link(cli: &Cli, pty: bool, config: &mut SimConfig) -> Result<Link
         stdout.flush()?;
         link::serial::from_port(Box::new(master), &path, true)?
     } else {
-        match LinkChoice::from_args(&cli.link)? {
+        match global.link.clone() {
             LinkChoice::Serial { path, baud } => {
                 config.wire = SimWire::Serial;
                 link::serial::open(&path, baud)?

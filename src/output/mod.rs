@@ -99,8 +99,39 @@ impl Event<'_> {
     }
 }
 
+/// `s` for any count but one: `1 time`, `2 times`.
+pub fn plural(count: impl Into<u64>) -> &'static str {
+    if count.into() == 1 {
+        ""
+    } else {
+        "s"
+    }
+}
+
+/// When to colour output.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum ColorChoice {
+    #[default]
+    Auto,
+    Always,
+    Never,
+}
+
+impl ColorChoice {
+    /// Whether to colour a stream that is (or is not) a terminal; NO_COLOR always wins.
+    pub fn enabled(self, is_terminal: bool) -> bool {
+        let no_color = std::env::var_os("NO_COLOR").is_some_and(|value| !value.is_empty());
+        match self {
+            _ if no_color => false,
+            ColorChoice::Always => true,
+            ColorChoice::Never => false,
+            ColorChoice::Auto => is_terminal,
+        }
+    }
+}
+
 /// Output format of `decode` and `monitor`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     /// One readable line per frame.
     Text,

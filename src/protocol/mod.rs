@@ -2,6 +2,7 @@
 
 pub mod can;
 pub mod catalog;
+pub mod codec;
 pub mod constants;
 pub mod detect;
 pub mod error_frame;
@@ -14,6 +15,7 @@ pub mod payload;
 pub mod serial;
 
 pub use can::{decode, DecodeError, ProtocolHint};
+pub use codec::{ClearTarget, Codec, LinkFrame};
 pub use faults::{FlagInfo, FlagTable, Flags, Severity};
 pub use fields::{for_each_field, Field, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};

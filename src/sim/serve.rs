@@ -11,7 +11,8 @@ use std::time::{Duration, Instant};
 use anyhow::Context;
 
 use super::{Chassis, FaultKind, SimConfig, SimState};
-use crate::link::{Codec, Link, LinkKind};
+use crate::link::{Link, LinkKind};
+use crate::protocol::Codec;
 use crate::protocol::ProtocolHint;
 
 /// How often the loop wakes when nothing arrives: fine enough for 20 ms feedback periods.

@@ -10,7 +10,6 @@ use std::time::Duration;
 
 use serde_json::Value;
 use serialport::SerialPort;
-use tracerctl::cli::DoctorArgs;
 use tracerctl::commands::doctor::{self, report::ReportFormat};
 use tracerctl::exit::{NOT_DONE, SUCCESS};
 use tracerctl::link::{channel, LinkChoice, LinkFrame, LinkKind};
@@ -24,8 +23,8 @@ use tracerctl::sim::{FaultKind, RcSwitch, ScheduledFault, SimConfig, SimWire};
 use crate::sim_command::Simulator;
 use crate::util::{stderr, stdout, tracerctl};
 
-fn args(probe: bool) -> DoctorArgs {
-    DoctorArgs { probe, listen: Duration::from_millis(600), format: ReportFormat::Json }
+fn args(probe: bool) -> doctor::Options {
+    doctor::Options { probe, listen: Duration::from_millis(600), format: ReportFormat::Json }
 }
 
 /// Runs the doctor on a session: the exit status and the JSON report.

@@ -3,9 +3,55 @@
 
 use std::path::Path;
 
-use tracerctl::commands::completions::{completion_files, man_pages, write_generated};
+use clap_complete::Shell;
+use tracerctl::cli::{command, completion_script};
 
 use crate::util::{stdout, tracerctl};
+
+/// The committed completion files: (file name, contents), as `tracerctl completions SHELL` prints them.
+fn completion_files() -> Vec<(String, Vec<u8>)> {
+    [
+        (Shell::Bash, "tracerctl.bash"),
+        (Shell::Zsh, "_tracerctl"),
+        (Shell::Fish, "tracerctl.fish"),
+        (Shell::PowerShell, "_tracerctl.ps1"),
+        (Shell::Elvish, "tracerctl.elv"),
+    ]
+    .into_iter()
+    .map(|(shell, name)| (name.to_string(), completion_script(shell)))
+    .collect()
+}
+
+/// The man pages: `tracerctl.1` and one `tracerctl-<sub>.1` per subcommand. Generated here only: the
+/// shipped binary does not carry a man-page renderer.
+fn man_pages() -> std::io::Result<Vec<(String, Vec<u8>)>> {
+    let root = command();
+    let mut pages = Vec::new();
+    let mut out = Vec::new();
+    clap_mangen::Man::new(root.clone()).render(&mut out)?;
+    pages.push(("tracerctl.1".to_string(), out));
+    for sub in root.get_subcommands() {
+        let name = format!("tracerctl-{}", sub.get_name());
+        let mut out = Vec::new();
+        let sub = sub.clone().name(name.clone()).version(root.get_version().unwrap_or_default().to_string());
+        clap_mangen::Man::new(sub).render(&mut out)?;
+        pages.push((format!("{name}.1"), out));
+    }
+    Ok(pages)
+}
+
+/// Writes completions to `completions/` and man pages to `docs/man/` under `root`.
+fn write_generated(root: &Path) -> std::io::Result<()> {
+    std::fs::create_dir_all(root.join("completions"))?;
+    std::fs::create_dir_all(root.join("docs/man"))?;
+    for (name, contents) in completion_files() {
+        std::fs::write(root.join("completions").join(name), contents)?;
+    }
+    for (name, contents) in man_pages()? {
+        std::fs::write(root.join("docs/man").join(name), contents)?;
+    }
+    Ok(())
+}
 
 #[test]
 fn completions_and_man_pages_are_fresh() {

@@ -15,6 +15,7 @@ mod faults;
 mod formats;
 mod fuzz;
 mod generated;
+mod layers;
 mod long_functions;
 mod monitor;
 mod plot;

@@ -4,11 +4,13 @@
 
 use std::time::Duration;
 
-use tracerctl::cli::{ClearErrorsArgs, LightModeChoice, LightsArgs, ModeArgs, ModeChoice};
+use tracerctl::commands::lights::LightModeChoice;
+use tracerctl::commands::mode::ModeChoice;
 use tracerctl::commands::{clear_errors, lights, mode};
 use tracerctl::exit::{Failure, NOT_DONE, USAGE};
-use tracerctl::link::{ClearTarget, LinkChoice};
+use tracerctl::link::LinkChoice;
 use tracerctl::protocol::message::{LIGHT_CUSTOM, VEHICLE_NORMAL};
+use tracerctl::protocol::ClearTarget;
 use tracerctl::protocol::ProtocolHint;
 use tracerctl::session::Session;
 use tracerctl::sim::{ControlMode, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimWire};
@@ -119,13 +121,14 @@ fn outcome(result: anyhow::Result<u8>, out: Vec<u8>) -> (u8, String, String) {
 
 fn run_mode(session: &Session, mode: ModeChoice) -> (u8, String, String) {
     let mut out = Vec::new();
-    let result = mode::execute(session, &ModeArgs { mode, timeout: Duration::from_millis(600) }, &mut out);
+    let result =
+        mode::execute(session, &mode::Options { mode, timeout: Duration::from_millis(600) }, &mut out);
     outcome(result, out)
 }
 
 fn run_clear(session: &Session, target: ClearTarget) -> (u8, String, String) {
     let mut out = Vec::new();
-    let args = ClearErrorsArgs { target, timeout: Duration::from_millis(600) };
+    let args = clear_errors::Options { target, timeout: Duration::from_millis(600) };
     let result = clear_errors::execute(session, &args, &mut out);
     outcome(result, out)
 }
@@ -278,7 +281,7 @@ fn clear_errors_over_rs232_uses_the_serial_fault_bits() {
 #[test]
 fn lights_through_the_library_reach_the_simulator() {
     let session = session(SimConfig::default());
-    let args = LightsArgs {
+    let args = lights::Options {
         front: Some(LightModeChoice::Custom),
         brightness: Some(55),
         rear: None,

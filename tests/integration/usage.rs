@@ -8,11 +8,11 @@ use std::os::fd::{FromRawFd, OwnedFd};
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
-use tracerctl::cli::ClearErrorsArgs;
 use tracerctl::commands::clear_errors;
 use tracerctl::exit::Failure;
-use tracerctl::link::{ClearTarget, LinkChoice};
+use tracerctl::link::LinkChoice;
 use tracerctl::protocol::serial::SerialFrame;
+use tracerctl::protocol::ClearTarget;
 use tracerctl::protocol::ProtocolHint;
 use tracerctl::session::Session;
 use tracerctl::sim::{FaultKind, ScheduledFault, SimConfig};
@@ -306,7 +306,7 @@ fn clear_errors_succeeds_when_only_a_self_clearing_warning_remains() {
     };
     let session = Session::open(&LinkChoice::Sim, ProtocolHint::Auto, Some(config)).unwrap();
     let mut out = Vec::new();
-    let args = ClearErrorsArgs { target: ClearTarget::All, timeout: Duration::from_millis(600) };
+    let args = clear_errors::Options { target: ClearTarget::All, timeout: Duration::from_millis(600) };
     let result = clear_errors::execute(&session, &args, &mut out);
     let out = String::from_utf8(out).unwrap();
     let code = result.unwrap_or_else(|error| {

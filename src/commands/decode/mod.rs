@@ -16,13 +16,13 @@ use std::rc::Rc;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::Global;
 use crate::candump::{
     self, Line, LineParser, LineReader, LogFormat, RawLine, Reason, RejectTally, Rejected, Rejection,
 };
-use crate::cli::{ColorChoice, DecodeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
-use crate::output::{Event, EventWriter, FrameRef};
+use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::{self, CanFrame, ProtocolHint};
 use crate::signals::SignalFlag;
@@ -33,7 +33,32 @@ const FLUSH_AT: usize = 64 * 1024;
 /// Files at least this large get a progress bar (on a terminal).
 const PROGRESS_MIN_BYTES: u64 = 8 * 1024 * 1024;
 
-pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color: ColorChoice) -> Result<u8> {
+/// `tracerctl decode`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// candump logs, `-` for standard input, or frames in cansend syntax.
+    pub inputs: Vec<String>,
+    /// RS232 captures (raw bytes or hex text).
+    pub serial: Vec<PathBuf>,
+    pub format: Format,
+    /// A report instead of every frame.
+    pub summary: bool,
+    /// Stop at the first bad line, bad frame or corrupted serial frame.
+    pub strict: bool,
+    /// Only frames with these identifiers (none: all).
+    pub ids: Vec<crate::protocol::FrameId>,
+    /// Only these message names (none: all).
+    pub messages: Vec<&'static str>,
+    /// Console timestamps are deltas between frames.
+    pub delta_stamps: bool,
+    /// Never show a progress bar.
+    pub no_progress: bool,
+    /// Also draw the plot into this SVG file.
+    pub plot: Option<PathBuf>,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let (serial, protocol, color) = (args.serial.as_slice(), global.protocol, global.color);
     check_arguments(args)?;
     let signals = interrupt::listen()?;
     let stdout = io::stdout();
@@ -98,7 +123,7 @@ pub fn run(args: &DecodeArgs, serial: &[PathBuf], protocol: ProtocolHint, color:
 }
 
 /// Usage errors found before any input is read.
-fn check_arguments(args: &DecodeArgs) -> Result<()> {
+fn check_arguments(args: &Options) -> Result<()> {
     if args.summary && args.format == crate::output::Format::Csv {
         return Err(Failure {
             code: USAGE,
@@ -537,7 +562,7 @@ impl Decoder {
     }
 
     /// Writes what was decoded: the rest of the output, or the summary; then the plot.
-    fn write_out(&mut self, args: &DecodeArgs) -> Result<()> {
+    fn write_out(&mut self, args: &Options) -> Result<()> {
         match &mut self.sink {
             Sink::Lines { output, .. } => output.borrow_mut().flush()?,
             Sink::Summary(summary) => {
@@ -561,7 +586,7 @@ impl Decoder {
 
     /// [`Self::write_out`] when another outcome decides the exit status: a failed write is only said
     /// (nothing at all for a closed stdout).
-    fn write_out_or_say(&mut self, args: &DecodeArgs) {
+    fn write_out_or_say(&mut self, args: &Options) {
         if let Err(error) = self.write_out(args) {
             if !crate::exit::is_broken_pipe(&error) {
                 crate::say!("tracerctl: {error:#}");

@@ -21,14 +21,24 @@ use std::time::{Duration, Instant};
 
 use anyhow::Result;
 
-use crate::cli::{Cli, DoctorArgs};
+use super::Global;
 use crate::exit::{Failure, NOT_DONE, SUCCESS, USAGE};
 use crate::link::LinkChoice;
 use crate::session::Session;
 use report::{Check, Report};
 
-pub fn run(cli: &Cli, args: &DoctorArgs) -> Result<u8> {
-    let choice = LinkChoice::from_args(&cli.link)?;
+/// `tracerctl doctor`'s settings.
+#[derive(Clone, Debug)]
+pub struct Options {
+    /// Also check that the robot takes commands.
+    pub probe: bool,
+    /// How long to listen to the robot.
+    pub listen: Duration,
+    pub format: report::ReportFormat,
+}
+
+pub fn run(global: &Global, args: &Options) -> Result<u8> {
+    let choice = global.link.clone();
     if args.probe && matches!(choice, LinkChoice::Replay { .. }) {
         return Err(Failure {
             code: USAGE,
@@ -37,13 +47,13 @@ pub fn run(cli: &Cli, args: &DoctorArgs) -> Result<u8> {
         .into());
     }
     let stdout = std::io::stdout();
-    let color = cli.color.enabled(stdout.is_terminal());
+    let color = global.color.enabled(stdout.is_terminal());
     let mut out = stdout.lock();
     let mut report = Report::new(&mut out, args.format, color, link_name(&choice));
     report.heading(&format!(
         "tracerctl doctor: {}, protocol {}, listening {}{}",
         describe_link(&choice),
-        format!("{:?}", cli.protocol).to_ascii_lowercase(),
+        format!("{:?}", global.protocol).to_ascii_lowercase(),
         humantime::format_duration(args.listen),
         if args.probe { ", then probing" } else { "" }
     ))?;
@@ -81,7 +91,7 @@ pub fn run(cli: &Cli, args: &DoctorArgs) -> Result<u8> {
         }
     };
     let session = if opened {
-        match Session::open(&choice, cli.protocol.into(), None) {
+        match Session::open(&choice, global.protocol, None) {
             Ok(session) => {
                 if let LinkChoice::Serial { path, baud } = &choice {
                     report.add(Check::pass(
@@ -126,7 +136,7 @@ fn exit_status(drivable: bool, signal: Option<u8>) -> u8 {
 
 /// Runs the checks of what the robot sends (and the probe) on an open session; prints the report to
 /// `out` and returns the exit status. The tests' entry point (`run` adds the link checks first).
-pub fn execute(session: &Session, args: &DoctorArgs, out: &mut impl Write) -> Result<u8> {
+pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Result<u8> {
     let mut report = Report::new(out, args.format, false, session.name.clone());
     let signal = examine(session, args, &mut report)?;
     let drivable = report.finish(args.probe)?;
@@ -135,7 +145,7 @@ pub fn execute(session: &Session, args: &DoctorArgs, out: &mut impl Write) -> Re
 
 /// Listens for `--listen`, checks what arrived, then probes if asked. The exit status of a termination
 /// signal that interrupted the probe, if one did.
-fn examine<W: Write>(session: &Session, args: &DoctorArgs, report: &mut Report<W>) -> Result<Option<u8>> {
+fn examine<W: Write>(session: &Session, args: &Options, report: &mut Report<W>) -> Result<Option<u8>> {
     let started = Instant::now();
     // A link that fails ends the listening early; everything else is heard out.
     session.wait_for(args.listen, |status| status.link_error.as_ref().map(|_| ()));

@@ -8,12 +8,11 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 
 use super::report::Check;
-use crate::cli::ModeChoice;
 use crate::commands::live;
-use crate::commands::mode::{command_frame, send_until, Attempt};
 use crate::link::LinkKind;
 use crate::protocol::message::{MotionCommand, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
 use crate::protocol::Wire;
+use crate::session::confirm::{send_until, Attempt};
 use crate::session::Session;
 use crate::signals::SignalFlag;
 
@@ -29,12 +28,12 @@ const STILL_ANGULAR: f64 = 0.01;
 
 pub fn run(session: &Session, signals: &SignalFlag) -> Result<Vec<Check>> {
     let wire = session.wire();
-    let (choice, wanted) = match wire {
-        Wire::CanV2 | Wire::CanV1 => (ModeChoice::Can, MODE_CAN),
-        Wire::Serial => (ModeChoice::Serial, MODE_SERIAL),
+    let wanted = match wire {
+        Wire::CanV2 | Wire::CanV1 => MODE_CAN,
+        Wire::Serial => MODE_SERIAL,
     };
     let before = session.status().system.map(|(_, state, _)| state.control_mode);
-    let mut checks = vec![probe_mode(session, choice, wanted)?];
+    let mut checks = vec![probe_mode(session, wanted)?];
     let mode_ok = checks[0].outcome == super::report::Outcome::Pass;
     checks.push(probe_motion(session, wanted, mode_ok, signals)?);
     // 0x421 can put back standby or serial mode on V2; RC mode comes back by itself (it is a switch).
@@ -46,7 +45,7 @@ pub fn run(session: &Session, signals: &SignalFlag) -> Result<Vec<Check>> {
     Ok(checks)
 }
 
-fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check> {
+fn probe_mode(session: &Session, wanted: u8) -> Result<Check> {
     const ID: &str = "probe_mode";
     const TITLE: &str = "probe: mode";
     let wire = session.wire();
@@ -56,7 +55,7 @@ fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check
         Wire::Serial => "a zero-speed serial command (serial mode)",
     };
     let before = session.status().system.map(|(_, state, wire)| live::mode_name(state.control_mode, wire));
-    let attempt = switch_mode(session, choice, wanted);
+    let attempt = switch_mode(session, wanted);
     let attempt = match attempt {
         Ok(attempt) => attempt,
         Err(error) => return Ok(Check::fail(ID, TITLE, format!("cannot send {sent}"), format!("{error:#}"))),
@@ -186,8 +185,7 @@ fn restore(session: &Session, mode: u8) -> Result<Check> {
     const ID: &str = "probe_restore";
     const TITLE: &str = "probe: restore";
     let name = live::mode_name(mode, Wire::CanV2);
-    let choice = if mode == MODE_SERIAL { ModeChoice::Serial } else { ModeChoice::Standby };
-    Ok(match switch_mode(session, choice, mode)?.found {
+    Ok(match switch_mode(session, mode)?.found {
         Some(_) => Check::pass(ID, TITLE, format!("control mode back to {name}")),
         None => Check::warn(
             ID,
@@ -198,14 +196,14 @@ fn restore(session: &Session, mode: u8) -> Result<Check> {
     })
 }
 
-/// Sends the command for `choice` (up to three times) until the status reports `mode`; found = how long
-/// after the first send the confirming status came.
-fn switch_mode(session: &Session, choice: ModeChoice, mode: u8) -> Result<Attempt<Duration>> {
+/// Sends the command for `mode` (up to three times) until the status reports it; found = how long after
+/// the first send the confirming status came.
+fn switch_mode(session: &Session, mode: u8) -> Result<Attempt<Duration>> {
     send_until(
         session,
         MODE_TIMEOUT,
         MODE_RESENDS,
-        || command_frame(&mut session.codec(), choice).into_iter().collect(),
+        || session.codec().select_mode(mode).into_iter().collect(),
         |status, sent| {
             status
                 .system

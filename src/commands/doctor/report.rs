@@ -87,7 +87,7 @@ impl Check {
 }
 
 /// Output format of the report.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ReportFormat {
     /// One line per check, then the verdict
     Text,
