@@ -146,6 +146,7 @@ const CODEC: &[&str] = &[
     "src/protocol/can.rs",
     "src/protocol/serial.rs",
     "src/protocol/payload.rs",
+    "src/protocol/codec.rs",
     "src/protocol/catalog.rs",
     "src/protocol/constants.rs",
     "src/protocol/id.rs",
@@ -157,18 +158,6 @@ const CODEC: &[&str] = &[
 const ALLOWED: &[(&str, &str, &str)] = &[
     ("src/cli.rs", "211", "help text built in code; owned by helper boundary (cli.rs), removed at merge"),
     ("src/cli.rs", "0x421", "help text built in code; owned by helper boundary (cli.rs), removed at merge"),
-    ("src/commands/clear_errors.rs", "0x441", "owned by another helper (clear_errors.rs), removed at merge"),
-    ("src/commands/clear_errors.rs", "0x130", "owned by another helper (clear_errors.rs), removed at merge"),
-    (
-        "src/commands/dashboard.rs",
-        "0x441",
-        "owned by another helper (commands/dashboard.rs), removed at merge",
-    ),
-    (
-        "src/commands/dashboard.rs",
-        "0x130",
-        "owned by another helper (commands/dashboard.rs), removed at merge",
-    ),
     (
         "src/commands/decode/mod.rs",
         "211",
@@ -263,16 +252,6 @@ const ALLOWED: &[(&str, &str, &str)] = &[
         "src/dashboard/render.rs",
         "0x421",
         "screen texts; owned by the key-bindings helper (render.rs), removed at merge",
-    ),
-    (
-        "src/link/mod.rs",
-        "0x421",
-        "expect texts in Codec; owned by helper boundary (moves it), removed at merge",
-    ),
-    (
-        "src/link/mod.rs",
-        "0x441",
-        "expect texts in Codec; owned by helper boundary (moves it), removed at merge",
     ),
     ("src/protocol/faults.rs", "0x441", "static fault texts; owned by helper semantics, removed at merge"),
     ("src/protocol/faults.rs", "0x421", "static fault texts; owned by helper semantics, removed at merge"),
