@@ -52,7 +52,7 @@ pub enum Command {
     /// Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)
     Drive(DriveArgs),
     /// Why isn't it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)
-    #[command(after_help = DOCTOR_AFTER_HELP)]
+    #[command(after_help = doctor_after_help())]
     Doctor(DoctorArgs),
     /// Switch the control mode (0x421) and report the mode before and after
     Mode(ModeArgs),
@@ -468,13 +468,19 @@ impl SendRawArgs {
     }
 }
 
+/// `doctor --help` after the options, with the command-mode identifier from the catalog's codec.
+fn doctor_after_help() -> String {
+    let mode_command = crate::protocol::FrameId::Standard(crate::protocol::can::ID_CONTROL_MODE as u16);
+    DOCTOR_AFTER_HELP.replace("{MODE_COMMAND}", &mode_command.to_string())
+}
+
 const DOCTOR_AFTER_HELP: &str = "\
 Checks in order: kernel CAN support, the interface (exists, up, 500 kbit/s, error state and counters) or
 the serial port; then, listening to the robot: frames arriving, protocol version (or the RS232 frame
 stream: checksum errors, sync losses), system status rate, other controllers on the bus, control mode
 and RC override, E-stop, faults, battery, motors. Every WARN and FAIL says what to do.
 
---probe also sends the command-mode command (0x421 = 01; on RS232 and V1 a zero-speed motion command)
+--probe also sends the command-mode command ({MODE_COMMAND} = 01; on RS232 and V1 a zero-speed motion command)
 and zero-velocity motion commands for 0.5 s, and checks the robot takes them. It never commands motion,
 and puts back a standby or serial mode it changed.
 

@@ -17,6 +17,8 @@ use super::live;
 use super::Global;
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::plural;
+use crate::protocol::catalog;
+use crate::protocol::message::MessageKind;
 use crate::protocol::message::{
     light_mode_name, Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON, MODE_STANDBY,
 };
@@ -101,8 +103,8 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
                 .fresh_system(live::STATUS_WAIT)
                 .filter(|(state, state_wire)| *state_wire == Wire::CanV2 && state.control_mode == MODE_STANDBY)
                 .map_or("", |_| {
-                    "; the robot is in standby, where firmware may ignore everything but 0x421: run \
-                     `tracerctl mode can` first"
+                    "; the robot is in standby, where firmware may ignore everything but the control-mode \
+                     command: run `tracerctl mode can` first"
                 });
             format!(
                 "lights not confirmed: asked for {wanted}, sent {sends} within {timeout}, but {source} shows {}{standby}",
@@ -207,12 +209,13 @@ fn rear_text(rear: LightModeChoice, lights: &Lights) -> String {
     }
 }
 
-/// Where the light state comes from on each wire.
-fn state_source(wire: Wire) -> &'static str {
+/// Where the light state comes from on each wire: `0x231`, `0x141`, `the RS232 light status (0xAA07)`.
+fn state_source(wire: Wire) -> String {
+    let id =
+        catalog::identifier_of(MessageKind::LightState, wire).map_or_else(String::new, |id| id.to_string());
     match wire {
-        Wire::CanV2 => "0x231",
-        Wire::CanV1 => "0x141",
-        Wire::Serial => "the RS232 light status",
+        Wire::Serial => format!("the RS232 light status ({id})"),
+        Wire::CanV1 | Wire::CanV2 => id,
     }
 }
 

@@ -23,10 +23,7 @@ use crate::{session, signals};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-/// 0x111: motion command (V2).
-const ID_MOTION_COMMAND: u32 = 0x111;
-/// 0x421: control-mode set; enables motion commands.
-const ID_CONTROL_MODE: u32 = 0x421;
+use crate::protocol::can::{ID_CONTROL_MODE, ID_MOTION_COMMAND};
 /// While waiting for the next repeat, a termination request is noticed at least this often.
 const WAIT_STEP: Duration = Duration::from_millis(5);
 

@@ -321,6 +321,12 @@ pub fn entry(id: FrameId, wire: Wire) -> Option<&'static Entry> {
     CATALOG.iter().find(|entry| entry.id == id && entry.wire == wire)
 }
 
+/// The identifier that carries this kind of message on this wire (the first row: 0x211 before the manual's
+/// 0x151 on V2), printed the one way: `0x231`, `0xAA07`. For messages to read in words ("0x231 shows ...").
+pub fn identifier_of(kind: MessageKind, wire: Wire) -> Option<FrameId> {
+    CATALOG.iter().find(|entry| entry.kind == kind && entry.wire == wire).map(|entry| entry.id)
+}
+
 /// A set of standard CAN identifiers, built from the catalog at compile time (so the decoder's checks are
 /// one bit test).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

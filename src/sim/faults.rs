@@ -88,7 +88,7 @@ impl FaultKind {
     pub fn description(self) -> &'static str {
         match self {
             FaultKind::EStop => "press the E-stop: stops at once, commands ignored",
-            FaultKind::EStopRelease => "release the E-stop: back to standby (send 0x421 again)",
+            FaultKind::EStopRelease => "release the E-stop: back to standby (enable command mode again)",
             FaultKind::Motor1Overheat => "driver 1 at 70 C: over-temperature protection latches",
             FaultKind::Motor2Overheat => "driver 2 at 70 C: over-temperature protection latches",
             FaultKind::Overcurrent => "over-current protection latches on both drivers",
