@@ -6,7 +6,7 @@ use std::time::Duration;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::output::Format;
-use crate::protocol::ProtocolHint;
+use crate::protocol::{ControlMode, ProtocolHint};
 
 const ABOUT: &str = "Decode, monitor, drive and diagnose the AgileX TRACER robot";
 
@@ -212,20 +212,18 @@ impl MotionLimitArgs {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ModeChoice {
-    /// CAN command mode (0x421 = 0x01)
-    Can,
-    /// Serial command mode (0x421 = 0x02)
-    Serial,
-    /// Standby (0x421 = 0x00)
-    Standby,
+/// The modes `tracerctl mode` accepts, named and described by `protocol::ControlMode` itself.
+fn requestable_mode() -> impl clap::builder::TypedValueParser<Value = ControlMode> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    let values = ControlMode::REQUESTABLE
+        .map(|mode| PossibleValue::new(mode.name()).help(mode.help().unwrap_or_default()));
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<ControlMode>())
 }
 
 #[derive(Debug, Args)]
 pub struct ModeArgs {
-    #[arg(value_enum)]
-    pub mode: ModeChoice,
+    #[arg(value_parser = requestable_mode())]
+    pub mode: ControlMode,
 
     /// How long to wait for the robot to confirm (0 to 10m)
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]

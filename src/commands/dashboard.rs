@@ -11,7 +11,6 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
-use super::live;
 use crate::cli::{Cli, DashboardArgs};
 use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
 use crate::dashboard::app::{App, Arming, Prompt, Snapshot, TeleopView};
@@ -209,7 +208,7 @@ impl<'a> Driving<'a> {
     /// once, said on screen) until it clears and a key is pressed again. Returns a message when that changes.
     fn observe(&mut self, status: &RobotStatus) -> Option<String> {
         let blocked =
-            status.fresh_system(BLOCK_STATUS_AGE).and_then(|(state, wire)| live::not_drivable(&state, wire));
+            status.fresh_system(BLOCK_STATUS_AGE).and_then(|(state, wire)| state.why_not_drivable(wire));
         if blocked == self.blocked {
             return None;
         }

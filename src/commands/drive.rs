@@ -136,7 +136,7 @@ fn execute_with(
                 _ => session.status().detector.describe(),
             };
             writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
-            if let Some(reason) = live::not_drivable(&state, wire) {
+            if let Some(reason) = state.why_not_drivable(wire) {
                 if !args.ignore_faults {
                     return Err(Failure::not_done(format!(
                         "not driving: {reason} (--ignore-faults to try anyway)"

@@ -13,11 +13,11 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 
 use super::live;
-use crate::cli::{Cli, ModeArgs, ModeChoice};
+use crate::cli::{Cli, ModeArgs};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::link::{Codec, LinkFrame};
-use crate::protocol::message::{vehicle_state_name, SystemState, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
-use crate::protocol::Wire;
+use crate::protocol::message::{vehicle_state_name, SystemState};
+use crate::protocol::{ControlMode, Wire};
 use crate::session::{RobotStatus, Session};
 
 /// Sends after the first one, if the robot has not switched yet.
@@ -37,7 +37,7 @@ pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Resu
     let before = live::first_status(session);
     let wire = session.wire();
     let code = mode_code(wire, args.mode)?;
-    let wanted = live::mode_name(code, wire);
+    let wanted = ControlMode::describe(wire, code);
 
     if let Some((state, state_wire)) = before.filter(|(state, _)| state.control_mode == code) {
         writeln!(out, "control mode: already {wanted} ({})", condition(&state, state_wire))?;
@@ -58,8 +58,8 @@ pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Resu
     )?;
     let sent = what_is_sent(wire, code);
     if let Some((state, state_wire)) = attempt.found {
-        let from =
-            before.map_or_else(|| "unknown".to_string(), |(state, w)| live::mode_name(state.control_mode, w));
+        let from = before
+            .map_or_else(|| "unknown".to_string(), |(state, w)| ControlMode::describe(w, state.control_mode));
         writeln!(out, "control mode: {from} -> {wanted} ({})", condition(&state, state_wire))?;
         return Ok(SUCCESS);
     }
@@ -71,7 +71,7 @@ pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Resu
     let message = match (latest, before) {
         (Some((state, state_wire)), _) => format!(
             "the robot is still in {} mode ({}), not {wanted}, {timeout} after sending {sent} {} time{}: {}",
-            live::mode_name(state.control_mode, state_wire),
+            ControlMode::describe(state_wire, state.control_mode),
             condition(&state, state_wire),
             attempt.sends,
             plural(attempt.sends),
@@ -90,28 +90,24 @@ pub fn execute(session: &Session, args: &ModeArgs, out: &mut impl Write) -> Resu
 
 /// The control-mode value the robot reports for `mode` on `wire` (0x211 byte 1, RS232 system status d1),
 /// or a usage error when the link cannot select that mode.
-pub fn mode_code(wire: Wire, mode: ModeChoice) -> Result<u8, Failure> {
+pub fn mode_code(wire: Wire, mode: ControlMode) -> Result<u8, Failure> {
     let usage = |message: &str| Failure { code: USAGE, message: message.to_string() };
-    match (wire, mode) {
-        (Wire::CanV2, ModeChoice::Standby) => Ok(MODE_STANDBY),
-        (Wire::CanV2, ModeChoice::Can) => Ok(MODE_CAN),
-        (Wire::CanV2, ModeChoice::Serial) => Ok(MODE_SERIAL),
-        (Wire::Serial, ModeChoice::Serial) => Ok(MODE_SERIAL),
-        (Wire::CanV1, ModeChoice::Can) => Ok(MODE_CAN),
-        (Wire::Serial, _) => Err(usage(
+    mode.request_code(wire).ok_or_else(|| match wire {
+        Wire::Serial => usage(
             "RS232 has no control-mode command: over --serial only `mode serial` works (zero-speed serial \
              motion commands select serial mode); use the CAN link for `mode can` or `mode standby`",
-        )),
-        (Wire::CanV1, _) => Err(usage(
+        ),
+        Wire::CanV1 => usage(
             "protocol V1 has no control-mode command (0x421): only `mode can` works (a zero-speed 0x130 \
              command selects CAN mode); standby and serial need V2 firmware",
-        )),
-    }
+        ),
+        Wire::CanV2 => usage("RC mode cannot be requested: the transmitter takes control with switch SWB"),
+    })
 }
 
 /// The frame that asks for `mode`: 0x421 on V2 CAN, a zero-speed motion command on RS232 (serial mode)
 /// and V1 (CAN mode); `None` when the wire cannot select that mode (see `mode_code`).
-pub fn command_frame(codec: &mut Codec, mode: ModeChoice) -> Option<LinkFrame> {
+pub fn command_frame(codec: &mut Codec, mode: ControlMode) -> Option<LinkFrame> {
     let code = mode_code(codec.wire, mode).ok()?;
     match codec.wire {
         Wire::CanV2 => codec.control_mode(code),
@@ -198,43 +194,43 @@ mod tests {
     #[test]
     fn v2_frames_are_0x421_with_dlc_1() {
         let mut codec = Codec::new(Wire::CanV2);
-        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Can)), "421#01");
-        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Standby)), "421#00");
-        assert_eq!(cansend(command_frame(&mut codec, ModeChoice::Serial)), "421#02");
-        let Some(LinkFrame::Can(frame)) = command_frame(&mut codec, ModeChoice::Can) else { panic!() };
+        assert_eq!(cansend(command_frame(&mut codec, ControlMode::Can)), "421#01");
+        assert_eq!(cansend(command_frame(&mut codec, ControlMode::Standby)), "421#00");
+        assert_eq!(cansend(command_frame(&mut codec, ControlMode::Serial)), "421#02");
+        let Some(LinkFrame::Can(frame)) = command_frame(&mut codec, ControlMode::Can) else { panic!() };
         assert_eq!(frame.len(), 1);
     }
 
     #[test]
     fn serial_mode_over_rs232_is_a_zero_speed_serial_motion_command() {
         let mut codec = Codec::new(Wire::Serial);
-        let Some(LinkFrame::Serial(frame)) = command_frame(&mut codec, ModeChoice::Serial) else { panic!() };
+        let Some(LinkFrame::Serial(frame)) = command_frame(&mut codec, ControlMode::Serial) else { panic!() };
         // 5A A5 0A 55 01 | mode 02, no fault clear, 0 %, 0 % | frame id 00 | checksum
         let bytes = frame.to_bytes();
         assert_eq!(&bytes[..11], &[0x5A, 0xA5, 0x0A, 0x55, 0x01, 0x02, 0x00, 0x00, 0x00, 0x00, 0x00]);
         let sum = bytes[..12].iter().fold(0u8, |sum, byte| sum.wrapping_add(*byte));
         assert_eq!(bytes[12], sum);
-        assert_eq!(command_frame(&mut codec, ModeChoice::Can), None);
-        assert_eq!(command_frame(&mut codec, ModeChoice::Standby), None);
+        assert_eq!(command_frame(&mut codec, ControlMode::Can), None);
+        assert_eq!(command_frame(&mut codec, ControlMode::Standby), None);
     }
 
     #[test]
     fn v1_can_mode_is_a_zero_speed_0x130() {
         let mut codec = Codec::new(Wire::CanV1);
-        let text = cansend(command_frame(&mut codec, ModeChoice::Can));
+        let text = cansend(command_frame(&mut codec, ControlMode::Can));
         assert!(text.starts_with("130#0100000000000"), "{text}");
-        assert_eq!(command_frame(&mut codec, ModeChoice::Serial), None);
+        assert_eq!(command_frame(&mut codec, ControlMode::Serial), None);
     }
 
     #[test]
     fn impossible_modes_are_usage_errors_that_say_what_works() {
-        let error = mode_code(Wire::Serial, ModeChoice::Standby).unwrap_err();
+        let error = mode_code(Wire::Serial, ControlMode::Standby).unwrap_err();
         assert_eq!(error.code, USAGE);
         assert!(error.message.contains("only `mode serial` works"), "{}", error.message);
-        let error = mode_code(Wire::CanV1, ModeChoice::Serial).unwrap_err();
+        let error = mode_code(Wire::CanV1, ControlMode::Serial).unwrap_err();
         assert_eq!(error.code, USAGE);
         assert!(error.message.contains("only `mode can` works"), "{}", error.message);
-        assert_eq!(mode_code(Wire::CanV2, ModeChoice::Standby).unwrap(), 0);
+        assert_eq!(mode_code(Wire::CanV2, ControlMode::Standby).unwrap(), 0);
     }
 
     #[test]

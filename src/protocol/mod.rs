@@ -10,6 +10,7 @@ pub mod fields;
 pub mod frame;
 pub mod id;
 pub mod message;
+pub mod mode;
 pub mod payload;
 pub mod serial;
 
@@ -19,3 +20,4 @@ pub use fields::{for_each_field, Field, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};
 pub use id::FrameId;
 pub use message::{Decoded, Message, Wire};
+pub use mode::ControlMode;

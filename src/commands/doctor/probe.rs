@@ -8,12 +8,11 @@ use std::time::{Duration, Instant};
 use anyhow::Result;
 
 use super::report::Check;
-use crate::cli::ModeChoice;
 use crate::commands::live;
 use crate::commands::mode::{command_frame, send_until, Attempt};
 use crate::link::LinkKind;
-use crate::protocol::message::{MotionCommand, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
-use crate::protocol::Wire;
+use crate::protocol::message::MotionCommand;
+use crate::protocol::{ControlMode, Wire};
 use crate::session::Session;
 use crate::signals::SignalFlag;
 
@@ -29,16 +28,14 @@ const STILL_ANGULAR: f64 = 0.01;
 
 pub fn run(session: &Session, signals: &SignalFlag) -> Result<Vec<Check>> {
     let wire = session.wire();
-    let (choice, wanted) = match wire {
-        Wire::CanV2 | Wire::CanV1 => (ModeChoice::Can, MODE_CAN),
-        Wire::Serial => (ModeChoice::Serial, MODE_SERIAL),
-    };
-    let before = session.status().system.map(|(_, state, _)| state.control_mode);
+    let choice = ControlMode::command_mode_of(wire);
+    let wanted = choice.code(wire);
+    let before = session.status().system.and_then(|(_, state, wire)| state.mode(wire));
     let mut checks = vec![probe_mode(session, choice, wanted)?];
     let mode_ok = checks[0].outcome == super::report::Outcome::Pass;
     checks.push(probe_motion(session, wanted, mode_ok, signals)?);
     // 0x421 can put back standby or serial mode on V2; RC mode comes back by itself (it is a switch).
-    if let (Wire::CanV2, Some(mode @ (MODE_STANDBY | MODE_SERIAL))) = (wire, before) {
+    if let (Wire::CanV2, Some(mode @ (ControlMode::Standby | ControlMode::Serial))) = (wire, before) {
         if mode_ok {
             checks.push(restore(session, mode)?);
         }
@@ -46,7 +43,7 @@ pub fn run(session: &Session, signals: &SignalFlag) -> Result<Vec<Check>> {
     Ok(checks)
 }
 
-fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check> {
+fn probe_mode(session: &Session, choice: ControlMode, wanted: u8) -> Result<Check> {
     const ID: &str = "probe_mode";
     const TITLE: &str = "probe: mode";
     let wire = session.wire();
@@ -55,13 +52,14 @@ fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check
         Wire::CanV1 => "a zero-speed 0x130 (CAN mode)",
         Wire::Serial => "a zero-speed serial command (serial mode)",
     };
-    let before = session.status().system.map(|(_, state, wire)| live::mode_name(state.control_mode, wire));
+    let before =
+        session.status().system.map(|(_, state, wire)| ControlMode::describe(wire, state.control_mode));
     let attempt = switch_mode(session, choice, wanted);
     let attempt = match attempt {
         Ok(attempt) => attempt,
         Err(error) => return Ok(Check::fail(ID, TITLE, format!("cannot send {sent}"), format!("{error:#}"))),
     };
-    let wanted_name = live::mode_name(wanted, wire);
+    let wanted_name = ControlMode::describe(wire, wanted);
     if let Some(after) = attempt.found {
         let from = before.unwrap_or_else(|| "unknown".to_string());
         return Ok(Check::pass(
@@ -79,7 +77,7 @@ fn probe_mode(session: &Session, choice: ModeChoice, wanted: u8) -> Result<Check
             format!(
                 "sent {sent} {} times; the robot stayed in {} mode",
                 attempt.sends,
-                live::mode_name(state.control_mode, state_wire)
+                ControlMode::describe(state_wire, state.control_mode)
             ),
             live::why_not_command_mode(&state, state_wire),
         ),
@@ -143,7 +141,7 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
     match status.system.filter(|(at, ..)| *at > started) {
         None => problems.push("no system status arrived while sending".to_string()),
         Some((_, state, state_wire)) => {
-            let mode = live::mode_name(state.control_mode, state_wire);
+            let mode = ControlMode::describe(state_wire, state.control_mode);
             if mode_ok && state.control_mode != wanted {
                 problems.push(format!("the robot left command mode ({mode})"));
             } else {
@@ -182,12 +180,11 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
 }
 
 /// Puts back the mode the robot was in.
-fn restore(session: &Session, mode: u8) -> Result<Check> {
+fn restore(session: &Session, mode: ControlMode) -> Result<Check> {
     const ID: &str = "probe_restore";
     const TITLE: &str = "probe: restore";
-    let name = live::mode_name(mode, Wire::CanV2);
-    let choice = if mode == MODE_SERIAL { ModeChoice::Serial } else { ModeChoice::Standby };
-    Ok(match switch_mode(session, choice, mode)?.found {
+    let name = mode.name();
+    Ok(match switch_mode(session, mode, mode.code(Wire::CanV2))?.found {
         Some(_) => Check::pass(ID, TITLE, format!("control mode back to {name}")),
         None => Check::warn(
             ID,
@@ -200,7 +197,7 @@ fn restore(session: &Session, mode: u8) -> Result<Check> {
 
 /// Sends the command for `choice` (up to three times) until the status reports `mode`; found = how long
 /// after the first send the confirming status came.
-fn switch_mode(session: &Session, choice: ModeChoice, mode: u8) -> Result<Attempt<Duration>> {
+fn switch_mode(session: &Session, choice: ControlMode, mode: u8) -> Result<Attempt<Duration>> {
     send_until(
         session,
         MODE_TIMEOUT,
