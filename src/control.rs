@@ -17,11 +17,12 @@
 //! - **Truth.** How many stop frames actually left is counted, so callers never say "stopped" when none did.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
+use parking_lot::Mutex;
 
 use crate::link::{is_queue_full, Codec, FrameTx, LinkFrame};
 use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
@@ -239,13 +240,13 @@ struct Shared {
 }
 
 impl Shared {
-    fn stats(&self) -> std::sync::MutexGuard<'_, SenderStats> {
-        self.stats.lock().unwrap_or_else(|p| p.into_inner())
+    fn stats(&self) -> parking_lot::MutexGuard<'_, SenderStats> {
+        self.stats.lock()
     }
 
     /// Asks for zero at once and holding; returns the halt's number.
     fn halt(&self, hold: Hold) -> u64 {
-        *self.hold_request.lock().unwrap_or_else(|p| p.into_inner()) = Some(hold);
+        *self.hold_request.lock() = Some(hold);
         self.resume_request.store(false, Ordering::SeqCst);
         let number = self.halts_asked.fetch_add(1, Ordering::SeqCst) + 1;
         self.kicked.store(true, Ordering::SeqCst);
@@ -310,7 +311,7 @@ fn emergency() -> &'static Mutex<Option<Emergency>> {
 /// Sends zero-velocity frames on the link of the running sender, if any (used by panic hooks).
 pub fn emergency_stop() {
     PANICKED.store(true, Ordering::SeqCst);
-    if let Ok(guard) = emergency().try_lock() {
+    if let Some(guard) = emergency().try_lock() {
         if let Some((tx, frame)) = guard.as_ref() {
             tx.discard_pending();
             for _ in 0..STOP_FRAMES {
@@ -338,7 +339,7 @@ impl MotionSender {
     pub fn start(tx: Arc<dyn FrameTx>, mut codec: Codec, limits: Limits, watchdog: Duration) -> Result<Self> {
         install_panic_hook();
         let stop_frame = codec.motion(MotionCommand::STOP);
-        *emergency().lock().unwrap_or_else(|p| p.into_inner()) = Some((Arc::clone(&tx), stop_frame));
+        *emergency().lock() = Some((Arc::clone(&tx), stop_frame));
         let shared = Arc::new(Shared {
             target: Mutex::new(Target { linear: 0.0, angular: 0.0, set_at: Instant::now() }),
             stats: Mutex::new(SenderStats::default()),
@@ -370,8 +371,7 @@ impl MotionSender {
     /// Sets what to drive at (m/s, rad/s); also tells the watchdog that input is alive. Ignored while the
     /// sender holds zero.
     pub fn set_target(&self, linear: f64, angular: f64) {
-        *self.shared.target.lock().unwrap_or_else(|p| p.into_inner()) =
-            Target { linear, angular, set_at: Instant::now() };
+        *self.shared.target.lock() = Target { linear, angular, set_at: Instant::now() };
     }
 
     /// Sets the target and sends it now rather than at the next tick (for a key press: the first changed
@@ -398,7 +398,7 @@ impl MotionSender {
     /// Ends a hold: the next target counts again, ramped up from zero. Call it only on a fresh command from
     /// the operator (a key pressed after the hold began).
     pub fn resume(&self) {
-        *self.shared.hold_request.lock().unwrap_or_else(|p| p.into_inner()) = None;
+        *self.shared.hold_request.lock() = None;
         self.shared.resume_request.store(true, Ordering::SeqCst);
     }
 
@@ -413,7 +413,7 @@ impl MotionSender {
 
     /// The sender's latest send error, if sending failed (the thread keeps trying).
     pub fn last_error(&self) -> Option<String> {
-        self.shared.last_error.lock().unwrap_or_else(|p| p.into_inner()).clone()
+        self.shared.last_error.lock().clone()
     }
 
     /// True while the sender thread runs.
@@ -450,7 +450,7 @@ impl MotionSender {
                 self.shared.stats().stop_frames_sent = Some(sent);
             }
         }
-        *emergency().lock().unwrap_or_else(|p| p.into_inner()) = None;
+        *emergency().lock() = None;
     }
 }
 
@@ -510,7 +510,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
                 if is_queue_full(&error) {
                     stats.queue_full += 1;
                 }
-                *shared.last_error.lock().unwrap_or_else(|p| p.into_inner()) = Some(error.to_string());
+                *shared.last_error.lock() = Some(error.to_string());
             }
         }
     };
@@ -523,7 +523,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
         if shared.resume_request.swap(false, Ordering::SeqCst) {
             hold = None;
         }
-        if let Some(asked) = shared.hold_request.lock().unwrap_or_else(|p| p.into_inner()).take() {
+        if let Some(asked) = shared.hold_request.lock().take() {
             hold = Some(asked);
         }
         // The sender's own clock: a jump means nothing ran (SIGSTOP, Ctrl-Z, a stalled machine).
@@ -534,7 +534,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
             stats.gaps += 1;
             stats.last_gap = Some(since);
         }
-        let target = *shared.target.lock().unwrap_or_else(|p| p.into_inner());
+        let target = *shared.target.lock();
         let moving_target = target.linear != 0.0 || target.angular != 0.0;
         if hold.is_none() && moving_target && now.duration_since(target.set_at) > watchdog {
             hold = Some(Hold::Watchdog);
@@ -614,7 +614,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
 mod tests {
     use super::*;
     use crate::protocol::Wire;
-    use std::sync::mpsc;
+    use std::sync::{mpsc, Mutex};
 
     #[test]
     fn ramp_respects_acceleration_and_caps() {

@@ -5,10 +5,11 @@
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::RecvTimeoutError;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
+use parking_lot::Mutex;
 use ratatui::crossterm::event::{Event, KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use crate::cli::{Cli, DashboardArgs};
@@ -161,7 +162,7 @@ impl<'a> Driving<'a> {
             self.limits,
             WATCHDOG,
         )?;
-        *self.slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
+        *self.slot.lock() = Some(sender.stopper());
         let stats = sender.stats();
         self.seen_gaps = stats.gaps;
         self.seen_watchdog = stats.watchdog_trips;
@@ -175,7 +176,7 @@ impl<'a> Driving<'a> {
 
     /// Stops the sender: zero frames, then nothing more is sent.
     fn disarm(&mut self) -> Stopped {
-        self.slot.lock().unwrap_or_else(|p| p.into_inner()).take();
+        self.slot.lock().take();
         match self.sender.take() {
             None if self.was_armed => self.last_stop.take().unwrap_or(Stopped::Confirmed),
             None => Stopped::NeverArmed,
@@ -276,7 +277,7 @@ impl<'a> Driving<'a> {
     }
 
     fn suspend(&self) {
-        if let Some(stopper) = self.slot.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+        if let Some(stopper) = self.slot.lock().as_ref() {
             stopper.suspend(SUSPEND_WAIT);
         }
     }
@@ -301,12 +302,12 @@ fn drive_loop(
         let (on_signal, on_suspend) = (Arc::clone(&slot), Arc::clone(&slot));
         signals::listen_suspendable(
             move |_| {
-                if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                if let Some(stopper) = on_signal.lock().as_ref() {
                     stopper.stop_now();
                 }
             },
             move || {
-                if let Some(stopper) = on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                if let Some(stopper) = on_suspend.lock().as_ref() {
                     stopper.suspend(SUSPEND_WAIT);
                 }
                 // Give the terminal back while stopped; the loop takes it again after SIGCONT.

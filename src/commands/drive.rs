@@ -6,10 +6,11 @@
 //! fresh command may move it again; and the report says whether the stop frames really left.
 
 use std::io::{IsTerminal, Write};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
+use parking_lot::Mutex;
 
 use super::live;
 use crate::cli::{Cli, DriveArgs};
@@ -71,11 +72,11 @@ pub fn run(cli: &Cli, args: &DriveArgs) -> Result<u8> {
         let early = Arc::clone(&suspended_early);
         signals::listen_suspendable(
             move |_| {
-                if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                if let Some(stopper) = on_signal.lock().as_ref() {
                     stopper.stop_now();
                 }
             },
-            move || match on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            move || match on_suspend.lock().as_ref() {
                 Some(stopper) => {
                     stopper.suspend(SUSPEND_WAIT);
                 }
@@ -166,7 +167,7 @@ fn execute_with(
     }
 
     let sender = MotionSender::start(session.tx.clone(), Codec::new(session.wire()), limits, WATCHDOG)?;
-    *context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
+    *context.sender_slot.lock() = Some(sender.stopper());
 
     let started = Instant::now();
     let mut last_status = Instant::now() - STATUS_EVERY_PIPE;
@@ -253,7 +254,7 @@ fn execute_with(
         (End::TimeUp, Some(status)) => End::Signal(signal.name(), status),
         (end, _) => end,
     };
-    context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()).take();
+    context.sender_slot.lock().take();
     if overwrite && !matches!(end, End::OutputGone(_)) {
         writeln!(out)?;
     }
