@@ -95,24 +95,7 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
     const TITLE: &str = "probe: zero motion";
     let bus_before = bus_errors(session);
     let started = Instant::now();
-    let mut sent = 0;
-    let mut send_error = None;
-    // On an absolute grid, like the drive sender: a slow send does not stretch the period.
-    for index in 0..MOTION_FRAMES {
-        if signals.received().is_some() {
-            break;
-        }
-        let frame = session.codec().motion(MotionCommand::STOP);
-        match session.send(&frame) {
-            Ok(()) => sent += 1,
-            Err(error) => {
-                send_error = Some(format!("{error:#}"));
-                break;
-            }
-        }
-        let next = started + MOTION_PERIOD * (index + 1);
-        std::thread::sleep(next.saturating_duration_since(Instant::now()));
-    }
+    let (sent, send_error) = send_zero_frames(session, signals, started);
     let what = match session.wire() {
         Wire::CanV2 => "zero-velocity 0x111",
         Wire::CanV1 => "zero-velocity 0x130",
@@ -135,8 +118,50 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
             "run doctor again",
         ));
     }
-    let status = session.status();
     let mut finding = format!("{sent} {what} frames in {elapsed:.1} s, all sent");
+    let problems = status_while_sending(session, started, wanted, mode_ok, bus_before, &mut finding);
+    if problems.is_empty() {
+        Ok(Check::pass(ID, TITLE, finding))
+    } else {
+        Ok(Check::fail(
+            ID,
+            TITLE,
+            format!("{finding}; {}", problems.join("; ")),
+            "fix what the earlier checks report; if they all pass, check the wiring and termination",
+        ))
+    }
+}
+
+/// Sends `MOTION_FRAMES` zero-velocity frames on an absolute grid, like the drive sender (a slow send does not
+/// stretch the period), until a signal arrives or the link refuses one: how many left, and the refusal.
+fn send_zero_frames(session: &Session, signals: &SignalFlag, started: Instant) -> (u32, Option<String>) {
+    let mut sent = 0;
+    for index in 0..MOTION_FRAMES {
+        if signals.received().is_some() {
+            break;
+        }
+        let frame = session.codec().motion(MotionCommand::STOP);
+        if let Err(error) = session.send(&frame) {
+            return (sent, Some(format!("{error:#}")));
+        }
+        sent += 1;
+        let next = started + MOTION_PERIOD * (index + 1);
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+    }
+    (sent, None)
+}
+
+/// What the robot reported while the zero frames went out: the mode and speed join `finding`; a left
+/// command mode, motion, a missing status or a rising transmit error counter are the problems returned.
+fn status_while_sending(
+    session: &Session,
+    started: Instant,
+    wanted: u8,
+    mode_ok: bool,
+    bus_before: Option<u16>,
+    finding: &mut String,
+) -> Vec<String> {
+    let status = session.status();
     let mut problems = Vec::new();
     match status.system.filter(|(at, ..)| *at > started) {
         None => problems.push("no system status arrived while sending".to_string()),
@@ -167,16 +192,7 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
             ));
         }
     }
-    if problems.is_empty() {
-        Ok(Check::pass(ID, TITLE, finding))
-    } else {
-        Ok(Check::fail(
-            ID,
-            TITLE,
-            format!("{finding}; {}", problems.join("; ")),
-            "fix what the earlier checks report; if they all pass, check the wiring and termination",
-        ))
-    }
+    problems
 }
 
 /// Puts back the mode the robot was in.
