@@ -163,7 +163,8 @@ pub(crate) fn parse<'a>(
                     kind = frame_kind;
                     dir = dir.or(frame_dir);
                 }
-                Type::Other(line) => return Ok(line),
+                Type::Status => return Ok(Line::ErrorText),
+                Type::Event => return Ok(Line::Comment),
                 Type::Unknown => return Err((at, Reason::TrcFrame)),
             },
             Column::Bus => {
@@ -237,8 +238,10 @@ fn length_column(token: &[u8], at: usize) -> Result<(usize, usize), PosError> {
 enum Type {
     /// A frame of this kind, with the direction 1.x versions put in this column.
     Frame(Kind, Option<Direction>),
-    /// Not a frame: a status or error line, or an event.
-    Other(Line<'static>),
+    /// A status or error line (`ST`, `EC`, `ER`, `Warng`, `Error`).
+    Status,
+    /// An event (`EV`).
+    Event,
     Unknown,
 }
 
@@ -253,8 +256,8 @@ fn type_column(token: &[u8]) -> Type {
         b"FE" => Type::Frame(Kind::Fd(FD_FDF | FD_ESI), None),
         b"BI" => Type::Frame(Kind::Fd(FD_FDF | FD_BRS | FD_ESI), None),
         b"RR" => Type::Frame(Kind::Remote, None),
-        b"ST" | b"EC" | b"ER" | b"Warng" | b"Error" => Type::Other(Line::ErrorText),
-        b"EV" => Type::Other(Line::Comment),
+        b"ST" | b"EC" | b"ER" | b"Warng" | b"Error" => Type::Status,
+        b"EV" => Type::Event,
         _ => Type::Unknown,
     }
 }

@@ -63,13 +63,17 @@ impl ControlMode {
     }
 
     /// The mode a reported byte means on `wire` (0 is standby on V2, RC on V1/RS232); `None` for a byte no
-    /// document defines.
-    pub fn from_code(wire: Wire, code: u8) -> Option<Self> {
-        let candidates: &[ControlMode] = match wire {
-            Wire::CanV2 => &[ControlMode::Standby, ControlMode::Can, ControlMode::Serial, ControlMode::Rc],
-            Wire::CanV1 | Wire::Serial => &[ControlMode::Rc, ControlMode::Can, ControlMode::Serial],
-        };
-        candidates.iter().copied().find(|mode| mode.code(wire) == code)
+    /// document defines. The inverse of [`ControlMode::code`] (a test checks every byte), written as a match
+    /// because decode calls it for every system state it prints.
+    pub const fn from_code(wire: Wire, code: u8) -> Option<Self> {
+        match (wire, code) {
+            (Wire::CanV2, 0) => Some(ControlMode::Standby),
+            (Wire::CanV1 | Wire::Serial, 0) => Some(ControlMode::Rc),
+            (_, 1) => Some(ControlMode::Can),
+            (_, 2) => Some(ControlMode::Serial),
+            (Wire::CanV2, 3) => Some(ControlMode::Rc),
+            _ => None,
+        }
     }
 
     /// The name of a reported byte, or `0xNN` for an undefined one: `can`, `0x07`.
@@ -160,6 +164,16 @@ mod tests {
                 if let Some(mode) = ControlMode::from_code(wire, code) {
                     assert_eq!(mode.code(wire), code, "{wire:?} {code}");
                 }
+            }
+            for mode in ControlMode::VARIANTS {
+                let back = ControlMode::from_code(wire, mode.code(wire));
+                // Standby has no code of its own on V1/RS232: it reads back as RC.
+                let expected = if wire != Wire::CanV2 && *mode == ControlMode::Standby {
+                    ControlMode::Rc
+                } else {
+                    *mode
+                };
+                assert_eq!(back, Some(expected), "{wire:?} {mode}");
             }
         }
     }
