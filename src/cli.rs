@@ -12,7 +12,7 @@ use crate::commands::{self, usage, Global};
 use crate::control::{LimitError, LimitName, Limits};
 use crate::link::LinkChoice;
 use crate::output::{ColorChoice, Format};
-use crate::protocol::{ClearTarget, ProtocolHint};
+use crate::protocol::{ClearTarget, ControlMode, ProtocolHint};
 
 const ABOUT: &str = "Decode, monitor, drive and diagnose the AgileX TRACER robot";
 
@@ -308,30 +308,18 @@ fn limit_error_text(error: LimitError) -> String {
     }
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum ModeArg {
-    /// CAN command mode (0x421 = 0x01)
-    Can,
-    /// Serial command mode (0x421 = 0x02)
-    Serial,
-    /// Standby (0x421 = 0x00)
-    Standby,
-}
-
-impl From<ModeArg> for commands::mode::ModeChoice {
-    fn from(value: ModeArg) -> Self {
-        match value {
-            ModeArg::Can => Self::Can,
-            ModeArg::Serial => Self::Serial,
-            ModeArg::Standby => Self::Standby,
-        }
-    }
+/// The modes `tracerctl mode` accepts, named and described by `protocol::ControlMode` itself.
+fn requestable_mode() -> impl clap::builder::TypedValueParser<Value = ControlMode> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    let values = ControlMode::REQUESTABLE
+        .map(|mode| PossibleValue::new(mode.name()).help(mode.help().unwrap_or_default()));
+    PossibleValuesParser::new(values).try_map(|name| name.parse::<ControlMode>())
 }
 
 #[derive(Debug, Args)]
 pub struct ModeArgs {
-    #[arg(value_enum)]
-    pub mode: ModeArg,
+    #[arg(value_parser = requestable_mode())]
+    pub mode: ControlMode,
 
     /// How long to wait for the robot to confirm (0 to 10m)
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(TIMEOUT))]
@@ -340,7 +328,7 @@ pub struct ModeArgs {
 
 impl ModeArgs {
     fn options(self) -> commands::mode::Options {
-        commands::mode::Options { mode: self.mode.into(), timeout: self.timeout }
+        commands::mode::Options { mode: self.mode, timeout: self.timeout }
     }
 }
 

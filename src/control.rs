@@ -17,11 +17,12 @@
 //! - **Truth.** How many stop frames actually left is counted, so callers never say "stopped" when none did.
 
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, OnceLock};
+use std::sync::{Arc, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
+use parking_lot::Mutex;
 
 use crate::link::{is_queue_full, FrameTx, LinkFrame};
 use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
@@ -272,13 +273,29 @@ struct Shared {
 }
 
 impl Shared {
-    fn stats(&self) -> std::sync::MutexGuard<'_, SenderStats> {
-        self.stats.lock().unwrap_or_else(|p| p.into_inner())
+    fn stats(&self) -> parking_lot::MutexGuard<'_, SenderStats> {
+        self.stats.lock()
+    }
+
+    /// Counts a send: a frame (motion or mode-enable) that left, or an error, with a full queue apart.
+    fn record(&self, result: std::io::Result<()>, mode: bool) {
+        let mut stats = self.stats();
+        match result {
+            Ok(()) if mode => stats.mode_frames += 1,
+            Ok(()) => stats.frames += 1,
+            Err(error) => {
+                stats.send_errors += 1;
+                if is_queue_full(&error) {
+                    stats.queue_full += 1;
+                }
+                *self.last_error.lock() = Some(error.to_string());
+            }
+        }
     }
 
     /// Asks for zero at once and holding; returns the halt's number.
     fn halt(&self, hold: Hold) -> u64 {
-        *self.hold_request.lock().unwrap_or_else(|p| p.into_inner()) = Some(hold);
+        *self.hold_request.lock() = Some(hold);
         self.resume_request.store(false, Ordering::SeqCst);
         let number = self.halts_asked.fetch_add(1, Ordering::SeqCst) + 1;
         self.kicked.store(true, Ordering::SeqCst);
@@ -343,7 +360,7 @@ fn emergency() -> &'static Mutex<Option<Emergency>> {
 /// Sends zero-velocity frames on the link of the running sender, if any (used by panic hooks).
 pub fn emergency_stop() {
     PANICKED.store(true, Ordering::SeqCst);
-    if let Ok(guard) = emergency().try_lock() {
+    if let Some(guard) = emergency().try_lock() {
         if let Some((tx, frame)) = guard.as_ref() {
             tx.discard_pending();
             for _ in 0..STOP_FRAMES {
@@ -371,7 +388,7 @@ impl MotionSender {
     pub fn start(tx: Arc<dyn FrameTx>, mut codec: Codec, limits: Limits, watchdog: Duration) -> Result<Self> {
         install_panic_hook();
         let stop_frame = codec.motion(MotionCommand::STOP);
-        *emergency().lock().unwrap_or_else(|p| p.into_inner()) = Some((Arc::clone(&tx), stop_frame));
+        *emergency().lock() = Some((Arc::clone(&tx), stop_frame));
         let shared = Arc::new(Shared {
             target: Mutex::new(Target { linear: 0.0, angular: 0.0, set_at: Instant::now() }),
             stats: Mutex::new(SenderStats::default()),
@@ -403,8 +420,7 @@ impl MotionSender {
     /// Sets what to drive at (m/s, rad/s); also tells the watchdog that input is alive. Ignored while the
     /// sender holds zero.
     pub fn set_target(&self, linear: f64, angular: f64) {
-        *self.shared.target.lock().unwrap_or_else(|p| p.into_inner()) =
-            Target { linear, angular, set_at: Instant::now() };
+        *self.shared.target.lock() = Target { linear, angular, set_at: Instant::now() };
     }
 
     /// Sets the target and sends it now rather than at the next tick (for a key press: the first changed
@@ -431,7 +447,7 @@ impl MotionSender {
     /// Ends a hold: the next target counts again, ramped up from zero. Call it only on a fresh command from
     /// the operator (a key pressed after the hold began).
     pub fn resume(&self) {
-        *self.shared.hold_request.lock().unwrap_or_else(|p| p.into_inner()) = None;
+        *self.shared.hold_request.lock() = None;
         self.shared.resume_request.store(true, Ordering::SeqCst);
     }
 
@@ -446,7 +462,7 @@ impl MotionSender {
 
     /// The sender's latest send error, if sending failed (the thread keeps trying).
     pub fn last_error(&self) -> Option<String> {
-        self.shared.last_error.lock().unwrap_or_else(|p| p.into_inner()).clone()
+        self.shared.last_error.lock().clone()
     }
 
     /// True while the sender thread runs.
@@ -483,7 +499,7 @@ impl MotionSender {
                 self.shared.stats().stop_frames_sent = Some(sent);
             }
         }
-        *emergency().lock().unwrap_or_else(|p| p.into_inner()) = None;
+        *emergency().lock() = None;
     }
 }
 
@@ -528,105 +544,134 @@ pub fn send_stop_frames(
     (sent, discarded)
 }
 
-fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limits, watchdog: Duration) {
-    let mut next_tick = Instant::now();
-    let mut current = (0.0, 0.0);
-    let mut last_tick: Option<Instant> = None;
-    let mut hold: Option<Hold> = None;
-    let record = |result: std::io::Result<()>, mode: bool| {
-        let mut stats = shared.stats();
-        match result {
-            Ok(()) if mode => stats.mode_frames += 1,
-            Ok(()) => stats.frames += 1,
-            Err(error) => {
-                stats.send_errors += 1;
-                if is_queue_full(&error) {
-                    stats.queue_full += 1;
-                }
-                *shared.last_error.lock().unwrap_or_else(|p| p.into_inner()) = Some(error.to_string());
-            }
-        }
-    };
-    loop {
-        if shared.stop.load(Ordering::SeqCst) || panicked() {
-            break;
-        }
-        let now = Instant::now();
-        let halt_number = shared.halts_asked.load(Ordering::SeqCst);
-        if shared.resume_request.swap(false, Ordering::SeqCst) {
-            hold = None;
-        }
-        if let Some(asked) = shared.hold_request.lock().unwrap_or_else(|p| p.into_inner()).take() {
-            hold = Some(asked);
-        }
-        // The sender's own clock: a jump means nothing ran (SIGSTOP, Ctrl-Z, a stalled machine).
-        let since = last_tick.map_or(Duration::ZERO, |last| now.duration_since(last));
-        if since > GAP_LIMIT {
-            hold = Some(Hold::Gap(since));
-            let mut stats = shared.stats();
-            stats.gaps += 1;
-            stats.last_gap = Some(since);
-        }
-        let target = *shared.target.lock().unwrap_or_else(|p| p.into_inner());
-        let moving_target = target.linear != 0.0 || target.angular != 0.0;
-        if hold.is_none() && moving_target && now.duration_since(target.set_at) > watchdog {
-            hold = Some(Hold::Watchdog);
-            shared.stats().watchdog_trips += 1;
-        }
-        current = match hold {
-            Some(reason) if reason.is_immediate() => (0.0, 0.0),
-            Some(_) => ramp_step(current, (0.0, 0.0), &limits, since.clamp(PERIOD, PERIOD * 5)),
-            // At least one period's step: a frame sent early for a key press must already move (it restarts
-            // the grid, so the ramp gains at most one step per press).
-            None => {
-                ramp_step(current, (target.linear, target.angular), &limits, since.clamp(PERIOD, PERIOD * 5))
-            }
-        };
-        last_tick = Some(now);
-        shared.stats().hold = hold;
-        if shared.enable_mode.swap(false, Ordering::SeqCst) {
-            record(tx.send(&codec.enable_command_mode()), true);
-        }
-        let (command, _) = MotionCommand::clamped_from_si(current.0, current.1);
-        // Not behind a backlog: a motion frame queued there would reach the robot late, and stale.
-        if tx.pending().is_some_and(|queued| queued >= BACKLOG_LIMIT) {
-            shared.stats().held_back += 1;
-        } else {
-            let result = tx.send(&codec.motion(command));
-            let sent = result.is_ok();
-            record(result, false);
-            if sent {
-                let mut stats = shared.stats();
-                stats.sent = command;
-                stats.sent_at = Some(Instant::now());
-                if command == MotionCommand::STOP {
-                    shared.halts_done.fetch_max(halt_number, Ordering::SeqCst);
-                }
-            }
-        }
+/// What the sender carries from one tick to the next.
+struct LoopState {
+    /// The next point on the 20 ms grid.
+    next_tick: Instant,
+    /// The velocity sent last (after ramps and caps), m/s and rad/s.
+    current: (f64, f64),
+    last_tick: Option<Instant>,
+    hold: Option<Hold>,
+}
 
-        // Next point on the 20 ms grid; if we are late by whole periods, skip them rather than burst.
-        next_tick += PERIOD;
-        let now = Instant::now();
-        if next_tick <= now {
-            let behind = now.duration_since(next_tick).as_nanos() / PERIOD.as_nanos() + 1;
-            next_tick += PERIOD * behind as u32;
-        }
-        while !shared.stop.load(Ordering::SeqCst) && !panicked() {
-            let now = Instant::now();
-            if now >= next_tick {
-                break;
-            }
-            if shared.kicked.swap(false, Ordering::SeqCst) {
-                next_tick = now;
-                break;
-            }
-            std::thread::park_timeout(next_tick - now);
-        }
+fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limits, watchdog: Duration) {
+    let mut state = LoopState { next_tick: Instant::now(), current: (0.0, 0.0), last_tick: None, hold: None };
+    while !(shared.stop.load(Ordering::SeqCst) || panicked()) {
+        tick(shared, tx, codec, &limits, watchdog, &mut state);
+        state.next_tick = wait_for_next_tick(shared, state.next_tick);
     }
     // Every way out of the loop ends here.
-    let (sent, discarded) = send_stop_frames(tx, codec, |result| record(result, false));
-    // Where the link can tell (a serial driver's queue), see that they leave.
+    send_final_stop(shared, tx, codec);
+}
+
+/// One tick: the hold, the ramp toward the target (or toward zero while holding), and the frames.
+fn tick(
+    shared: &Shared,
+    tx: &dyn FrameTx,
+    codec: &mut Codec,
+    limits: &Limits,
+    watchdog: Duration,
+    state: &mut LoopState,
+) {
+    let now = Instant::now();
+    let halt_number = shared.halts_asked.load(Ordering::SeqCst);
+    let (since, target) = update_hold(shared, now, watchdog, state);
+    state.current = match state.hold {
+        Some(reason) if reason.is_immediate() => (0.0, 0.0),
+        Some(_) => ramp_step(state.current, (0.0, 0.0), limits, since.clamp(PERIOD, PERIOD * 5)),
+        // At least one period's step: a frame sent early for a key press must already move (it restarts
+        // the grid, so the ramp gains at most one step per press).
+        None => {
+            ramp_step(state.current, (target.linear, target.angular), limits, since.clamp(PERIOD, PERIOD * 5))
+        }
+    };
+    state.last_tick = Some(now);
+    shared.stats().hold = state.hold;
+    if shared.enable_mode.swap(false, Ordering::SeqCst) {
+        shared.record(tx.send(&codec.enable_command_mode()), true);
+    }
+    send_motion(shared, tx, codec, state.current, halt_number);
+}
+
+/// Takes the owner's resume and hold requests, then holds on a gap in the sender's own clock or when the
+/// target has not been renewed within the watchdog. Returns the time since the last tick and the target.
+fn update_hold(
+    shared: &Shared,
+    now: Instant,
+    watchdog: Duration,
+    state: &mut LoopState,
+) -> (Duration, Target) {
+    if shared.resume_request.swap(false, Ordering::SeqCst) {
+        state.hold = None;
+    }
+    if let Some(asked) = shared.hold_request.lock().take() {
+        state.hold = Some(asked);
+    }
+    // The sender's own clock: a jump means nothing ran (SIGSTOP, Ctrl-Z, a stalled machine).
+    let since = state.last_tick.map_or(Duration::ZERO, |last| now.duration_since(last));
+    if since > GAP_LIMIT {
+        state.hold = Some(Hold::Gap(since));
+        let mut stats = shared.stats();
+        stats.gaps += 1;
+        stats.last_gap = Some(since);
+    }
+    let target = *shared.target.lock();
+    let moving_target = target.linear != 0.0 || target.angular != 0.0;
+    if state.hold.is_none() && moving_target && now.duration_since(target.set_at) > watchdog {
+        state.hold = Some(Hold::Watchdog);
+        shared.stats().watchdog_trips += 1;
+    }
+    (since, target)
+}
+
+/// Sends the motion frame for `current`, unless the link's queue holds a backlog.
+fn send_motion(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, current: (f64, f64), halt_number: u64) {
+    let (command, _) = MotionCommand::clamped_from_si(current.0, current.1);
+    // Not behind a backlog: a motion frame queued there would reach the robot late, and stale.
+    if tx.pending().is_some_and(|queued| queued >= BACKLOG_LIMIT) {
+        shared.stats().held_back += 1;
+        return;
+    }
+    let result = tx.send(&codec.motion(command));
+    let sent = result.is_ok();
+    shared.record(result, false);
+    if sent {
+        let mut stats = shared.stats();
+        stats.sent = command;
+        stats.sent_at = Some(Instant::now());
+        if command == MotionCommand::STOP {
+            shared.halts_done.fetch_max(halt_number, Ordering::SeqCst);
+        }
+    }
+}
+
+/// Sleeps until the next point on the 20 ms grid (returned), or until stopped or kicked (a new target that
+/// should not wait: the grid restarts now). Late by whole periods, it skips them rather than burst.
+fn wait_for_next_tick(shared: &Shared, previous: Instant) -> Instant {
+    let mut next_tick = previous + PERIOD;
+    let now = Instant::now();
+    if next_tick <= now {
+        let behind = now.duration_since(next_tick).as_nanos() / PERIOD.as_nanos() + 1;
+        next_tick += PERIOD * behind as u32;
+    }
+    while !shared.stop.load(Ordering::SeqCst) && !panicked() {
+        let now = Instant::now();
+        if now >= next_tick {
+            break;
+        }
+        if shared.kicked.swap(false, Ordering::SeqCst) {
+            next_tick = now;
+            break;
+        }
+        std::thread::park_timeout(next_tick - now);
+    }
+    next_tick
+}
+
+/// The stop frames every exit sends, then, where the link can tell (a serial driver's queue), a wait to see
+/// that they leave; the outcome goes into the stats.
+fn send_final_stop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec) {
+    let (sent, discarded) = send_stop_frames(tx, codec, |result| shared.record(result, false));
     let drained_by = Instant::now() + STOP_DRAIN;
     let mut queued = tx.pending().unwrap_or(0);
     while queued > 0 && sent > 0 && Instant::now() < drained_by {
@@ -647,7 +692,7 @@ fn send_loop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, limits: Limit
 mod tests {
     use super::*;
     use crate::protocol::Wire;
-    use std::sync::mpsc;
+    use std::sync::{mpsc, Mutex};
 
     #[test]
     fn ramp_respects_acceleration_and_caps() {

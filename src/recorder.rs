@@ -8,10 +8,11 @@ use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 
 use anyhow::{Context, Result};
+use parking_lot::Mutex;
 
 use crate::candump;
 use crate::link::{LinkFrame, Received};
@@ -74,7 +75,7 @@ impl Losses {
         if frames == 0 {
             return;
         }
-        let mut first = self.reason.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let mut first = self.reason.lock();
         if first.is_none() {
             *first = Some(reason());
         }
@@ -83,7 +84,7 @@ impl Losses {
 
     fn get(&self) -> Option<RecordLoss> {
         let frames = self.frames.load(Ordering::SeqCst);
-        let reason = self.reason.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).clone();
+        let reason = self.reason.lock().clone();
         (frames > 0).then(|| RecordLoss { frames, reason: reason.unwrap_or_default() })
     }
 }

@@ -4,11 +4,12 @@
 pub mod confirm;
 
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Condvar, Mutex, MutexGuard};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
+use parking_lot::{Condvar, Mutex, MutexGuard};
 
 use crate::link::{self, FrameRx, FrameTx, LinkChoice, LinkFrame, LinkKind, RxStats};
 use crate::protocol::detect::{ProtocolDetector, Verdict};
@@ -202,12 +203,12 @@ impl Session {
 
     /// The codec (for building frames to send).
     pub fn codec(&self) -> MutexGuard<'_, Codec> {
-        self.codec.lock().unwrap_or_else(|poisoned| poisoned.into_inner())
+        self.codec.lock()
     }
 
     /// A copy of the latest status.
     pub fn status(&self) -> RobotStatus {
-        self.shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).clone()
+        self.shared.status.lock().clone()
     }
 
     /// Waits until `check` returns `Some` for the status, or `timeout` passes.
@@ -217,7 +218,7 @@ impl Session {
         mut check: impl FnMut(&RobotStatus) -> Option<T>,
     ) -> Option<T> {
         let deadline = Instant::now() + timeout;
-        let mut status = self.shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let mut status = self.shared.status.lock();
         loop {
             if let Some(found) = check(&status) {
                 return Some(found);
@@ -226,12 +227,7 @@ impl Session {
             if now >= deadline {
                 return None;
             }
-            status = self
-                .shared
-                .changed
-                .wait_timeout(status, deadline - now)
-                .unwrap_or_else(|poisoned| poisoned.into_inner())
-                .0;
+            self.shared.changed.wait_for(&mut status, deadline - now);
         }
     }
 
@@ -397,7 +393,7 @@ fn read_loop(
     let mut notes = Vec::new();
     while !shared.stop.load(Ordering::SeqCst) {
         let received = rx.recv(Duration::from_millis(20));
-        let mut status = shared.status.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let mut status = shared.status.lock();
         status.rx = rx.stats();
         if status.rx.rejected_lines > 0 {
             notes.extend(rx.take_notes());

@@ -377,24 +377,7 @@ fn parse_general<'a>(text: &'a [u8], deltas: Option<&mut DeltaSum>) -> Result<Li
         _ => {}
     }
 
-    let mut stamp = None;
-    let mut iface_start = start;
-    if first == b'(' {
-        let open = start + 1;
-        let dated = matches!(text.get(open..open + 5), Some([a, b, c, d, b'-'])
-            if [a, b, c, d].iter().all(|x| x.is_ascii_digit()));
-        let (secs, nanos, end) = match dated {
-            true => parse_date_time(text, open)?,
-            false => parse_numeric(text, open)?,
-        };
-        stamp = Some(RawStamp { secs, nanos, dated });
-        match text.get(end) {
-            Some(b' ') => {}
-            Some(_) => return Err((end, Reason::ExpectedSpace)),
-            None => return Err((end, Reason::MissingInterface)),
-        }
-        iface_start = skip_spaces(text, end);
-    }
+    let (stamp, iface_start) = if first == b'(' { parse_stamp(text, start)? } else { (None, start) };
 
     let iface_end = token_end(text, iface_start);
     let next = skip_spaces(text, iface_end);
@@ -414,40 +397,11 @@ fn parse_general<'a>(text: &'a [u8], deltas: Option<&mut DeltaSum>) -> Result<Li
     // Log format: the field after the interface is the frame.
     if memchr(b'#', field).is_some() {
         let iface = check_iface(text, iface_start, iface_end)?;
-        let frame = parse_frame_text(field).map_err(|(pos, reason)| (next + pos, reason))?;
-        let dir = match &text[skip_spaces(text, next_end)..] {
-            [] => None,
-            b"R" => Some(Direction::Rx),
-            b"T" => Some(Direction::Tx),
-            _ => return Err((skip_spaces(text, next_end), Reason::TrailingGarbage)),
-        };
-        return Ok(match frame {
-            FrameText::Can(frame) => {
-                Line::Frame(Record { ts: stamp.map(RawStamp::classify), iface, frame, dir })
-            }
-            FrameText::Xl => Line::CanXl,
-        });
+        return log_frame(text, stamp, iface, next, next_end);
     }
 
     // Console format: [RX|TX flag flag] id [len] bytes...
-    let (dir, fd_bits, id_start) = match field {
-        b"RX" | b"TX" => {
-            let (fd_bits, id_start) = parse_message_info(text, next_end)?;
-            let dir = if field == b"RX" { Direction::Rx } else { Direction::Tx };
-            (Some(dir), fd_bits, id_start)
-        }
-        _ => {
-            let len_field = skip_spaces(text, next_end);
-            if !matches!(text.get(len_field), Some(b'[' | b'{')) {
-                // Neither shape: a hex field is most likely a log frame that lost its '#'.
-                return Err(match field.iter().all(|&b| is_hex(b)) {
-                    true => (next_end, Reason::MissingHash),
-                    false => (start, Reason::NotCandump),
-                });
-            }
-            (None, 0, next)
-        }
-    };
+    let (dir, fd_bits, id_start) = console_prefix(text, start, next, next_end)?;
     let iface = check_iface(text, iface_start, iface_end)?;
     let ts = stamp.map(|stamp| match deltas {
         Some(sum) if !stamp.dated && stamp.secs < super::RELATIVE_LIMIT_SECS => {
@@ -459,6 +413,74 @@ fn parse_general<'a>(text: &'a [u8], deltas: Option<&mut DeltaSum>) -> Result<Li
         FrameText::Can(frame) => Line::Frame(Record { ts, iface, frame, dir }),
         FrameText::Xl => Line::CanXl,
     })
+}
+
+/// The `(...)` timestamp at `start` (seconds, or a date and time with `-ta`); returns it and where the
+/// interface starts.
+#[inline]
+fn parse_stamp(text: &[u8], start: usize) -> Result<(Option<RawStamp>, usize), PosError> {
+    let open = start + 1;
+    let dated = matches!(text.get(open..open + 5), Some([a, b, c, d, b'-'])
+        if [a, b, c, d].iter().all(|x| x.is_ascii_digit()));
+    let (secs, nanos, end) = match dated {
+        true => parse_date_time(text, open)?,
+        false => parse_numeric(text, open)?,
+    };
+    match text.get(end) {
+        Some(b' ') => {}
+        Some(_) => return Err((end, Reason::ExpectedSpace)),
+        None => return Err((end, Reason::MissingInterface)),
+    }
+    Ok((Some(RawStamp { secs, nanos, dated }), skip_spaces(text, end)))
+}
+
+/// The rest of a log-format line: the frame field at `next..next_end` and an optional `R`/`T` direction.
+#[inline]
+fn log_frame<'a>(
+    text: &'a [u8],
+    stamp: Option<RawStamp>,
+    iface: &'a str,
+    next: usize,
+    next_end: usize,
+) -> Result<Line<'a>, PosError> {
+    let frame = parse_frame_text(&text[next..next_end]).map_err(|(pos, reason)| (next + pos, reason))?;
+    let dir = match &text[skip_spaces(text, next_end)..] {
+        [] => None,
+        b"R" => Some(Direction::Rx),
+        b"T" => Some(Direction::Tx),
+        _ => return Err((skip_spaces(text, next_end), Reason::TrailingGarbage)),
+    };
+    Ok(match frame {
+        FrameText::Can(frame) => Line::Frame(Record { ts: stamp.map(RawStamp::classify), iface, frame, dir }),
+        FrameText::Xl => Line::CanXl,
+    })
+}
+
+/// The start of a console frame after the interface (the field at `next..next_end`): `RX`/`TX` with the
+/// `-x` columns, or directly the identifier before a `[len]`/`{F}`. Returns the direction, the FD flag bits
+/// and where the identifier starts.
+#[inline]
+fn console_prefix(
+    text: &[u8],
+    start: usize,
+    next: usize,
+    next_end: usize,
+) -> Result<(Option<Direction>, u8, usize), PosError> {
+    let field = &text[next..next_end];
+    if let b"RX" | b"TX" = field {
+        let (fd_bits, id_start) = parse_message_info(text, next_end)?;
+        let dir = if field == b"RX" { Direction::Rx } else { Direction::Tx };
+        return Ok((Some(dir), fd_bits, id_start));
+    }
+    let len_field = skip_spaces(text, next_end);
+    if !matches!(text.get(len_field), Some(b'[' | b'{')) {
+        // Neither shape: a hex field is most likely a log frame that lost its '#'.
+        return Err(match field.iter().all(|&b| is_hex(b)) {
+            true => (next_end, Reason::MissingHash),
+            false => (start, Reason::NotCandump),
+        });
+    }
+    Ok((None, 0, next))
 }
 
 fn trim_end(text: &[u8]) -> &[u8] {
@@ -524,16 +546,7 @@ fn parse_console_frame(text: &[u8], id_start: usize, fd_bits: u8) -> Result<Fram
     };
     let body = skip_spaces(text, after);
     if !fd && text[body..].starts_with(b"remote request") {
-        if form == IdForm::Error {
-            return Err((body, Reason::ErrorFrameNotData));
-        }
-        let end = body + b"remote request".len();
-        if end < text.len() {
-            return Err((skip_spaces(text, end), Reason::TrailingGarbage));
-        }
-        let frame =
-            CanFrame::new_remote(id, form.is_extended(), len as u8).map_err(|e| (len_start, e.into()))?;
-        return with_raw_dlc(frame, raw_dlc, len_start);
+        return remote_request(text, body, (id, form), len, raw_dlc, len_start);
     }
 
     let mut data = [0u8; FD_MAX_LEN];
@@ -546,38 +559,7 @@ fn parse_console_frame(text: &[u8], id_start: usize, fd_bits: u8) -> Result<Fram
         None => len,
     };
     for slot in data.iter_mut().take(view) {
-        // candump's own layout, " HH", first; anything else goes through the tolerant scan.
-        if let Some(&[b' ', hi, lo]) = text.get(pos..pos + 3) {
-            if let Some(byte) = hex_pair(hi, lo) {
-                if matches!(text.get(pos + 3), None | Some(b' ')) {
-                    *slot = byte;
-                    pos += 3;
-                    continue;
-                }
-            }
-        }
-        let start = skip_spaces(text, pos);
-        let end = token_end(text, start);
-        let column = &text[start..end];
-        if column.is_empty() {
-            return Err((start, Reason::LengthMismatch));
-        }
-        if start == pos {
-            return Err((start, Reason::ExpectedSpace));
-        }
-        let byte = match column {
-            [hi, lo] => hex_pair(*hi, *lo),
-            _ => None,
-        };
-        let Some(byte) = byte else {
-            return Err(match column {
-                // The ASCII column or the error tag came early: fewer bytes than the length says.
-                [b'\'', ..] | b"ERRORFRAME" => (start, Reason::LengthMismatch),
-                _ => (start, Reason::ConsoleByte),
-            });
-        };
-        *slot = byte;
-        pos = end;
+        (*slot, pos) = console_byte(text, pos)?;
     }
     check_console_tail(text, pos, form)?;
 
@@ -592,6 +574,61 @@ fn parse_console_frame(text: &[u8], id_start: usize, fd_bits: u8) -> Result<Fram
         data_frame(id, form, &data[..len]).map_err(|reason| (len_start, reason))?
     };
     with_raw_dlc(frame, raw_dlc, len_start)
+}
+
+/// `151   [0]  remote request`: a remote frame (never an error frame), nothing after it.
+#[inline]
+fn remote_request(
+    text: &[u8],
+    body: usize,
+    (id, form): (u32, IdForm),
+    len: usize,
+    raw_dlc: Option<u8>,
+    len_start: usize,
+) -> Result<FrameText, PosError> {
+    if form == IdForm::Error {
+        return Err((body, Reason::ErrorFrameNotData));
+    }
+    let end = body + b"remote request".len();
+    if end < text.len() {
+        return Err((skip_spaces(text, end), Reason::TrailingGarbage));
+    }
+    let frame = CanFrame::new_remote(id, form.is_extended(), len as u8).map_err(|e| (len_start, e.into()))?;
+    with_raw_dlc(frame, raw_dlc, len_start)
+}
+
+/// One data byte of a console frame at `pos`, and where it ends. candump's own layout, " HH", first;
+/// anything else goes through the tolerant scan.
+#[inline]
+fn console_byte(text: &[u8], pos: usize) -> Result<(u8, usize), PosError> {
+    if let Some(&[b' ', hi, lo]) = text.get(pos..pos + 3) {
+        if let Some(byte) = hex_pair(hi, lo) {
+            if matches!(text.get(pos + 3), None | Some(b' ')) {
+                return Ok((byte, pos + 3));
+            }
+        }
+    }
+    let start = skip_spaces(text, pos);
+    let end = token_end(text, start);
+    let column = &text[start..end];
+    if column.is_empty() {
+        return Err((start, Reason::LengthMismatch));
+    }
+    if start == pos {
+        return Err((start, Reason::ExpectedSpace));
+    }
+    let byte = match column {
+        [hi, lo] => hex_pair(*hi, *lo),
+        _ => None,
+    };
+    let Some(byte) = byte else {
+        return Err(match column {
+            // The ASCII column or the error tag came early: fewer bytes than the length says.
+            [b'\'', ..] | b"ERRORFRAME" => (start, Reason::LengthMismatch),
+            _ => (start, Reason::ConsoleByte),
+        });
+    };
+    Ok((byte, end))
 }
 
 /// candump's `-S` (bytes in reverse order, joined by backticks: ``B1`00`03``) and `-i` (each byte as 8

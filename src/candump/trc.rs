@@ -148,19 +148,7 @@ pub(crate) fn parse<'a>(
     let mut data_len = 0;
     for &column in &state.columns[..state.count] {
         if column == Column::Data {
-            for (at, token) in fields.by_ref() {
-                if token == b"RTR" && data_len == 0 {
-                    rtr_text = true; // 1.x remote frames
-                    continue;
-                }
-                let byte = match token {
-                    [hi, lo] if !rtr_text => hex_pair(*hi, *lo),
-                    _ => None,
-                };
-                let slot = data.get_mut(data_len).ok_or((at, Reason::FdTooManyBytes))?;
-                *slot = byte.ok_or((at, Reason::TrailingGarbage))?;
-                data_len += 1;
-            }
+            (data_len, rtr_text) = data_bytes(fields.by_ref(), &mut data)?;
             break;
         }
         let (at, token) = fields.next().ok_or((end, Reason::TrcFrame))?;
@@ -170,38 +158,21 @@ pub(crate) fn parse<'a>(
                 let (secs, nanos) = decimal_time(token, 1_000_000).ok_or((at, Reason::TrcFrame))?;
                 ts = Some(Timestamp { secs, nanos, kind: TimestampKind::Relative });
             }
-            Column::Type => match token {
-                b"DT" | b"Rx" | b"Tx" => {
-                    kind = Kind::Classic;
-                    dir = dir.or(match token {
-                        b"Rx" => Some(Direction::Rx),
-                        b"Tx" => Some(Direction::Tx),
-                        _ => None,
-                    });
+            Column::Type => match type_column(token) {
+                Type::Frame(frame_kind, frame_dir) => {
+                    kind = frame_kind;
+                    dir = dir.or(frame_dir);
                 }
-                b"FD" => kind = Kind::Fd(FD_FDF),
-                b"FB" => kind = Kind::Fd(FD_FDF | FD_BRS),
-                b"FE" => kind = Kind::Fd(FD_FDF | FD_ESI),
-                b"BI" => kind = Kind::Fd(FD_FDF | FD_BRS | FD_ESI),
-                b"RR" => kind = Kind::Remote,
-                b"ST" | b"EC" | b"ER" | b"Warng" | b"Error" => return Ok(Line::ErrorText),
-                b"EV" => return Ok(Line::Comment),
-                _ => return Err((at, Reason::TrcFrame)),
+                Type::Status => return Ok(Line::ErrorText),
+                Type::Event => return Ok(Line::Comment),
+                Type::Unknown => return Err((at, Reason::TrcFrame)),
             },
             Column::Bus => {
                 if token != b"-" {
                     bus = token;
                 }
             }
-            Column::Id => {
-                let value =
-                    (token.len() <= 8).then(|| hex_u32(token)).flatten().ok_or((at, Reason::NotHex))?;
-                let extended = token.len() > 4 || value > SFF_MAX;
-                if value > EFF_MAX {
-                    return Err((at, Reason::IdTooLarge));
-                }
-                id = Some((value, extended, at));
-            }
+            Column::Id => id = Some(identifier(token, at)?),
             Column::Direction => {
                 dir = match token {
                     b"Rx" => Some(Direction::Rx),
@@ -210,16 +181,8 @@ pub(crate) fn parse<'a>(
                 }
             }
             Column::Reserved => {}
-            Column::Dlc | Column::Length => {
-                let (value, digits) = decimal_u64(token, 0);
-                if digits != token.len() || digits == 0 || value > 64 {
-                    return Err((at, Reason::BadLength));
-                }
-                match column {
-                    Column::Dlc => dlc = Some((value as usize, at)),
-                    _ => length = Some((value as usize, at)),
-                }
-            }
+            Column::Dlc => dlc = Some(length_column(token, at)?),
+            Column::Length => length = Some(length_column(token, at)?),
             Column::Data => {}
         }
     }
@@ -228,7 +191,20 @@ pub(crate) fn parse<'a>(
     if rtr_text {
         kind = Kind::Remote;
     }
-    // The length the line declares: a data length, or a DLC (0-15, FD lengths above 8).
+    let frame = frame_of(kind, (id, extended, id_at), length, dlc, &data[..data_len])?;
+    Ok(Line::Frame(Record { ts, iface, frame, dir }))
+}
+
+/// The frame the columns describe. The length the line declares is a data length, or a DLC (0-15, FD
+/// lengths above 8); positions (for errors) come with each value.
+#[inline]
+fn frame_of(
+    kind: Kind,
+    (id, extended, id_at): (u32, bool, usize),
+    length: Option<(usize, usize)>,
+    dlc: Option<(usize, usize)>,
+    data: &[u8],
+) -> Result<CanFrame, PosError> {
     let fd = matches!(kind, Kind::Fd(_));
     let (declared, len_at) = match (length, dlc) {
         (Some(length), _) => length,
@@ -236,15 +212,89 @@ pub(crate) fn parse<'a>(
             (*FD_LENGTHS.get(dlc).ok_or((at, Reason::BadFdLength))? as usize, at)
         }
         (None, Some((dlc, at))) => (dlc.min(CC_MAX_LEN), at),
-        (None, None) => (data_len, id_at),
+        (None, None) => (data.len(), id_at),
     };
     let frame = match kind {
         Kind::Remote => CanFrame::new_remote(id, extended, declared.min(CC_MAX_LEN) as u8),
-        _ if declared != data_len => return Err((len_at, Reason::LengthMismatch)),
-        Kind::Fd(bits) => CanFrame::new_fd(id, extended, bits, &data[..data_len]),
-        Kind::Classic if extended => CanFrame::new_extended(id, &data[..data_len]),
-        Kind::Classic => CanFrame::new(id, &data[..data_len]),
+        _ if declared != data.len() => return Err((len_at, Reason::LengthMismatch)),
+        Kind::Fd(bits) => CanFrame::new_fd(id, extended, bits, data),
+        Kind::Classic if extended => CanFrame::new_extended(id, data),
+        Kind::Classic => CanFrame::new(id, data),
     };
-    let frame = frame.map_err(|e| (len_at, e.into()))?;
-    Ok(Line::Frame(Record { ts, iface, frame, dir }))
+    frame.map_err(|e| (len_at, e.into()))
+}
+
+/// A DLC or length column: a decimal number up to 64, with its position.
+#[inline]
+fn length_column(token: &[u8], at: usize) -> Result<(usize, usize), PosError> {
+    let (value, digits) = decimal_u64(token, 0);
+    if digits != token.len() || digits == 0 || value > 64 {
+        return Err((at, Reason::BadLength));
+    }
+    Ok((value as usize, at))
+}
+
+/// What a type column (`DT`, `Rx`, `FD`, `RR`, `ST`, ...) makes of the line.
+enum Type {
+    /// A frame of this kind, with the direction 1.x versions put in this column.
+    Frame(Kind, Option<Direction>),
+    /// A status or error line (`ST`, `EC`, `ER`, `Warng`, `Error`).
+    Status,
+    /// An event (`EV`).
+    Event,
+    Unknown,
+}
+
+#[inline]
+fn type_column(token: &[u8]) -> Type {
+    match token {
+        b"DT" => Type::Frame(Kind::Classic, None),
+        b"Rx" => Type::Frame(Kind::Classic, Some(Direction::Rx)),
+        b"Tx" => Type::Frame(Kind::Classic, Some(Direction::Tx)),
+        b"FD" => Type::Frame(Kind::Fd(FD_FDF), None),
+        b"FB" => Type::Frame(Kind::Fd(FD_FDF | FD_BRS), None),
+        b"FE" => Type::Frame(Kind::Fd(FD_FDF | FD_ESI), None),
+        b"BI" => Type::Frame(Kind::Fd(FD_FDF | FD_BRS | FD_ESI), None),
+        b"RR" => Type::Frame(Kind::Remote, None),
+        b"ST" | b"EC" | b"ER" | b"Warng" | b"Error" => Type::Status,
+        b"EV" => Type::Event,
+        _ => Type::Unknown,
+    }
+}
+
+/// The identifier column: hex, 8 digits at most; extended when written with more than 4 digits or above the
+/// standard range.
+#[inline]
+fn identifier(token: &[u8], at: usize) -> Result<(u32, bool, usize), PosError> {
+    let value = (token.len() <= 8).then(|| hex_u32(token)).flatten().ok_or((at, Reason::NotHex))?;
+    let extended = token.len() > 4 || value > SFF_MAX;
+    if value > EFF_MAX {
+        return Err((at, Reason::IdTooLarge));
+    }
+    Ok((value, extended, at))
+}
+
+/// The data bytes, the last column: two hex digits each. `RTR` in place of the data marks a 1.x remote
+/// frame. Returns the number of bytes and whether the line said `RTR`.
+#[inline]
+fn data_bytes<'t>(
+    fields: impl Iterator<Item = (usize, &'t [u8])>,
+    data: &mut [u8; FD_MAX_LEN],
+) -> Result<(usize, bool), PosError> {
+    let mut data_len = 0;
+    let mut rtr_text = false;
+    for (at, token) in fields {
+        if token == b"RTR" && data_len == 0 {
+            rtr_text = true; // 1.x remote frames
+            continue;
+        }
+        let byte = match token {
+            [hi, lo] if !rtr_text => hex_pair(*hi, *lo),
+            _ => None,
+        };
+        let slot = data.get_mut(data_len).ok_or((at, Reason::FdTooManyBytes))?;
+        *slot = byte.ok_or((at, Reason::TrailingGarbage))?;
+        data_len += 1;
+    }
+    Ok((data_len, rtr_text))
 }

@@ -113,7 +113,7 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
     // Warnings follow their cause (a battery getting low, a warm driver) and latch nothing: no clear can
     // reset them, and they do not stop the robot. Only those left on a drivable robot is success.
     let only_warnings = after.iter().all(|item| item.severity == Severity::Warning);
-    if only_warnings && live::not_drivable(&after_state, wire).is_none() {
+    if only_warnings && after_state.why_not_drivable(wire).is_none() {
         let what = match after.len() {
             1 => "the warning remains and clears itself".to_string(),
             count => format!("{count} warnings remain and clear themselves"),

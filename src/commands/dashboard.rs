@@ -5,13 +5,13 @@
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
+use parking_lot::Mutex;
 use ratatui::crossterm::event::{Event, KeyEvent};
 
-use super::live;
 use super::Global;
 use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
 use crate::dashboard::app::{App, Arming, Snapshot, TeleopView};
@@ -195,7 +195,7 @@ impl<'a> Driving<'a> {
             self.limits,
             WATCHDOG,
         )?;
-        *self.slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
+        *self.slot.lock() = Some(sender.stopper());
         let stats = sender.stats();
         self.seen_gaps = stats.gaps;
         self.seen_watchdog = stats.watchdog_trips;
@@ -209,7 +209,7 @@ impl<'a> Driving<'a> {
 
     /// Stops the sender: zero frames, then nothing more is sent.
     fn disarm(&mut self) -> Stopped {
-        self.slot.lock().unwrap_or_else(|p| p.into_inner()).take();
+        self.slot.lock().take();
         match self.sender.take() {
             None if self.was_armed => self.last_stop.take().unwrap_or(Stopped::Confirmed),
             None => Stopped::NeverArmed,
@@ -242,7 +242,7 @@ impl<'a> Driving<'a> {
     /// once, said on screen) until it clears and a key is pressed again. Returns a message when that changes.
     fn observe(&mut self, status: &RobotStatus) -> Option<String> {
         let blocked =
-            status.fresh_system(BLOCK_STATUS_AGE).and_then(|(state, wire)| live::not_drivable(&state, wire));
+            status.fresh_system(BLOCK_STATUS_AGE).and_then(|(state, wire)| state.why_not_drivable(wire));
         if blocked == self.blocked {
             return None;
         }
@@ -319,7 +319,7 @@ impl<'a> Driving<'a> {
     }
 
     fn suspend(&self) {
-        if let Some(stopper) = self.slot.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+        if let Some(stopper) = self.slot.lock().as_ref() {
             stopper.suspend(SUSPEND_WAIT);
         }
     }
@@ -365,12 +365,12 @@ fn listen_for_signals(slot: &Arc<Mutex<Option<Stopper>>>) -> Result<SignalFlag> 
     let (on_signal, on_suspend) = (Arc::clone(slot), Arc::clone(slot));
     signals::listen_suspendable(
         move |_| {
-            if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            if let Some(stopper) = on_signal.lock().as_ref() {
                 stopper.stop_now();
             }
         },
         move || {
-            if let Some(stopper) = on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            if let Some(stopper) = on_suspend.lock().as_ref() {
                 stopper.suspend(SUSPEND_WAIT);
             }
             // Give the terminal back while stopped; the loop takes it again after SIGCONT.

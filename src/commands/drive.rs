@@ -6,10 +6,11 @@
 //! fresh command may move it again; and the report says whether the stop frames really left.
 
 use std::io::{IsTerminal, Write};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
+use parking_lot::Mutex;
 
 use super::live;
 use super::Global;
@@ -86,11 +87,11 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         let early = Arc::clone(&suspended_early);
         signals::listen_suspendable(
             move |_| {
-                if let Some(stopper) = on_signal.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+                if let Some(stopper) = on_signal.lock().as_ref() {
                     stopper.stop_now();
                 }
             },
-            move || match on_suspend.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            move || match on_suspend.lock().as_ref() {
                 Some(stopper) => {
                     stopper.suspend(SUSPEND_WAIT);
                 }
@@ -133,7 +134,7 @@ fn execute_with(
     }
 
     let sender = MotionSender::start(session.tx.clone(), Codec::new(session.wire()), limits, WATCHDOG)?;
-    *context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()) = Some(sender.stopper());
+    *context.sender_slot.lock() = Some(sender.stopper());
 
     let mut drive = DriveLoop::new(session, args, target, &sender);
     let end = drive.run(out, signal);
@@ -147,7 +148,7 @@ fn execute_with(
         (End::TimeUp, Some(status)) => End::Signal(signal.name(), status),
         (end, _) => end,
     };
-    context.sender_slot.lock().unwrap_or_else(|p| p.into_inner()).take();
+    context.sender_slot.lock().take();
     if overwrite && !matches!(end, End::OutputGone(_)) {
         writeln!(out)?;
     }
@@ -193,7 +194,7 @@ fn check_before_driving(
                 _ => session.status().detector.describe(),
             };
             writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
-            live::not_drivable(&state, wire)
+            state.why_not_drivable(wire)
         }
         None => Some(live::no_status_message(session, &session.status())),
     };

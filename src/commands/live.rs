@@ -8,8 +8,8 @@ use anyhow::Result;
 use super::Global;
 use crate::link::LinkChoice;
 use crate::protocol::detect::Verdict;
-use crate::protocol::message::{control_mode_name, vehicle_state_name, SystemState, MODE_RC};
-use crate::protocol::{Severity, Wire};
+use crate::protocol::message::{vehicle_state_name, SystemState};
+use crate::protocol::{ControlMode, Wire};
 use crate::session::{RobotStatus, Session};
 
 /// How long to wait for the first status frame (the robot sends one every 20 ms).
@@ -60,12 +60,8 @@ pub fn first_status_unless(session: &Session, cancelled: impl Fn() -> bool) -> O
 /// `normal, mode can, 25.9 V, faults: none`
 pub fn describe(state: &SystemState, wire: Wire) -> String {
     let vehicle = vehicle_state_name(state.vehicle_state).unwrap_or("unknown state");
-    let mode = mode_name(state.control_mode, wire);
+    let mode = ControlMode::describe(wire, state.control_mode);
     format!("{vehicle}, mode {mode}, {:.1} V, faults: {}", state.battery_voltage(), fault_list(state, wire))
-}
-
-pub fn mode_name(mode: u8, wire: Wire) -> String {
-    control_mode_name(wire, mode).map_or_else(|| format!("0x{mode:02X}"), str::to_string)
 }
 
 /// `none`, or `name [severity], ...`
@@ -77,40 +73,16 @@ pub fn fault_list(state: &SystemState, wire: Wire) -> String {
     faults.iter().map(|f| format!("{} [{}]", f.name, f.severity)).collect::<Vec<_>>().join(", ")
 }
 
-/// Why the robot cannot be driven now, if it cannot: E-stop, exception, a fault or latched protection.
-pub fn not_drivable(state: &SystemState, wire: Wire) -> Option<String> {
-    if state.is_estop() {
-        return Some("the E-stop is pressed: release both E-stop buttons".to_string());
-    }
-    let blocking: Vec<String> = state
-        .faults(wire)
-        .iter()
-        .filter(|f| matches!(f.severity, Severity::Fault | Severity::Protection))
-        .map(|f| format!("{} [{}]: {}", f.name, f.severity, f.action))
-        .collect();
-    if !blocking.is_empty() {
-        return Some(format!("fault set: {}", blocking.join("; ")));
-    }
-    if wire == Wire::CanV2 && state.control_mode == MODE_RC {
-        return Some("the RC transmitter has control: put switch SWB at the top (command mode)".to_string());
-    }
-    None
-}
-
 /// Likely reasons the robot did not switch to or stay in command mode.
 pub fn why_not_command_mode(state: &SystemState, wire: Wire) -> String {
     if state.is_estop() {
         return "the E-stop is pressed: release both E-stop buttons, then try again".to_string();
     }
-    let rc = match wire {
-        Wire::CanV2 => state.control_mode == MODE_RC,
-        _ => state.control_mode == 0,
-    };
-    if rc {
+    if state.rc_has_control(wire) {
         return "the RC transmitter overrides commands: put switch SWB at the top, or switch the transmitter off"
             .to_string();
     }
-    if state.faults(wire).worst().is_some_and(|s| s >= Severity::Fault) {
+    if state.faults(wire).worst().is_some_and(|s| s.blocks_driving()) {
         return format!(
             "a fault is set ({}): clear it with `tracerctl clear-errors`",
             fault_list(state, wire)
@@ -143,4 +115,37 @@ pub fn no_status_message(session: &Session, status: &RobotStatus) -> String {
         "{} frames received on {} ({seen}) but no system status (0x211): is this a TRACER, and is --protocol right?",
         status.frames, session.name
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn state(control_mode: u8, fault_code: u16) -> SystemState {
+        SystemState { vehicle_state: 0, control_mode, battery_decivolts: 259, fault_code, count: 0 }
+    }
+
+    /// A bit no document defines does not count as a fault (`Severity::blocks_driving`): it used to be
+    /// given as the reason the mode did not change ("a fault is set").
+    #[test]
+    fn an_undocumented_bit_is_not_the_reason_for_the_mode() {
+        let reason = why_not_command_mode(&state(0, 0x0080), Wire::CanV2);
+        assert!(reason.starts_with("no reason visible in the status"), "{reason}");
+        assert_eq!(state(1, 0x0080).why_not_drivable(Wire::CanV2), None);
+        let reason = why_not_command_mode(&state(0, 0x0180), Wire::CanV2);
+        assert_eq!(
+            reason,
+            "a fault is set (reserved_byte5_bit7 [unknown], battery_undervoltage_fault [fault]): clear it with \
+             `tracerctl clear-errors`"
+        );
+    }
+
+    #[test]
+    fn describe_names_the_mode_per_wire() {
+        assert_eq!(describe(&state(0, 0), Wire::CanV2), "normal, mode standby, 25.9 V, faults: none");
+        assert_eq!(describe(&state(0, 0), Wire::Serial), "normal, mode rc, 25.9 V, faults: none");
+        assert_eq!(describe(&state(7, 0), Wire::CanV2), "normal, mode 0x07, 25.9 V, faults: none");
+        let reason = why_not_command_mode(&state(0, 0), Wire::Serial);
+        assert!(reason.starts_with("the RC transmitter overrides commands"), "{reason}");
+    }
 }

@@ -16,26 +16,18 @@ use super::live;
 use super::Global;
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::plural;
-use crate::protocol::message::{vehicle_state_name, SystemState, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
-use crate::protocol::Wire;
+use crate::protocol::message::{vehicle_state_name, SystemState};
+use crate::protocol::{ControlMode, Wire};
 use crate::session::confirm::send_until;
 use crate::session::Session;
 
 /// Sends after the first one, if the robot has not switched yet.
 const RESENDS: u32 = 2;
 
-/// The control mode to ask for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ModeChoice {
-    Can,
-    Serial,
-    Standby,
-}
-
 /// `tracerctl mode`'s settings.
 #[derive(Clone, Debug)]
 pub struct Options {
-    pub mode: ModeChoice,
+    pub mode: ControlMode,
     /// How long to wait for the robot to confirm.
     pub timeout: Duration,
 }
@@ -54,7 +46,7 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
     let before = live::first_status(session);
     let wire = session.wire();
     let code = mode_code(wire, args.mode)?;
-    let wanted = live::mode_name(code, wire);
+    let wanted = ControlMode::describe(wire, code);
 
     if let Some((state, state_wire)) = before.filter(|(state, _)| state.control_mode == code) {
         writeln!(out, "control mode: already {wanted} ({})", condition(&state, state_wire))?;
@@ -75,8 +67,8 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
     )?;
     let sent = what_is_sent(wire, code);
     if let Some((state, state_wire)) = attempt.found {
-        let from =
-            before.map_or_else(|| "unknown".to_string(), |(state, w)| live::mode_name(state.control_mode, w));
+        let from = before
+            .map_or_else(|| "unknown".to_string(), |(state, w)| ControlMode::describe(w, state.control_mode));
         writeln!(out, "control mode: {from} -> {wanted} ({})", condition(&state, state_wire))?;
         return Ok(SUCCESS);
     }
@@ -88,7 +80,7 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
     let message = match (latest, before) {
         (Some((state, state_wire)), _) => format!(
             "the robot is still in {} mode ({}), not {wanted}, {timeout} after sending {sent} {} time{}: {}",
-            live::mode_name(state.control_mode, state_wire),
+            ControlMode::describe(state_wire, state.control_mode),
             condition(&state, state_wire),
             attempt.sends,
             plural(attempt.sends),
@@ -107,23 +99,19 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
 
 /// The control-mode value the robot reports for `mode` on `wire` (0x211 byte 1, RS232 system status d1),
 /// or a usage error when the link cannot select that mode.
-pub fn mode_code(wire: Wire, mode: ModeChoice) -> Result<u8, Failure> {
+pub fn mode_code(wire: Wire, mode: ControlMode) -> Result<u8, Failure> {
     let usage = |message: &str| Failure { code: USAGE, message: message.to_string() };
-    match (wire, mode) {
-        (Wire::CanV2, ModeChoice::Standby) => Ok(MODE_STANDBY),
-        (Wire::CanV2, ModeChoice::Can) => Ok(MODE_CAN),
-        (Wire::CanV2, ModeChoice::Serial) => Ok(MODE_SERIAL),
-        (Wire::Serial, ModeChoice::Serial) => Ok(MODE_SERIAL),
-        (Wire::CanV1, ModeChoice::Can) => Ok(MODE_CAN),
-        (Wire::Serial, _) => Err(usage(
+    mode.request_code(wire).ok_or_else(|| match wire {
+        Wire::Serial => usage(
             "RS232 has no control-mode command: over --serial only `mode serial` works (zero-speed serial \
              motion commands select serial mode); use the CAN link for `mode can` or `mode standby`",
-        )),
-        (Wire::CanV1, _) => Err(usage(
+        ),
+        Wire::CanV1 => usage(
             "protocol V1 has no control-mode command (0x421): only `mode can` works (a zero-speed 0x130 \
              command selects CAN mode); standby and serial need V2 firmware",
-        )),
-    }
+        ),
+        Wire::CanV2 => usage("RC mode cannot be requested: the transmitter takes control with switch SWB"),
+    })
 }
 
 fn what_is_sent(wire: Wire, code: u8) -> String {
@@ -147,13 +135,13 @@ mod tests {
 
     #[test]
     fn impossible_modes_are_usage_errors_that_say_what_works() {
-        let error = mode_code(Wire::Serial, ModeChoice::Standby).unwrap_err();
+        let error = mode_code(Wire::Serial, ControlMode::Standby).unwrap_err();
         assert_eq!(error.code, USAGE);
         assert!(error.message.contains("only `mode serial` works"), "{}", error.message);
-        let error = mode_code(Wire::CanV1, ModeChoice::Serial).unwrap_err();
+        let error = mode_code(Wire::CanV1, ControlMode::Serial).unwrap_err();
         assert_eq!(error.code, USAGE);
         assert!(error.message.contains("only `mode can` works"), "{}", error.message);
-        assert_eq!(mode_code(Wire::CanV2, ModeChoice::Standby).unwrap(), 0);
+        assert_eq!(mode_code(Wire::CanV2, ControlMode::Standby).unwrap(), 0);
     }
 
     #[test]

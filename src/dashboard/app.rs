@@ -385,17 +385,6 @@ fn deciseconds(duration: Duration) -> u64 {
     (duration.as_millis() / 100) as u64
 }
 
-/// Severity order for the faults list: the worst first.
-pub fn severity_rank(severity: Severity) -> u8 {
-    match severity {
-        Severity::Protection => 4,
-        Severity::Fault => 3,
-        Severity::Unknown => 2,
-        Severity::Warning => 1,
-        Severity::Info => 0,
-    }
-}
-
 /// The dashboard's state.
 pub struct App {
     pub(super) limits: Limits,
@@ -640,7 +629,8 @@ impl App {
                 lines.extend(flags.iter().map(|info| FaultLine { motor: Some(index as u8 + 1), info }));
             }
         }
-        lines.sort_by_key(|line| std::cmp::Reverse(severity_rank(line.info.severity)));
+        // `Severity`'s own order, the worst first (stable: bit order within a severity).
+        lines.sort_by_key(|line| std::cmp::Reverse(line.info.severity));
         lines
     }
 
@@ -946,6 +936,27 @@ mod tests {
             ]
         );
         assert_eq!(app.shown().protocol, Protocol::Serial);
+    }
+
+    /// `Severity`'s order: a bit no document defines comes after a fault and before a warning.
+    #[test]
+    fn an_undocumented_bit_is_listed_between_faults_and_warnings() {
+        let base = Instant::now();
+        let mut app = App::new("can0", Limits::default(), false);
+        let mut status = status_at(base);
+        let state =
+            SystemState { control_mode: 1, battery_decivolts: 259, fault_code: 0x0380, ..Default::default() };
+        status.system = Some((base, state, Wire::CanV2));
+        update(&mut app, &status, base);
+        let faults: Vec<_> = app.faults().iter().map(|f| (f.info.name, f.info.severity)).collect();
+        assert_eq!(
+            faults,
+            [
+                ("battery_undervoltage_fault", Severity::Fault),
+                ("reserved_byte5_bit7", Severity::Unknown),
+                ("battery_undervoltage_warning", Severity::Warning),
+            ]
+        );
     }
 
     #[test]

@@ -14,16 +14,15 @@ use ratatui::widgets::{Block, Clear, Gauge, Paragraph, RenderDirection, Row, Spa
 use ratatui::Frame;
 
 use super::app::{
-    id_name, scale_percent, severity_rank, speed_text, App, Arming, BatteryZone, FaultLine, Prompt,
-    StatusAge, BATTERY_GAUGE_TOP_DV,
+    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, StatusAge,
+    BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
-use crate::commands::live::{mode_name, not_drivable};
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
     light_mode_name, MODE_CAN, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };
-use crate::protocol::{FlagTable, Flags, FrameId, Severity, Wire};
+use crate::protocol::{ControlMode, FlagTable, Flags, FrameId, Severity, Wire};
 
 /// Below this the panels do not fit and a short text view is drawn instead.
 const MIN_PANELS: (u16, u16) = (60, 20);
@@ -196,7 +195,7 @@ fn header_line(app: &App, theme: Theme) -> Line<'static> {
             };
             spans.push(Span::styled(text, style));
             spans.push(separator(theme));
-            let mode = format!("mode {}", mode_name(system.control_mode, system.wire));
+            let mode = format!("mode {}", ControlMode::describe(system.wire, system.control_mode));
             let style = if in_command_mode(system.control_mode, system.wire) {
                 Style::new()
             } else {
@@ -272,14 +271,14 @@ fn alert_text(app: &App) -> (Tone, String) {
     let blocking: Vec<&FaultLine> =
         faults.iter().filter(|f| matches!(f.info.severity, Severity::Fault | Severity::Protection)).collect();
     if state.is_estop() {
-        let reason = not_drivable(&state, system.wire).unwrap_or_default();
+        let reason = state.why_not_drivable(system.wire).unwrap_or_default();
         return (Tone::Alarm, format!("[fault] E-STOP: {reason}"));
     }
     if !blocking.is_empty() {
         let names: Vec<String> = blocking.iter().map(|f| fault_name(f)).collect();
         return (Tone::Alarm, format!("[fault] CANNOT DRIVE, see Faults: {}", names.join(", ")));
     }
-    if let Some(reason) = not_drivable(&state, system.wire) {
+    if let Some(reason) = state.why_not_drivable(system.wire) {
         return (Tone::Alarm, format!("[fault] CANNOT DRIVE: {reason}"));
     }
     if system.vehicle_state == VEHICLE_EXCEPTION {
@@ -290,7 +289,7 @@ fn alert_text(app: &App) -> (Tone, String) {
         );
     }
     if !in_command_mode(system.control_mode, system.wire) {
-        let mode = mode_name(system.control_mode, system.wire);
+        let mode = ControlMode::describe(system.wire, system.control_mode);
         return (Tone::Warning, format!("[warning] not in command mode (mode {mode}): press m to enable it"));
     }
     let battery = BatteryZone::of(system.decivolts);
@@ -571,7 +570,7 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
     }
     if !fits_all {
         let more = faults.len() - shown_count;
-        let worst = faults[shown_count..].iter().map(|f| f.info.severity).max_by_key(|s| severity_rank(*s));
+        let worst = faults[shown_count..].iter().map(|f| f.info.severity).max();
         let text = format!(
             "... {more} more (worst {}): a taller terminal shows them",
             worst.map(severity_tag).unwrap_or_default()
@@ -667,7 +666,7 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
                 let flags = Flags::new(FlagTable::DriverState, u16::from(bits));
                 let names: Vec<&str> =
                     flags.iter().map(|info| info.name.strip_prefix("driver_").unwrap_or(info.name)).collect();
-                let worst = flags.iter().map(|info| info.severity).max_by_key(|s| severity_rank(*s));
+                let worst = flags.iter().map(|info| info.severity).max();
                 Span::styled(
                     format!("0x{bits:02X} {}", names.join(",")),
                     worst.map_or_else(Style::new, |s| theme.severity(s)),
@@ -918,7 +917,7 @@ fn render_small(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
     let mut lines = vec![header_line(app, theme), Line::styled(alert, theme.tone(tone))];
     if let Some(system) = app.shown.system {
         let faults = app.faults();
-        let worst = faults.iter().map(|f| f.info.severity).max_by_key(|s| severity_rank(*s));
+        let worst = faults.iter().map(|f| f.info.severity).max();
         lines.push(Line::raw(format!(
             "battery {} · faults {}{}",
             volts(system.decivolts),

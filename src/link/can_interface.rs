@@ -8,11 +8,6 @@ use std::path::Path;
 
 use socketcan::nl::{CanInterface, CanState};
 
-/// `ARPHRD_CAN`, the link type of CAN interfaces in /sys/class/net/*/type.
-const ARPHRD_CAN: u32 = 280;
-/// `IFF_UP` in /sys/class/net/*/flags.
-const IFF_UP: u32 = 1;
-
 /// The CAN controller's error state (ISO 11898-1 fault confinement), as the kernel reports it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BusState {
@@ -104,7 +99,7 @@ pub fn kernel_support() -> Result<(), String> {
 
 pub fn presence(iface: &str) -> Presence {
     let Some(kind) = sys_net(iface, "type") else { return Presence::Missing };
-    if kind.parse::<u32>().ok() != Some(ARPHRD_CAN) {
+    if kind.parse::<u16>().ok() != Some(libc::ARPHRD_CAN) {
         return Presence::NotCan;
     }
     let driver = std::fs::read_link(Path::new("/sys/class/net").join(iface).join("device/driver"))
@@ -148,7 +143,7 @@ pub fn not_can_message(iface: &str) -> String {
 pub fn is_up(iface: &str) -> bool {
     sys_net(iface, "flags")
         .and_then(|flags| u32::from_str_radix(flags.trim_start_matches("0x"), 16).ok())
-        .is_some_and(|flags| flags & IFF_UP != 0)
+        .is_some_and(|flags| flags & libc::IFF_UP as u32 != 0)
 }
 
 /// How to bring `iface` up: with the robot's bitrate on hardware; a virtual interface has none to set.

@@ -2,8 +2,10 @@
 
 use std::io;
 use std::sync::mpsc::{self, Receiver, RecvTimeoutError, Sender};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Duration;
+
+use parking_lot::Mutex;
 
 use super::{now_timestamp, FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
 use crate::protocol::Wire;
@@ -13,7 +15,7 @@ struct ChannelTx(Mutex<Sender<Received>>);
 impl FrameTx for ChannelTx {
     fn send(&self, frame: &LinkFrame) -> io::Result<()> {
         let received = Received { ts: now_timestamp(), frame: *frame };
-        let sender = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let sender = self.0.lock();
         sender
             .send(received)
             .map_err(|_| io::Error::new(io::ErrorKind::BrokenPipe, "the other end has stopped"))

@@ -64,14 +64,11 @@ pub trait FrameTx: Send + Sync {
     }
 }
 
-/// ENOBUFS on Linux: the interface's transmit queue is full.
-const ENOBUFS: i32 = 105;
-
 /// True when a send failed only because the transmit queue is full (SocketCAN's ENOBUFS, a non-blocking
 /// socket's EAGAIN, a serial write that timed out): the frame was not sent, the link is still there.
 pub fn is_queue_full(error: &io::Error) -> bool {
     matches!(error.kind(), io::ErrorKind::WouldBlock | io::ErrorKind::TimedOut)
-        || error.raw_os_error() == Some(ENOBUFS)
+        || error.raw_os_error() == Some(libc::ENOBUFS)
 }
 
 /// What a full transmit queue means on this kind of link, in words, for messages and reports.

@@ -3,9 +3,10 @@
 use std::collections::VecDeque;
 use std::io::{self, Read, Write};
 use std::path::Path;
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::time::Duration;
 
+use parking_lot::Mutex;
 use serialport::SerialPort;
 
 use super::{now_timestamp, FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
@@ -27,19 +28,19 @@ impl FrameTx for SerialTx {
                 "a CAN frame cannot be sent on a serial link",
             ));
         };
-        let mut port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let mut port = self.0.lock();
         // No flush: serialport's flush is tcdrain, which waits (holding this lock) until a peer that does not
         // read has taken everything, and the stop frames would wait behind it. The write times out instead.
         port.write_all(&frame.to_bytes())
     }
 
     fn pending(&self) -> Option<usize> {
-        let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let port = self.0.lock();
         port.bytes_to_write().ok().map(|bytes| (bytes as usize).div_ceil(FRAME_LEN))
     }
 
     fn discard_pending(&self) -> usize {
-        let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let port = self.0.lock();
         // TIOCOUTQ then TCOFLUSH. A pseudo-terminal reports 0 and flushes only what its peer's line
         // discipline has not taken yet; a UART or USB adapter reports and drops its whole queue.
         let queued = port.bytes_to_write().unwrap_or(0) as usize;
@@ -56,7 +57,7 @@ const CLOSE_DRAIN: Duration = Duration::from_millis(300);
 
 impl Drop for SerialTx {
     fn drop(&mut self) {
-        let port = self.0.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
+        let port = self.0.lock();
         let deadline = std::time::Instant::now() + CLOSE_DRAIN;
         let queued = || port.bytes_to_write().is_ok_and(|queued| queued > 0);
         while queued() && std::time::Instant::now() < deadline {
@@ -97,7 +98,8 @@ impl FrameRx for SerialRx {
             // serialport turns into BrokenPipe): wait for a client instead of failing.
             Err(error)
                 if self.tolerate_hangup
-                    && (error.kind() == io::ErrorKind::BrokenPipe || error.raw_os_error() == Some(EIO)) =>
+                    && (error.kind() == io::ErrorKind::BrokenPipe
+                        || error.raw_os_error() == Some(libc::EIO)) =>
             {
                 std::thread::sleep(timeout.min(Duration::from_millis(20)));
                 return Ok(None);
@@ -124,9 +126,6 @@ impl FrameRx for SerialRx {
         self.stats
     }
 }
-
-/// EIO (the same number on Linux and macOS).
-const EIO: i32 = 5;
 
 /// Wraps an open port (a real one, or one end of a pseudo-terminal pair).
 pub fn from_port(port: Box<dyn SerialPort>, name: &str, tolerate_hangup: bool) -> anyhow::Result<Link> {

@@ -16,10 +16,7 @@ use crate::candump::{Timestamp, TimestampKind};
 use crate::protocol::frame::{EFF_MAX, ERR_FLAG};
 use crate::protocol::{CanFrame, FrameKind, Wire};
 
-const CAN_EFF_FLAG: u32 = 0x8000_0000;
-const CAN_RTR_FLAG: u32 = 0x4000_0000;
-/// `SO_RXQ_OVFL`: the kernel reports, with every frame, how many frames this socket has dropped.
-const SO_RXQ_OVFL: libc::c_int = 40;
+use libc::{CAN_EFF_FLAG, CAN_RTR_FLAG};
 
 struct SocketTx(Arc<CanSocket>);
 
@@ -119,7 +116,7 @@ impl SocketRx {
                     nanos: spec.tv_nsec.clamp(0, 999_999_999) as u32,
                     kind: TimestampKind::Absolute,
                 });
-            } else if level == libc::SOL_SOCKET && kind == SO_RXQ_OVFL {
+            } else if level == libc::SOL_SOCKET && kind == libc::SO_RXQ_OVFL {
                 let dropped = unsafe { ptr::read_unaligned(data.cast::<u32>()) };
                 self.stats.socket_drops = u64::from(dropped);
             }
@@ -206,7 +203,7 @@ pub fn open(iface: &str) -> anyhow::Result<Link> {
         libc::setsockopt(
             socket.as_raw_fd(),
             libc::SOL_SOCKET,
-            SO_RXQ_OVFL,
+            libc::SO_RXQ_OVFL,
             ptr::addr_of!(enable).cast(),
             size_of::<libc::c_int>() as libc::socklen_t,
         );

@@ -6,6 +6,15 @@ use super::{direction_name, Event, Shape};
 use crate::protocol::{for_each_field, Value};
 
 pub fn write(out: &mut Vec<u8>, event: &Event) {
+    push_header(out, event);
+    out.extend_from_slice(b",\"fields\":{");
+    push_fields(out, event);
+    out.extend_from_slice(b"}\n");
+}
+
+/// `{"ts":...,"iface":...,"id":...,"data":...,"msg":...,"wire":...,"dir":...`: what every line has.
+#[inline]
+fn push_header(out: &mut Vec<u8>, event: &Event) {
     out.extend_from_slice(b"{\"ts\":");
     match &event.ts {
         Some(ts) => push_timestamp(out, ts),
@@ -20,24 +29,28 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
     out.extend_from_slice(b"\",\"msg\":\"");
     out.extend_from_slice(event.msg_name().as_bytes());
     out.extend_from_slice(b"\",\"wire\":");
-    match event.wire_name() {
-        Some(wire) => {
-            out.push(b'"');
-            out.extend_from_slice(wire.as_bytes());
-            out.push(b'"');
-        }
-        None => out.extend_from_slice(b"null"),
-    }
+    push_name_or_null(out, event.wire_name());
     out.extend_from_slice(b",\"dir\":");
-    match event.dir {
-        Some(dir) => {
+    push_name_or_null(out, event.dir.map(direction_name));
+}
+
+/// A name known not to need escaping, quoted, or `null`.
+#[inline]
+fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
+    match name {
+        Some(name) => {
             out.push(b'"');
-            out.extend_from_slice(direction_name(dir).as_bytes());
+            out.extend_from_slice(name.as_bytes());
             out.push(b'"');
         }
         None => out.extend_from_slice(b"null"),
     }
-    out.extend_from_slice(b",\"fields\":{");
+}
+
+/// The inside of `"fields":{...}` and its closing brace (an undecodable frame closes it early and adds
+/// `"error"`).
+#[inline]
+fn push_fields(out: &mut Vec<u8>, event: &Event) {
     match event.shape() {
         Shape::Message(decoded) => {
             let mut first = true;
@@ -88,7 +101,6 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
             out.push(b'}');
         }
     }
-    out.extend_from_slice(b"}\n");
 }
 
 /// A field value as JSON: numbers for quantities and codes, strings for names, arrays for flags.

@@ -6,9 +6,11 @@
 use std::io::{self, Write};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
+
+use parking_lot::Mutex;
 
 /// Bytes the queue holds before blocks are dropped: tens of seconds of the robot's feedback as JSON.
 pub const QUEUE_BYTES: usize = 4 * 1024 * 1024;
@@ -80,7 +82,7 @@ impl OutputQueue {
                     shared.pending_lines.fetch_sub(block.lines, Ordering::SeqCst);
                     shared.pending_bytes.fetch_sub(block.bytes.len() as u64, Ordering::SeqCst);
                     if let Err(error) = result {
-                        *shared.error.lock().unwrap_or_else(|poisoned| poisoned.into_inner()) = Some(error);
+                        *shared.error.lock() = Some(error);
                         return;
                     }
                     block.bytes.clear();
@@ -154,7 +156,7 @@ impl OutputQueue {
             std::thread::sleep(Duration::from_millis(10));
         }
         let _ = writer.join();
-        match self.shared.error.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).take() {
+        match self.shared.error.lock().take() {
             Some(error) => Err(error),
             None => Ok(()),
         }
@@ -164,7 +166,6 @@ impl OutputQueue {
         self.shared
             .error
             .lock()
-            .unwrap_or_else(|poisoned| poisoned.into_inner())
             .take()
             .unwrap_or_else(|| io::Error::new(io::ErrorKind::BrokenPipe, "the output thread has stopped"))
     }
@@ -174,6 +175,7 @@ impl OutputQueue {
 mod tests {
     use super::*;
     use std::sync::mpsc::Sender;
+    use std::sync::Mutex;
 
     /// A writer that blocks until the test lets it go, then collects what it was given.
     struct Gate {

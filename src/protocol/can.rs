@@ -90,6 +90,7 @@ fn be32s(data: &[u8], at: usize) -> i32 {
     i32::from_be_bytes([data[at], data[at + 1], data[at + 2], data[at + 3]])
 }
 
+// Long: one arm per V2 identifier, the codec's table in one place; split, the map of IDs would scatter.
 /// Decodes a frame. `Ok(None)` means the frame is not a TRACER message (unknown ID, extended, remote,
 /// error or FD frame): callers show it raw.
 pub fn decode(frame: &CanFrame, hint: ProtocolHint) -> Result<Option<Decoded>, DecodeError> {

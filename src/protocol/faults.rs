@@ -5,20 +5,23 @@
 
 use std::fmt;
 
-/// How serious a set bit is.
+/// How serious a set bit is. The one order every consumer reads (`Ord`, worst last): Info < Warning < Unknown
+/// < Fault < Protection. A bit no document defines is worth a look but is not known to stop the robot, so it
+/// sits above a warning and below a fault: the dashboard lists it after faults, doctor warns, and it does not
+/// make the robot undrivable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Severity {
     /// A state worth knowing, not a problem (e.g. a motor driver disabled in standby).
     Info,
     /// Clears by itself when the condition goes away.
     Warning,
+    /// A bit no document defines.
+    Unknown,
     /// The robot will not move, or stops, while the bit is set.
     Fault,
     /// Latched protection: stays set until the host clears it (V1/RS232: the fault-clear code carried in the
     /// motion command, codes 7 and 8).
     Protection,
-    /// A bit no document defines.
-    Unknown,
 }
 
 impl Severity {
@@ -30,6 +33,16 @@ impl Severity {
             Severity::Protection => "protection",
             Severity::Unknown => "unknown",
         }
+    }
+
+    /// The robot will not move while a bit of this severity is set (a fault, or a latched protection).
+    pub fn blocks_driving(self) -> bool {
+        self >= Severity::Fault
+    }
+
+    /// Anything above a plain state: worth showing as a problem (warning, unknown bit, fault, protection).
+    pub fn is_problem(self) -> bool {
+        self > Severity::Info
     }
 }
 
@@ -358,6 +371,26 @@ mod tests {
         assert_eq!(only.len(), 1);
         assert_eq!(only[0].name, "reserved_byte5_bit7");
         assert_eq!(only[0].severity, Severity::Unknown);
+    }
+
+    #[test]
+    fn one_order_worst_last() {
+        use Severity::*;
+        let mut all = [Protection, Unknown, Info, Fault, Warning];
+        all.sort();
+        assert_eq!(all, [Info, Warning, Unknown, Fault, Protection]);
+        let blocking: Vec<_> = all.iter().filter(|s| s.blocks_driving()).collect();
+        assert_eq!(blocking, [&Fault, &Protection]);
+        let problems: Vec<_> = all.iter().filter(|s| s.is_problem()).collect();
+        assert_eq!(problems, [&Warning, &Unknown, &Fault, &Protection]);
+    }
+
+    #[test]
+    fn an_unknown_bit_is_worse_than_a_warning_not_than_a_fault() {
+        // Warning (0x0200) + undefined byte 5 bit 7 (0x0080): the unknown bit is the worst.
+        assert_eq!(Flags::new(FlagTable::SystemV2, 0x0280).worst(), Some(Severity::Unknown));
+        // Fault (0x0100) + the undefined bit: the fault is the worst (it used to be the unknown bit).
+        assert_eq!(Flags::new(FlagTable::SystemV2, 0x0180).worst(), Some(Severity::Fault));
     }
 
     #[test]

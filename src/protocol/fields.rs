@@ -62,6 +62,7 @@ fn named(name: &'static str, raw: u8, text: Option<&'static str>) -> Field {
     field(name, Value::Name { raw, name: text }, "")
 }
 
+// Long: the output schema, one arm per message in field order; split, it would no longer read as one table.
 /// Calls `visit` with every field of `decoded`, in schema order.
 pub fn for_each_field(decoded: &Decoded, mut visit: impl FnMut(Field)) {
     let wire = decoded.wire;

@@ -5,6 +5,7 @@
 //! values outside the documented ranges.
 
 use super::faults::{FlagTable, Flags};
+use super::mode::ControlMode;
 
 /// Which encoding a message came from or is meant for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -199,7 +200,7 @@ impl Lights {
 pub struct SystemState {
     /// 0 normal, 1 E-stop, 2 system exception.
     pub vehicle_state: u8,
-    /// See `control_mode_name`.
+    /// See [`ControlMode::from_code`] (`SystemState::mode`).
     pub control_mode: u8,
     /// Battery voltage in 0.1 V.
     pub battery_decivolts: u16,
@@ -229,11 +230,12 @@ pub const VEHICLE_NORMAL: u8 = 0;
 pub const VEHICLE_ESTOP: u8 = 1;
 pub const VEHICLE_EXCEPTION: u8 = 2;
 
-/// Control modes of 0x421 and 0x211 byte 1 (V2).
-pub const MODE_STANDBY: u8 = 0;
-pub const MODE_CAN: u8 = 1;
-pub const MODE_SERIAL: u8 = 2;
-pub const MODE_RC: u8 = 3;
+/// Control-mode bytes of 0x421 and 0x211 byte 1 (V2), from [`ControlMode::code`], for matching on a raw
+/// byte; prefer [`ControlMode`].
+pub const MODE_STANDBY: u8 = ControlMode::Standby.code(Wire::CanV2);
+pub const MODE_CAN: u8 = ControlMode::Can.code(Wire::CanV2);
+pub const MODE_SERIAL: u8 = ControlMode::Serial.code(Wire::CanV2);
+pub const MODE_RC: u8 = ControlMode::Rc.code(Wire::CanV2);
 
 pub fn vehicle_state_name(value: u8) -> Option<&'static str> {
     match value {
@@ -244,17 +246,9 @@ pub fn vehicle_state_name(value: u8) -> Option<&'static str> {
     }
 }
 
-/// Control mode names. V2 firmware reports 0 at power-on before any 0x421 (standby; the TRACER manual
-/// calls it remote-control mode, copied from V1) and 3 under RC override. V1 and RS232 use 0 for RC.
+/// The name of a reported control-mode byte ([`ControlMode::from_code`]).
 pub fn control_mode_name(wire: Wire, value: u8) -> Option<&'static str> {
-    match (wire, value) {
-        (Wire::CanV2, 0) => Some("standby"),
-        (_, 0) => Some("rc"),
-        (_, 1) => Some("can"),
-        (_, 2) => Some("serial"),
-        (Wire::CanV2, 3) => Some("rc"),
-        _ => None,
-    }
+    ControlMode::from_code(wire, value).map(ControlMode::name)
 }
 
 pub fn light_mode_name(value: u8) -> Option<&'static str> {

@@ -11,6 +11,7 @@ pub mod fields;
 pub mod frame;
 pub mod id;
 pub mod message;
+pub mod mode;
 pub mod payload;
 pub mod serial;
 
@@ -21,3 +22,4 @@ pub use fields::{for_each_field, Field, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};
 pub use id::FrameId;
 pub use message::{Decoded, Message, MessageKind, Wire};
+pub use mode::ControlMode;

@@ -224,7 +224,7 @@ impl Chassis {
             time: Duration::from_millis(self.tick),
             wire: self.config.wire,
             control_mode: self.control_mode(),
-            control_mode_code: self.control_mode().code(self.config.wire),
+            control_mode_code: self.control_mode().code(self.config.wire.into()),
             vehicle_state: self.vehicle_state(),
             motion_block: self.motion_block(),
             commanded_linear: self.commanded.0,
@@ -392,7 +392,7 @@ impl Chassis {
         if let Some(request) = ClearRequest::from_serial(cmd.fault_clear) {
             self.clear(request);
         }
-        if cmd.control_mode != MODE_SERIAL || self.estop || self.rc_override() {
+        if cmd.control_mode != ControlMode::Serial.code(Wire::Serial) || self.estop || self.rc_override() {
             return false;
         }
         self.host_mode = ControlMode::Serial;
@@ -404,14 +404,14 @@ impl Chassis {
         if self.estop || self.rc_override() {
             return false;
         }
-        match mode {
-            MODE_STANDBY => self.enter_standby(),
-            MODE_CAN => self.host_mode = ControlMode::Can,
-            MODE_SERIAL => {
+        match ControlMode::from_code(Wire::CanV2, mode) {
+            Some(ControlMode::Standby) => self.enter_standby(),
+            Some(ControlMode::Can) => self.host_mode = ControlMode::Can,
+            Some(ControlMode::Serial) => {
                 self.enter_standby();
                 self.host_mode = ControlMode::Serial;
             }
-            _ => return false,
+            Some(ControlMode::Rc) | None => return false,
         }
         true
     }
@@ -555,7 +555,7 @@ impl Chassis {
     fn system_state(&mut self) -> SystemState {
         let state = SystemState {
             vehicle_state: self.vehicle_state(),
-            control_mode: self.control_mode().code(self.config.wire),
+            control_mode: self.control_mode().code(self.config.wire.into()),
             battery_decivolts: self.battery.decivolts(),
             fault_code: self.fault_code(),
             count: self.system_count,

@@ -22,6 +22,8 @@ use std::time::Duration;
 
 use crate::protocol::message::Lights;
 
+/// The control mode as the model keeps it; `ControlMode::code` gives the value the wire reports.
+pub use crate::protocol::ControlMode;
 pub use chassis::Chassis;
 pub use faults::{FaultKind, FaultParseError, ScheduledFault};
 
@@ -33,6 +35,15 @@ pub enum SimWire {
     CanV2,
     /// RS232: system, motion, motor 1/2 driver and light status every 20 ms; V1/serial fault bits.
     Serial,
+}
+
+impl From<SimWire> for crate::protocol::Wire {
+    fn from(wire: SimWire) -> Self {
+        match wire {
+            SimWire::CanV2 => crate::protocol::Wire::CanV2,
+            SimWire::Serial => crate::protocol::Wire::Serial,
+        }
+    }
 }
 
 /// Position of the RC transmitter's SWB switch (TRACER manual 2.3: top = command mode, middle = RC).
@@ -215,47 +226,6 @@ impl SimConfig {
             self.command_timeout = defaults.command_timeout;
         }
         self
-    }
-}
-
-/// Control mode as the model keeps it; `code` gives the value the wire reports.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum ControlMode {
-    /// Power-on state: only 0x421 (CAN) or a serial-mode motion command (RS232) is obeyed.
-    Standby,
-    Can,
-    Serial,
-    /// RC override (transmitter on, SWB in the middle).
-    Rc,
-}
-
-impl ControlMode {
-    /// The control-mode byte of 0x211 (V2: standby 0, CAN 1, serial 2, RC 3) or of the RS232 system
-    /// status (RC 0, CAN 1, serial 2; standby has no code of its own and reads 0 like RC).
-    pub fn code(self, wire: SimWire) -> u8 {
-        use crate::protocol::message::{MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY};
-        match (self, wire) {
-            (ControlMode::Standby, _) => MODE_STANDBY,
-            (ControlMode::Can, _) => MODE_CAN,
-            (ControlMode::Serial, _) => MODE_SERIAL,
-            (ControlMode::Rc, SimWire::CanV2) => MODE_RC,
-            (ControlMode::Rc, SimWire::Serial) => 0,
-        }
-    }
-
-    pub fn as_str(self) -> &'static str {
-        match self {
-            ControlMode::Standby => "standby",
-            ControlMode::Can => "can",
-            ControlMode::Serial => "serial",
-            ControlMode::Rc => "rc",
-        }
-    }
-}
-
-impl fmt::Display for ControlMode {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(self.as_str())
     }
 }
 

@@ -4,11 +4,12 @@
 use std::io;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, Sender};
-use std::sync::{Arc, Mutex};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::Context;
+use parking_lot::Mutex;
 
 use super::{Chassis, FaultKind, SimConfig, SimState};
 use crate::link::{Link, LinkKind};
@@ -35,7 +36,7 @@ impl Running {
 
     /// The simulated robot's state as of its last step.
     pub fn state(&self) -> SimState {
-        self.state.lock().unwrap_or_else(|poisoned| poisoned.into_inner()).clone()
+        self.state.lock().clone()
     }
 
     /// Feedback frames the link could not take (a full transmit queue: a busy bus).
@@ -122,7 +123,7 @@ pub fn run(
         chassis.due_feedback(now, &mut feedback);
         // Publish the state before the frames that report it, so whoever reacts to a frame sees it.
         if !feedback.is_empty() {
-            *state.lock().unwrap_or_else(|poisoned| poisoned.into_inner()) = chassis.state();
+            *state.lock() = chassis.state();
         }
         for message in &feedback {
             let Ok(frame) = codec.encode(message) else { continue };

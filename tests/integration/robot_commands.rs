@@ -5,7 +5,6 @@
 use std::time::Duration;
 
 use tracerctl::commands::lights::LightModeChoice;
-use tracerctl::commands::mode::ModeChoice;
 use tracerctl::commands::{clear_errors, lights, mode};
 use tracerctl::exit::{Failure, NOT_DONE, USAGE};
 use tracerctl::link::LinkChoice;
@@ -119,7 +118,7 @@ fn outcome(result: anyhow::Result<u8>, out: Vec<u8>) -> (u8, String, String) {
     }
 }
 
-fn run_mode(session: &Session, mode: ModeChoice) -> (u8, String, String) {
+fn run_mode(session: &Session, mode: ControlMode) -> (u8, String, String) {
     let mut out = Vec::new();
     let result =
         mode::execute(session, &mode::Options { mode, timeout: Duration::from_millis(600) }, &mut out);
@@ -140,15 +139,15 @@ fn sim_mode(session: &Session) -> ControlMode {
 #[test]
 fn mode_can_then_standby_reaches_the_simulator() {
     let session = session(SimConfig::default());
-    let (code, error, out) = run_mode(&session, ModeChoice::Can);
+    let (code, error, out) = run_mode(&session, ControlMode::Can);
     assert_eq!((code, error.as_str()), (0, ""));
     assert_eq!(out, "control mode: standby -> can (normal, 25.9 V, faults: none)\n");
     assert_eq!(sim_mode(&session), ControlMode::Can);
 
-    let (code, _, out) = run_mode(&session, ModeChoice::Can);
+    let (code, _, out) = run_mode(&session, ControlMode::Can);
     assert_eq!((code, out.as_str()), (0, "control mode: already can (normal, 25.9 V, faults: none)\n"));
 
-    let (code, _, out) = run_mode(&session, ModeChoice::Standby);
+    let (code, _, out) = run_mode(&session, ControlMode::Standby);
     assert_eq!((code, out.as_str()), (0, "control mode: can -> standby (normal, 25.9 V, faults: none)\n"));
     assert_eq!(sim_mode(&session), ControlMode::Standby);
 }
@@ -156,7 +155,7 @@ fn mode_can_then_standby_reaches_the_simulator() {
 #[test]
 fn mode_can_with_the_estop_pressed_says_so() {
     let session = session(at_start(&[FaultKind::EStop]));
-    let (code, error, out) = run_mode(&session, ModeChoice::Can);
+    let (code, error, out) = run_mode(&session, ControlMode::Can);
     assert_eq!(code, NOT_DONE, "{error}");
     assert_eq!(out, "");
     assert!(
@@ -170,7 +169,7 @@ fn mode_can_with_the_estop_pressed_says_so() {
     // Released: the same command now works.
     session.simulator().unwrap().inject(FaultKind::EStopRelease);
     std::thread::sleep(Duration::from_millis(60));
-    let (code, error, out) = run_mode(&session, ModeChoice::Can);
+    let (code, error, out) = run_mode(&session, ControlMode::Can);
     assert_eq!(code, 0, "{error}");
     assert_eq!(out, "control mode: standby -> can (normal, 25.9 V, faults: none)\n");
 }
@@ -178,7 +177,7 @@ fn mode_can_with_the_estop_pressed_says_so() {
 #[test]
 fn mode_can_under_rc_override_points_at_swb() {
     let session = session(SimConfig { rc_present: true, rc_swb: RcSwitch::Middle, ..SimConfig::default() });
-    let (code, error, _) = run_mode(&session, ModeChoice::Can);
+    let (code, error, _) = run_mode(&session, ControlMode::Can);
     assert_eq!(code, NOT_DONE, "{error}");
     assert!(error.starts_with("the robot is still in rc mode (normal, "), "{error}");
     assert!(error.contains("put switch SWB at the top"), "{error}");
@@ -189,12 +188,12 @@ fn mode_can_under_rc_override_points_at_swb() {
 fn mode_over_rs232_selects_serial_mode_and_refuses_the_others() {
     let session = session(SimConfig { wire: SimWire::Serial, ..SimConfig::default() });
     // RS232 reports standby as 0, the code it shares with RC mode.
-    let (code, error, out) = run_mode(&session, ModeChoice::Serial);
+    let (code, error, out) = run_mode(&session, ControlMode::Serial);
     assert_eq!(code, 0, "{error}");
     assert_eq!(out, "control mode: rc -> serial (normal, 25.9 V, faults: none)\n");
     assert_eq!(sim_mode(&session), ControlMode::Serial);
 
-    for choice in [ModeChoice::Can, ModeChoice::Standby] {
+    for choice in [ControlMode::Can, ControlMode::Standby] {
         let (code, error, out) = run_mode(&session, choice);
         assert_eq!((code, out.as_str()), (USAGE, ""), "{choice:?}");
         assert!(

@@ -388,41 +388,12 @@ impl Plot {
     ) -> Result<usize> {
         let (start, end) = self.time_span();
         let x_range = start..end;
-        let mut range =
-            series.iter().filter_map(|(s, _, _)| s.range()).fold(None, |acc: Option<(f64, f64)>, r| {
-                Some(acc.map_or(r, |(lo, hi)| (lo.min(r.0), hi.max(r.1))))
-            });
-        for (points, _) in references {
-            for &(_, y) in points {
-                range = Some(range.map_or((y, y), |(lo, hi)| (lo.min(y), hi.max(y))));
-            }
-        }
-        let (lo, hi) = range.unwrap_or((0.0, 1.0));
-        let pad = if hi > lo { (hi - lo) * 0.08 } else { 1.0 };
-
-        // Event labels go in lanes at the top of the plot; the data range is pushed down below them.
-        let (width, height) = area.dim_in_pixel();
-        let (plot_left, plot_right) = (MARGIN_PX + Y_LABEL_AREA_PX, width as i32 - MARGIN_PX);
-        let plot_height = (height as i32 - 2 * MARGIN_PX - X_LABEL_AREA_PX - CAPTION_PX).max(1);
         let lanes = if label_markers {
-            let spans: Vec<(i32, i32)> = self
-                .markers
-                .iter()
-                .map(|marker| {
-                    let share = (marker.t - start) / (end - start);
-                    let x = plot_left + (share * f64::from(plot_right - plot_left)).round() as i32;
-                    (x, x + LABEL_OFFSET_PX + LABEL_CHAR_PX * marker.label.chars().count() as i32)
-                })
-                .collect();
-            label_lanes(&spans, LABEL_LANES)
+            self.label_lanes_in(area, start, end)
         } else {
             vec![None; self.markers.len()]
         };
-        let band_px = lanes.iter().flatten().max().map_or(0, |lane| 4 + LABEL_LANE_PX * (*lane as i32 + 1));
-        // The band's share of the height, reserved above the data and its normal padding.
-        let band = f64::from(band_px.min(plot_height * 2 / 3)) / f64::from(plot_height);
-        let top = (hi + pad - (lo - pad) * band) / (1.0 - band);
-        let y_range = (lo - pad)..top;
+        let y_range = y_range(area, value_range(series, references), &lanes);
 
         let mut chart = ChartBuilder::on(area)
             .caption(title, ("sans-serif", 16))
@@ -453,6 +424,48 @@ impl Plot {
                 .label(label)
                 .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], color.stroke_width(2)));
         }
+        self.draw_markers(&mut chart, &y_range, &lanes)?;
+        chart
+            .configure_series_labels()
+            .position(SeriesLabelPosition::UpperRight)
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK)
+            .draw()?;
+        Ok(lanes.iter().filter(|lane| lane.is_none()).count() * usize::from(label_markers))
+    }
+
+    /// The label lane of each event marker at the top of the plot (`None`: no room left for its label).
+    fn label_lanes_in(
+        &self,
+        area: &DrawingArea<SVGBackend, plotters::coord::Shift>,
+        start: f64,
+        end: f64,
+    ) -> Vec<Option<usize>> {
+        let (width, _) = area.dim_in_pixel();
+        let (plot_left, plot_right) = (MARGIN_PX + Y_LABEL_AREA_PX, width as i32 - MARGIN_PX);
+        let spans: Vec<(i32, i32)> = self
+            .markers
+            .iter()
+            .map(|marker| {
+                let share = (marker.t - start) / (end - start);
+                let x = plot_left + (share * f64::from(plot_right - plot_left)).round() as i32;
+                (x, x + LABEL_OFFSET_PX + LABEL_CHAR_PX * marker.label.chars().count() as i32)
+            })
+            .collect();
+        label_lanes(&spans, LABEL_LANES)
+    }
+
+    /// A vertical line per event marker, then the labels that found a lane, on a pale box (after all lines,
+    /// so the lines of neighbouring events do not cross them).
+    fn draw_markers(
+        &self,
+        chart: &mut ChartContext<
+            SVGBackend,
+            Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>,
+        >,
+        y_range: &std::ops::Range<f64>,
+        lanes: &[Option<usize>],
+    ) -> Result<()> {
         let color_of = |marker: &Marker| match marker.kind {
             MarkerKind::Estop => ESTOP_COLOR,
             MarkerKind::EstopReleased => ESTOP_RELEASED_COLOR,
@@ -465,8 +478,7 @@ impl Plot {
             );
             chart.draw_series(std::iter::once(line))?;
         }
-        // Labels after all lines, on a pale box, so the lines of neighbouring events do not cross them.
-        for (marker, lane) in self.markers.iter().zip(&lanes) {
+        for (marker, lane) in self.markers.iter().zip(lanes) {
             let Some(lane) = lane else { continue };
             let color = color_of(marker);
             let style = ("sans-serif", 12).into_font().color(&color);
@@ -477,14 +489,39 @@ impl Plot {
                 + Text::new(marker.label.clone(), (x, y), style);
             chart.draw_series(std::iter::once(label))?;
         }
-        chart
-            .configure_series_labels()
-            .position(SeriesLabelPosition::UpperRight)
-            .background_style(WHITE.mix(0.85))
-            .border_style(BLACK)
-            .draw()?;
-        Ok(lanes.iter().filter(|lane| lane.is_none()).count() * usize::from(label_markers))
+        Ok(())
     }
+}
+
+/// The lowest and highest value of the series and the reference lines ((0, 1) when there is none).
+fn value_range(series: &[(&Series, &str, RGBColor)], references: &[(Vec<(f64, f64)>, String)]) -> (f64, f64) {
+    let mut range = series
+        .iter()
+        .filter_map(|(s, _, _)| s.range())
+        .fold(None, |acc: Option<(f64, f64)>, r| Some(acc.map_or(r, |(lo, hi)| (lo.min(r.0), hi.max(r.1)))));
+    for (points, _) in references {
+        for &(_, y) in points {
+            range = Some(range.map_or((y, y), |(lo, hi)| (lo.min(y), hi.max(y))));
+        }
+    }
+    range.unwrap_or((0.0, 1.0))
+}
+
+/// The y axis: the values with padding, and above them a band for the event labels' lanes (the data range
+/// is pushed down below them).
+fn y_range(
+    area: &DrawingArea<SVGBackend, plotters::coord::Shift>,
+    (lo, hi): (f64, f64),
+    lanes: &[Option<usize>],
+) -> std::ops::Range<f64> {
+    let pad = if hi > lo { (hi - lo) * 0.08 } else { 1.0 };
+    let (_, height) = area.dim_in_pixel();
+    let plot_height = (height as i32 - 2 * MARGIN_PX - X_LABEL_AREA_PX - CAPTION_PX).max(1);
+    let band_px = lanes.iter().flatten().max().map_or(0, |lane| 4 + LABEL_LANE_PX * (*lane as i32 + 1));
+    // The band's share of the height, reserved above the data and its normal padding.
+    let band = f64::from(band_px.min(plot_height * 2 / 3)) / f64::from(plot_height);
+    let top = (hi + pad - (lo - pad) * band) / (1.0 - band);
+    (lo - pad)..top
 }
 
 /// Panel geometry in pixels: margin, axis label areas, and the caption's height (16 px text and its gap).

@@ -9,7 +9,7 @@ use super::{read_error, Decoder};
 use crate::candump::{Line, LineParser};
 use crate::exit::{Failure, USAGE};
 use crate::output::{Event, FrameRef};
-use crate::protocol::serial::{self, StreamDecoder, StreamEvent};
+use crate::protocol::serial::{self, StreamDecoder, StreamEvent, StreamStats};
 
 const CHUNK: usize = 64 * 1024;
 
@@ -352,28 +352,8 @@ pub fn decode(decoder: &mut Decoder, name: &str, input: impl Read) -> Result<()>
     let mut problems = Vec::new();
     let rejected_before = decoder.stats.rejected_total();
 
-    // The start decides what the capture is; a live port is decided on less, so it is not held up.
-    let mut filled = 0;
-    while filled < SAMPLE {
-        let read = input.read(&mut chunk[filled..SAMPLE]).map_err(|error| read_error(error, name))?;
-        filled += read;
-        if read == 0 || (read < SAMPLE - (filled - read) && filled >= LIVE_SAMPLE) {
-            break;
-        }
-    }
-    let mut hex = None;
-    if looks_like_hex_text(&chunk[..filled]) {
-        if looks_like_candump(&chunk[..filled]) {
-            return Err(Failure {
-                code: USAGE,
-                message: format!(
-                    "{name} looks like a candump log, not an RS232 capture: decode it without --serial"
-                ),
-            }
-            .into());
-        }
-        hex = Some(HexLines::new());
-    }
+    let filled = read_sample(&mut input, &mut chunk, name)?;
+    let mut hex = hex_converter(&chunk[..filled], name)?;
 
     let mut text_offset = 0u64;
     let mut read = filled;
@@ -410,30 +390,69 @@ pub fn decode(decoder: &mut Decoder, name: &str, input: impl Read) -> Result<()>
     let stats = stream.finish();
     let rejected = decoder.stats.rejected_total() - rejected_before;
     decoder.stats.serial.push((name.to_string(), stats));
+    let hex_text = hex.is_some().then_some(text_offset);
     if stats.frames == 0 && (stats.bytes > 0 || rejected > 0) {
-        let mut message = format!("no TRACER frames in {name}: ");
-        if hex.is_some() {
-            let _ = write!(message, "{text_offset} bytes of hex text gave {} bytes", stats.bytes);
-        } else {
-            let _ = write!(message, "{} bytes", stats.bytes);
-        }
-        let _ = write!(message, ", none part of a valid 5A A5 frame");
-        for (count, what) in [
-            (stats.bad_checksum, "bad checksums"),
-            (stats.bad_length, "bad length bytes"),
-            (stats.bad_type, "bad frame types"),
-            (rejected, "characters that are not hex"),
-        ] {
-            if count > 0 {
-                let _ = write!(message, "; {count} {what}");
-            }
-        }
+        let message = no_frames_message(name, &stats, rejected, hex_text);
         if decoder.strict {
             return Err(Failure::data(message).into());
         }
         crate::say!("tracerctl: {message}");
     }
     Ok(())
+}
+
+/// Reads the start of the input, which decides what the capture is; a live port is decided on less, so it
+/// is not held up. Returns how many bytes of `chunk` were filled.
+fn read_sample(input: &mut impl Read, chunk: &mut [u8], name: &str) -> Result<usize> {
+    let mut filled = 0;
+    while filled < SAMPLE {
+        let read = input.read(&mut chunk[filled..SAMPLE]).map_err(|error| read_error(error, name))?;
+        filled += read;
+        if read == 0 || (read < SAMPLE - (filled - read) && filled >= LIVE_SAMPLE) {
+            break;
+        }
+    }
+    Ok(filled)
+}
+
+/// A hex-text converter when the sample is hex text; a candump log given to --serial is refused.
+fn hex_converter(sample: &[u8], name: &str) -> Result<Option<HexLines>> {
+    if !looks_like_hex_text(sample) {
+        return Ok(None);
+    }
+    if looks_like_candump(sample) {
+        return Err(Failure {
+            code: USAGE,
+            message: format!(
+                "{name} looks like a candump log, not an RS232 capture: decode it without --serial"
+            ),
+        }
+        .into());
+    }
+    Ok(Some(HexLines::new()))
+}
+
+/// `no TRACER frames in NAME: N bytes, none part of a valid 5A A5 frame; 3 bad checksums`; `hex_text` is
+/// the length of the hex text the bytes came from, if they did.
+fn no_frames_message(name: &str, stats: &StreamStats, rejected: u64, hex_text: Option<u64>) -> String {
+    let mut message = format!("no TRACER frames in {name}: ");
+    if let Some(text_bytes) = hex_text {
+        let _ = write!(message, "{text_bytes} bytes of hex text gave {} bytes", stats.bytes);
+    } else {
+        let _ = write!(message, "{} bytes", stats.bytes);
+    }
+    let _ = write!(message, ", none part of a valid 5A A5 frame");
+    for (count, what) in [
+        (stats.bad_checksum, "bad checksums"),
+        (stats.bad_length, "bad length bytes"),
+        (stats.bad_type, "bad frame types"),
+        (rejected, "characters that are not hex"),
+    ] {
+        if count > 0 {
+            let _ = write!(message, "; {count} {what}");
+        }
+    }
+    message
 }
 
 fn report_hex_problems(decoder: &mut Decoder, name: &str, problems: &mut Vec<(u64, HexError)>) -> Result<()> {

@@ -58,11 +58,27 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         if args.probe { ", then probing" } else { "" }
     ))?;
 
-    let opened = match &choice {
+    let opened = check_link(&choice, &mut report)?;
+    let session = if opened { open_session(&choice, global.protocol, &mut report)? } else { None };
+    let signal = match &session {
+        Some(session) => examine(session, args, &mut report)?,
+        None => {
+            let can = matches!(choice, LinkChoice::SocketCan { .. });
+            add_all(&mut report, robot::skipped("frames", "motors", "the link is not usable", can))?;
+            None
+        }
+    };
+    let drivable = report.finish(args.probe && session.is_some())?;
+    Ok(exit_status(drivable, signal))
+}
+
+/// The checks before opening (the CAN interface, or the serial port); whether the link can be opened.
+fn check_link<W: Write>(choice: &LinkChoice, report: &mut Report<W>) -> Result<bool> {
+    Ok(match choice {
         #[cfg(target_os = "linux")]
         LinkChoice::SocketCan { iface } => {
             let (checks, ok) = link_checks::can_interface(iface);
-            add_all(&mut report, checks)?;
+            add_all(report, checks)?;
             ok
         }
         #[cfg(not(target_os = "linux"))]
@@ -78,7 +94,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         LinkChoice::Serial { path, baud } => {
             let checks = link_checks::serial_port(path, *baud);
             let exists = !checks.iter().any(|check| check.outcome == report::Outcome::Fail);
-            add_all(&mut report, checks)?;
+            add_all(report, checks)?;
             exists
         }
         LinkChoice::Sim => {
@@ -89,41 +105,35 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
             report.add(Check::pass("link", "link", format!("replaying {} (read-only)", path.display())))?;
             true
         }
-    };
-    let session = if opened {
-        match Session::open(&choice, global.protocol, None) {
-            Ok(session) => {
-                if let LinkChoice::Serial { path, baud } = &choice {
-                    report.add(Check::pass(
-                        "serial_port",
-                        "serial port",
-                        format!("{} open at {baud} baud, 8N1", path.display()),
-                    ))?;
-                }
-                Some(session)
+    })
+}
+
+/// Opens the session, reporting the serial port open (or the link that could not be opened).
+fn open_session<W: Write>(
+    choice: &LinkChoice,
+    hint: crate::protocol::ProtocolHint,
+    report: &mut Report<W>,
+) -> Result<Option<Session>> {
+    match Session::open(choice, hint, None) {
+        Ok(session) => {
+            if let LinkChoice::Serial { path, baud } = choice {
+                report.add(Check::pass(
+                    "serial_port",
+                    "serial port",
+                    format!("{} open at {baud} baud, 8N1", path.display()),
+                ))?;
             }
-            Err(error) => {
-                let (id, title) = match choice {
-                    LinkChoice::Serial { .. } => ("serial_port", "serial port"),
-                    _ => ("open", "open link"),
-                };
-                report.add(Check::fail(id, title, "cannot open the link", format!("{error:#}")))?;
-                None
-            }
+            Ok(Some(session))
         }
-    } else {
-        None
-    };
-    let signal = match &session {
-        Some(session) => examine(session, args, &mut report)?,
-        None => {
-            let can = matches!(choice, LinkChoice::SocketCan { .. });
-            add_all(&mut report, robot::skipped("frames", "motors", "the link is not usable", can))?;
-            None
+        Err(error) => {
+            let (id, title) = match choice {
+                LinkChoice::Serial { .. } => ("serial_port", "serial port"),
+                _ => ("open", "open link"),
+            };
+            report.add(Check::fail(id, title, "cannot open the link", format!("{error:#}")))?;
+            Ok(None)
         }
-    };
-    let drivable = report.finish(args.probe && session.is_some())?;
-    Ok(exit_status(drivable, signal))
+    }
 }
 
 fn exit_status(drivable: bool, signal: Option<u8>) -> u8 {

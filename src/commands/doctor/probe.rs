@@ -10,8 +10,8 @@ use anyhow::Result;
 use super::report::Check;
 use crate::commands::live;
 use crate::link::LinkKind;
-use crate::protocol::message::{MotionCommand, MODE_CAN, MODE_SERIAL, MODE_STANDBY};
-use crate::protocol::Wire;
+use crate::protocol::message::MotionCommand;
+use crate::protocol::{ControlMode, Wire};
 use crate::session::confirm::{send_until, Attempt};
 use crate::session::Session;
 use crate::signals::SignalFlag;
@@ -28,16 +28,14 @@ const STILL_ANGULAR: f64 = 0.01;
 
 pub fn run(session: &Session, signals: &SignalFlag) -> Result<Vec<Check>> {
     let wire = session.wire();
-    let wanted = match wire {
-        Wire::CanV2 | Wire::CanV1 => MODE_CAN,
-        Wire::Serial => MODE_SERIAL,
-    };
-    let before = session.status().system.map(|(_, state, _)| state.control_mode);
+    let choice = ControlMode::command_mode_of(wire);
+    let wanted = choice.code(wire);
+    let before = session.status().system.and_then(|(_, state, wire)| state.mode(wire));
     let mut checks = vec![probe_mode(session, wanted)?];
     let mode_ok = checks[0].outcome == super::report::Outcome::Pass;
     checks.push(probe_motion(session, wanted, mode_ok, signals)?);
     // 0x421 can put back standby or serial mode on V2; RC mode comes back by itself (it is a switch).
-    if let (Wire::CanV2, Some(mode @ (MODE_STANDBY | MODE_SERIAL))) = (wire, before) {
+    if let (Wire::CanV2, Some(mode @ (ControlMode::Standby | ControlMode::Serial))) = (wire, before) {
         if mode_ok {
             checks.push(restore(session, mode)?);
         }
@@ -54,13 +52,14 @@ fn probe_mode(session: &Session, wanted: u8) -> Result<Check> {
         Wire::CanV1 => "a zero-speed 0x130 (CAN mode)",
         Wire::Serial => "a zero-speed serial command (serial mode)",
     };
-    let before = session.status().system.map(|(_, state, wire)| live::mode_name(state.control_mode, wire));
+    let before =
+        session.status().system.map(|(_, state, wire)| ControlMode::describe(wire, state.control_mode));
     let attempt = switch_mode(session, wanted);
     let attempt = match attempt {
         Ok(attempt) => attempt,
         Err(error) => return Ok(Check::fail(ID, TITLE, format!("cannot send {sent}"), format!("{error:#}"))),
     };
-    let wanted_name = live::mode_name(wanted, wire);
+    let wanted_name = ControlMode::describe(wire, wanted);
     if let Some(after) = attempt.found {
         let from = before.unwrap_or_else(|| "unknown".to_string());
         return Ok(Check::pass(
@@ -78,7 +77,7 @@ fn probe_mode(session: &Session, wanted: u8) -> Result<Check> {
             format!(
                 "sent {sent} {} times; the robot stayed in {} mode",
                 attempt.sends,
-                live::mode_name(state.control_mode, state_wire)
+                ControlMode::describe(state_wire, state.control_mode)
             ),
             live::why_not_command_mode(&state, state_wire),
         ),
@@ -96,24 +95,7 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
     const TITLE: &str = "probe: zero motion";
     let bus_before = bus_errors(session);
     let started = Instant::now();
-    let mut sent = 0;
-    let mut send_error = None;
-    // On an absolute grid, like the drive sender: a slow send does not stretch the period.
-    for index in 0..MOTION_FRAMES {
-        if signals.received().is_some() {
-            break;
-        }
-        let frame = session.codec().motion(MotionCommand::STOP);
-        match session.send(&frame) {
-            Ok(()) => sent += 1,
-            Err(error) => {
-                send_error = Some(format!("{error:#}"));
-                break;
-            }
-        }
-        let next = started + MOTION_PERIOD * (index + 1);
-        std::thread::sleep(next.saturating_duration_since(Instant::now()));
-    }
+    let (sent, send_error) = send_zero_frames(session, signals, started);
     let what = match session.wire() {
         Wire::CanV2 => "zero-velocity 0x111",
         Wire::CanV1 => "zero-velocity 0x130",
@@ -136,13 +118,55 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
             "run doctor again",
         ));
     }
-    let status = session.status();
     let mut finding = format!("{sent} {what} frames in {elapsed:.1} s, all sent");
+    let problems = status_while_sending(session, started, wanted, mode_ok, bus_before, &mut finding);
+    if problems.is_empty() {
+        Ok(Check::pass(ID, TITLE, finding))
+    } else {
+        Ok(Check::fail(
+            ID,
+            TITLE,
+            format!("{finding}; {}", problems.join("; ")),
+            "fix what the earlier checks report; if they all pass, check the wiring and termination",
+        ))
+    }
+}
+
+/// Sends `MOTION_FRAMES` zero-velocity frames on an absolute grid, like the drive sender (a slow send does not
+/// stretch the period), until a signal arrives or the link refuses one: how many left, and the refusal.
+fn send_zero_frames(session: &Session, signals: &SignalFlag, started: Instant) -> (u32, Option<String>) {
+    let mut sent = 0;
+    for index in 0..MOTION_FRAMES {
+        if signals.received().is_some() {
+            break;
+        }
+        let frame = session.codec().motion(MotionCommand::STOP);
+        if let Err(error) = session.send(&frame) {
+            return (sent, Some(format!("{error:#}")));
+        }
+        sent += 1;
+        let next = started + MOTION_PERIOD * (index + 1);
+        std::thread::sleep(next.saturating_duration_since(Instant::now()));
+    }
+    (sent, None)
+}
+
+/// What the robot reported while the zero frames went out: the mode and speed join `finding`; a left
+/// command mode, motion, a missing status or a rising transmit error counter are the problems returned.
+fn status_while_sending(
+    session: &Session,
+    started: Instant,
+    wanted: u8,
+    mode_ok: bool,
+    bus_before: Option<u16>,
+    finding: &mut String,
+) -> Vec<String> {
+    let status = session.status();
     let mut problems = Vec::new();
     match status.system.filter(|(at, ..)| *at > started) {
         None => problems.push("no system status arrived while sending".to_string()),
         Some((_, state, state_wire)) => {
-            let mode = live::mode_name(state.control_mode, state_wire);
+            let mode = ControlMode::describe(state_wire, state.control_mode);
             if mode_ok && state.control_mode != wanted {
                 problems.push(format!("the robot left command mode ({mode})"));
             } else {
@@ -168,24 +192,15 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
             ));
         }
     }
-    if problems.is_empty() {
-        Ok(Check::pass(ID, TITLE, finding))
-    } else {
-        Ok(Check::fail(
-            ID,
-            TITLE,
-            format!("{finding}; {}", problems.join("; ")),
-            "fix what the earlier checks report; if they all pass, check the wiring and termination",
-        ))
-    }
+    problems
 }
 
 /// Puts back the mode the robot was in.
-fn restore(session: &Session, mode: u8) -> Result<Check> {
+fn restore(session: &Session, mode: ControlMode) -> Result<Check> {
     const ID: &str = "probe_restore";
     const TITLE: &str = "probe: restore";
-    let name = live::mode_name(mode, Wire::CanV2);
-    Ok(match switch_mode(session, mode)?.found {
+    let name = mode.name();
+    Ok(match switch_mode(session, mode.code(Wire::CanV2))?.found {
         Some(_) => Check::pass(ID, TITLE, format!("control mode back to {name}")),
         None => Check::warn(
             ID,

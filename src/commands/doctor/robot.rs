@@ -4,15 +4,11 @@
 use std::time::{Duration, Instant};
 
 use super::report::{Check, Outcome};
-use crate::commands::live;
 use crate::link::LinkKind;
 use crate::protocol::constants::{volts, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::detect::Verdict;
-use crate::protocol::message::{
-    rc_switch_name, SystemState, MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY, VEHICLE_ESTOP,
-    VEHICLE_EXCEPTION,
-};
-use crate::protocol::{ProtocolHint, Severity, Wire};
+use crate::protocol::message::{rc_switch_name, SystemState, VEHICLE_ESTOP, VEHICLE_EXCEPTION};
+use crate::protocol::{ControlMode, ProtocolHint, Severity, Wire};
 use crate::session::RobotStatus;
 
 /// The robot sends its system status every 20 ms.
@@ -331,7 +327,7 @@ pub fn other_senders(seen: &Observation) -> Check {
 pub fn control_mode(seen: &Observation, state: &SystemState, wire: Wire) -> Check {
     const ID: &str = "control_mode";
     const TITLE: &str = "control mode";
-    let mode = live::mode_name(state.control_mode, wire);
+    let mode = ControlMode::describe(wire, state.control_mode);
     let swb = seen.status.rc.map(|(_, rc)| (rc.switches >> 2) & 0b11);
     let swb_text = swb.map(|bits| format!(", RC switch SWB {}", rc_switch_name(bits).unwrap_or("unknown")));
     let finding = format!("{mode}{}", swb_text.unwrap_or_default());
@@ -343,29 +339,28 @@ pub fn control_mode(seen: &Observation, state: &SystemState, wire: Wire) -> Chec
         return Check::fail(ID, TITLE, finding, rc_action);
     }
     match wire {
-        Wire::CanV2 => match state.control_mode {
-            MODE_CAN => Check::pass(ID, TITLE, finding),
-            MODE_RC => Check::fail(ID, TITLE, finding, rc_action),
-            MODE_STANDBY => Check::warn(
+        Wire::CanV2 => match state.mode(wire) {
+            Some(ControlMode::Can) => Check::pass(ID, TITLE, finding),
+            Some(ControlMode::Rc) => Check::fail(ID, TITLE, finding, rc_action),
+            Some(ControlMode::Standby) => Check::warn(
                 ID,
                 TITLE,
                 format!("{finding} (the power-on mode: motion commands are ignored)"),
                 "tracerctl drive and dashboard switch to CAN mode themselves; other software must send 0x421 = 01 \
                  first, and again after every power cycle (`tracerctl mode can`)",
             ),
-            MODE_SERIAL => Check::warn(
+            Some(ControlMode::Serial) => Check::warn(
                 ID,
                 TITLE,
                 format!("{finding}: CAN motion commands are ignored"),
                 "is another host driving over RS232? `tracerctl mode can` switches to CAN",
             ),
-            _ => Check::warn(ID, TITLE, finding, "an unknown mode: check the firmware version"),
+            None => Check::warn(ID, TITLE, finding, "an unknown mode: check the firmware version"),
         },
         Wire::Serial | Wire::CanV1 => {
-            let own = if wire == Wire::Serial { MODE_SERIAL } else { MODE_CAN };
-            if state.control_mode == own {
+            if state.mode(wire) == Some(ControlMode::command_mode_of(wire)) {
                 Check::pass(ID, TITLE, finding)
-            } else if state.control_mode == 0 {
+            } else if state.rc_has_control(wire) {
                 Check::warn(
                     ID,
                     TITLE,
@@ -419,7 +414,7 @@ pub fn faults(seen: &Observation, state: &SystemState, wire: Wire) -> Check {
             .collect::<Vec<_>>()
     });
     for (prefix, flag) in system.into_iter().chain(drivers) {
-        if flag.severity == Severity::Info {
+        if !flag.severity.is_problem() {
             continue;
         }
         named.push(format!("{prefix}{} [{}]", flag.name, flag.severity));
@@ -528,19 +523,22 @@ pub fn motors(seen: &Observation) -> Check {
     }
 }
 
-/// Bits that stop the robot fail the check; warnings and bits no document defines deserve a look.
+/// Bits that stop the robot fail the check; other problems (warnings, bits no document defines) deserve a
+/// look: `Severity`'s own answer.
 fn outcome_of(severity: Severity) -> Outcome {
-    match severity {
-        Severity::Fault | Severity::Protection => Outcome::Fail,
-        Severity::Warning | Severity::Unknown => Outcome::Warn,
-        Severity::Info => Outcome::Pass,
+    if severity.blocks_driving() {
+        Outcome::Fail
+    } else if severity.is_problem() {
+        Outcome::Warn
+    } else {
+        Outcome::Pass
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::message::{MotorLowSpeed, RcState};
+    use crate::protocol::message::{MotorLowSpeed, RcState, MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY};
 
     fn state(vehicle_state: u8, control_mode: u8, decivolts: u16, fault_code: u16) -> SystemState {
         SystemState { vehicle_state, control_mode, battery_decivolts: decivolts, fault_code, count: 0 }
@@ -665,6 +663,20 @@ mod tests {
         let check = faults(&seen, &state(0, 1, 259, 0), Wire::CanV2);
         assert_eq!(check.outcome, Outcome::Warn);
         assert_eq!(check.finding, "0x0000: motor 2 driver_overcurrent [warning]");
+    }
+
+    /// `Severity`'s order decides: a bit no document defines warns, alone or with a warning; with a fault
+    /// the check fails for the fault.
+    #[test]
+    fn an_undocumented_bit_warns() {
+        let status = RobotStatus::default();
+        let seen = seen(&status, Wire::CanV2);
+        let check = faults(&seen, &state(0, 1, 259, 0x0080), Wire::CanV2);
+        assert_eq!(check.outcome, Outcome::Warn);
+        assert_eq!(check.finding, "0x0080: reserved_byte5_bit7 [unknown]");
+        assert_eq!(faults(&seen, &state(0, 1, 259, 0x0280), Wire::CanV2).outcome, Outcome::Warn);
+        assert_eq!(faults(&seen, &state(0, 1, 259, 0x0180), Wire::CanV2).outcome, Outcome::Fail);
+        assert_eq!(outcome_of(Severity::Unknown), Outcome::Warn);
     }
 
     #[test]
