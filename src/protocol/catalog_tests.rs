@@ -147,6 +147,7 @@ const CODEC: &[&str] = &[
     "src/protocol/serial.rs",
     "src/protocol/payload.rs",
     "src/protocol/codec.rs",
+    "src/protocol/mode.rs",
     "src/protocol/catalog.rs",
     "src/protocol/constants.rs",
     "src/protocol/id.rs",
