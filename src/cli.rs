@@ -21,11 +21,16 @@ Examples:
   tracerctl decode capture.log                 decode a candump log, one line per frame
   tracerctl decode --summary capture.log       the technician's report: rates, lost frames, faults, battery
   tracerctl decode --format json capture.log   one JSON object per frame (docs/json.md)
-  tracerctl decode 211#00000103000000B1        decode one frame given in cansend syntax
+  tracerctl decode {EXAMPLE_FRAME}        decode one frame given in cansend syntax
   tracerctl decode --serial uart.bin           decode an RS232 capture (raw bytes or hex text)";
 
+/// A help text with the example frame (`{EXAMPLE_FRAME}`) taken from the codec.
+fn with_example_frame(text: &str) -> String {
+    text.replace("{EXAMPLE_FRAME}", crate::protocol::can::EXAMPLE_FRAME)
+}
+
 #[derive(Debug, Parser)]
-#[command(name = "tracerctl", version, about = ABOUT, after_help = AFTER_HELP, propagate_version = true)]
+#[command(name = "tracerctl", version, about = ABOUT, after_help = with_example_frame(AFTER_HELP), propagate_version = true)]
 pub struct Cli {
     /// Protocol version: auto detects from the identifiers on the bus
     #[arg(long, global = true, value_enum, default_value_t = ProtocolArg::Auto, value_name = "VERSION")]
@@ -45,7 +50,7 @@ pub struct Cli {
 #[derive(Debug, Subcommand)]
 pub enum Command {
     /// Decode candump logs, single frames or RS232 captures
-    #[command(after_help = DECODE_AFTER_HELP)]
+    #[command(after_help = with_example_frame(DECODE_AFTER_HELP))]
     Decode(DecodeArgs),
     /// Watch the live bus, decoded, with warnings when periodic frames go stale
     Monitor(MonitorArgs),
@@ -73,7 +78,7 @@ pub enum Command {
 
 const DECODE_AFTER_HELP: &str = "\
 Inputs are candump logs in any variant (candump -l/-L files, console output with or without
-timestamps, -x, -a, -e, colour), '-' for standard input, or frames in cansend syntax (211#00000103000000B1).
+timestamps, -x, -a, -e, colour), '-' for standard input, or frames in cansend syntax ({EXAMPLE_FRAME}).
 Bad lines are reported with file:line and the reason, counted, and skipped (--strict stops at the first).
 
 Exit status: 0 success, 1 error, 2 usage error, 3 bad input with --strict.";
@@ -458,7 +463,7 @@ impl SendRawArgs {
 
 /// `doctor --help` after the options, with the command-mode identifier from the catalog's codec.
 fn doctor_after_help() -> String {
-    let mode_command = crate::protocol::FrameId::Standard(crate::protocol::can::ID_CONTROL_MODE as u16);
+    let mode_command = crate::protocol::FrameId::standard(crate::protocol::can::ID_CONTROL_MODE);
     DOCTOR_AFTER_HELP.replace("{MODE_COMMAND}", &mode_command.to_string())
 }
 

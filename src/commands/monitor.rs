@@ -324,7 +324,7 @@ impl Counts {
     fn rows(&self) -> Vec<(String, Count)> {
         let mut rows: Vec<(String, Count)> = (0..self.standard.len())
             .filter(|&id| self.standard[id].frames > 0)
-            .map(|id| (FrameId::Standard(id as u16).to_string(), self.standard[id]))
+            .map(|id| (FrameId::standard(id as u32).to_string(), self.standard[id]))
             .collect();
         let mut others = self.others.clone();
         others.sort_by_key(|(key, _)| *key);

@@ -126,6 +126,16 @@ pub enum Protocol {
 }
 
 impl Protocol {
+    /// The wire this protocol is, when it is one.
+    pub fn wire(self) -> Option<Wire> {
+        match self {
+            Protocol::CanV1 => Some(Wire::CanV1),
+            Protocol::CanV2 => Some(Wire::CanV2),
+            Protocol::Serial => Some(Wire::Serial),
+            Protocol::Unknown | Protocol::Mixed => None,
+        }
+    }
+
     pub fn label(self) -> &'static str {
         match self {
             Protocol::Unknown => "protocol ?",

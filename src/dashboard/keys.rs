@@ -390,8 +390,7 @@ pub const KEY_COLUMN: usize = 10;
 /// `tracerctl dashboard --help` after the options: how arming works, every key of [`BINDINGS`] with the
 /// help overlay's words, and how releases and stalls are handled.
 pub fn help_text() -> String {
-    let before =
-        HELP_BEFORE.replace("{MODE_COMMAND}", &FrameId::Standard(can::ID_CONTROL_MODE as u16).to_string());
+    let before = HELP_BEFORE.replace("{MODE_COMMAND}", &FrameId::standard(can::ID_CONTROL_MODE).to_string());
     let mut text = format!("{before}\n\nKeys:\n");
     for row in BINDINGS {
         let _ = writeln!(text, "  {:<KEY_COLUMN$}{}", row.shown, row.help);

@@ -14,13 +14,14 @@ use ratatui::widgets::{Block, Clear, Gauge, Paragraph, RenderDirection, Row, Spa
 use ratatui::Frame;
 
 use super::app::{
-    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, StatusAge,
+    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, Protocol, StatusAge,
     BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
+use crate::protocol::catalog;
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
-    light_mode_name, MODE_CAN, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
+    light_mode_name, MessageKind, MODE_CAN, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };
 use crate::protocol::{ControlMode, FlagTable, Flags, FrameId, Severity, Wire};
 
@@ -457,6 +458,15 @@ fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
     frame.render_widget(Paragraph::new(lines).block(block), area);
 }
 
+/// Why the odometry panel is empty: not yet, or never on a wire that does not report it (RS232, V1).
+fn no_odometry_text(protocol: Protocol) -> String {
+    let Some(wire) = protocol.wire() else { return "no odometry yet".to_string() };
+    match catalog::identifier_of(MessageKind::Odometry, wire) {
+        Some(id) => format!("no odometry ({id}) yet"),
+        None => format!("{} reports no odometry", protocol.label()),
+    }
+}
+
 fn render_odometry(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: bool) {
     let shown = &app.shown;
     let metres = |mm: i32| format!("{:.2}", f64::from(mm) / 1000.0);
@@ -479,7 +489,7 @@ fn render_odometry(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compa
             }
         }
         _ => {
-            lines.push(Line::styled("no odometry (0x311) yet", theme.dim()));
+            lines.push(Line::styled(no_odometry_text(shown.protocol), theme.dim()));
             lines.push(Line::styled("pose: -", theme.dim()));
             if !compact {
                 lines.push(Line::raw(""));
@@ -983,8 +993,8 @@ fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
 
 fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
     let lines = vec![
-        Line::raw("Arm driving? The dashboard then sends command mode (0x421)"),
-        Line::raw("and motion commands at 50 Hz: it takes control from ROS"),
+        Line::raw("Arm driving? The dashboard then switches to command mode"),
+        Line::raw("and sends motion commands at 50 Hz: it takes control from ROS"),
         Line::raw("or an RC transmitter. Until then nothing is sent."),
         Line::raw(""),
         Line::from(vec![
@@ -1495,6 +1505,15 @@ mod tests {
         let x = screen.lines().nth(row).unwrap()[..column].chars().count() as u16;
         assert_eq!(buffer[(x + 1, row as u16)].fg, Color::Red);
         assert!(buffer.content().iter().any(|cell| cell.fg == Color::Yellow), "warnings in yellow");
+    }
+
+    #[test]
+    fn the_empty_odometry_panel_says_whether_odometry_can_come() {
+        // Was "no odometry (0x311) yet" on every wire, for ever on RS232 and V1.
+        assert_eq!(no_odometry_text(Protocol::CanV2), "no odometry (0x311) yet");
+        assert_eq!(no_odometry_text(Protocol::Serial), "RS232 reports no odometry");
+        assert_eq!(no_odometry_text(Protocol::CanV1), "CAN V1 reports no odometry");
+        assert_eq!(no_odometry_text(Protocol::Unknown), "no odometry yet");
     }
 
     #[test]

@@ -28,6 +28,10 @@ pub const ID_FAULT_CLEAR: u32 = 0x441;
 /// The system-state ID printed in the TRACER V2 manual; also V1's system state.
 pub const ID_SYSTEM_STATE_MANUAL: u32 = 0x151;
 
+/// A V2 system state in cansend syntax (normal, standby, 25.9 V, no faults): the example frame of help
+/// texts and messages.
+pub const EXAMPLE_FRAME: &str = "211#00000103000000B1";
+
 // CAN protocol V1 identifiers.
 pub const ID_V1_MOTION_COMMAND: u32 = 0x130;
 pub const ID_V1_MOTION_STATE: u32 = 0x131;
@@ -220,7 +224,7 @@ fn decode_0x151(data: &[u8], hint: ProtocolHint) -> Result<Option<Decoded>, Deco
 
 fn decode_v1(id: u32, data: &[u8]) -> Result<Option<Decoded>, DecodeError> {
     if data.len() < 8 {
-        let entry = catalog::entry(FrameId::Standard(id as u16), Wire::CanV1);
+        let entry = catalog::entry(FrameId::standard(id), Wire::CanV1);
         let name = entry.map_or("message", |entry| entry.name());
         return Err(DecodeError::TooShort { id, name, need: 8, got: data.len() });
     }
@@ -378,6 +382,18 @@ mod tests {
 
     fn field_names(flags: crate::protocol::Flags) -> Vec<&'static str> {
         flags.iter().map(|f| f.name).collect()
+    }
+
+    #[test]
+    fn the_example_frame_is_a_normal_standby_system_state() {
+        let (id, data) = EXAMPLE_FRAME.split_once('#').unwrap();
+        let decoded = decode_ok(u32::from_str_radix(id, 16).unwrap(), data);
+        let Message::SystemState(state) = decoded.message else { panic!("{decoded:?}") };
+        assert_eq!(
+            (decoded.wire, state.vehicle_state, state.control_mode),
+            (Wire::CanV2, VEHICLE_NORMAL, MODE_STANDBY)
+        );
+        assert_eq!((state.battery_decivolts, state.fault_code), (259, 0));
     }
 
     // protocol-notes.md §8: Hunter SE capture.

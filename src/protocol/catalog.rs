@@ -60,10 +60,6 @@ impl Entry {
 /// A periodic frame is stale after this many periods without it (monitor's warnings, the dashboard).
 pub const STALE_PERIODS: u32 = 5;
 
-const fn standard(id: u32) -> FrameId {
-    FrameId::Standard(id as u16)
-}
-
 const fn command(
     id: FrameId,
     wire: Wire,
@@ -109,36 +105,42 @@ const SYSTEM_STATE_MANUAL: &str =
 pub const CATALOG: &[Entry] = &[
     // CAN V2 (manual 3.3.1; 0x261/0x262 every 100 ms).
     command(
-        standard(ID_MOTION_COMMAND),
+        FrameId::standard(ID_MOTION_COMMAND),
         V2,
         K::MotionCommand,
         "motion cmd",
         "manual Table 3.4; protocol.md 2.2",
     ),
     command(
-        standard(ID_LIGHT_COMMAND),
+        FrameId::standard(ID_LIGHT_COMMAND),
         V2,
         K::LightCommand,
         "light cmd",
         "manual Table 3.5; protocol.md 2.3",
     ),
     command(
-        standard(ID_CONTROL_MODE),
+        FrameId::standard(ID_CONTROL_MODE),
         V2,
         K::ControlModeCommand,
         "mode cmd",
         "manual Table 3.7; protocol.md 2.4",
     ),
-    command(standard(ID_FAULT_CLEAR), V2, K::FaultClear, "clear cmd", "manual Table 3.8; protocol.md 2.5"),
     command(
-        standard(ID_VERSION_REQUEST),
+        FrameId::standard(ID_FAULT_CLEAR),
+        V2,
+        K::FaultClear,
+        "clear cmd",
+        "manual Table 3.8; protocol.md 2.5",
+    ),
+    command(
+        FrameId::standard(ID_VERSION_REQUEST),
         V2,
         K::VersionRequest,
         "version req",
         "Scout V2 manual; protocol.md 2.12",
     ),
     periodic(
-        standard(ID_SYSTEM_STATE),
+        FrameId::standard(ID_SYSTEM_STATE),
         V2,
         K::SystemState,
         20,
@@ -146,16 +148,23 @@ pub const CATALOG: &[Entry] = &[
         "CN manual Table 3.1; protocol.md 2.6",
     ),
     periodic(
-        standard(ID_MOTION_STATE),
+        FrameId::standard(ID_MOTION_STATE),
         V2,
         K::MotionState,
         20,
         "motion",
         "manual Table 3.3; protocol.md 2.7",
     ),
-    periodic(standard(ID_LIGHT_STATE), V2, K::LightState, 20, "lights", "manual Table 3.6; protocol.md 2.3"),
     periodic(
-        standard(ID_MOTOR1_HIGH_SPEED),
+        FrameId::standard(ID_LIGHT_STATE),
+        V2,
+        K::LightState,
+        20,
+        "lights",
+        "manual Table 3.6; protocol.md 2.3",
+    ),
+    periodic(
+        FrameId::standard(ID_MOTOR1_HIGH_SPEED),
         V2,
         K::MotorHighSpeed,
         20,
@@ -163,16 +172,23 @@ pub const CATALOG: &[Entry] = &[
         "manual Table 3.10; protocol.md 2.9",
     ),
     periodic(
-        standard(ID_MOTOR2_HIGH_SPEED),
+        FrameId::standard(ID_MOTOR2_HIGH_SPEED),
         V2,
         K::MotorHighSpeed,
         20,
         "motor 2",
         "manual Table 3.10; protocol.md 2.9",
     ),
-    periodic(standard(ID_ODOMETRY), V2, K::Odometry, 20, "odometry", "manual Table 3.9; protocol.md 2.11"),
     periodic(
-        standard(ID_MOTOR1_LOW_SPEED),
+        FrameId::standard(ID_ODOMETRY),
+        V2,
+        K::Odometry,
+        20,
+        "odometry",
+        "manual Table 3.9; protocol.md 2.11",
+    ),
+    periodic(
+        FrameId::standard(ID_MOTOR1_LOW_SPEED),
         V2,
         K::MotorLowSpeed,
         100,
@@ -180,7 +196,7 @@ pub const CATALOG: &[Entry] = &[
         "manual Table 3.11; protocol.md 2.10",
     ),
     periodic(
-        standard(ID_MOTOR2_LOW_SPEED),
+        FrameId::standard(ID_MOTOR2_LOW_SPEED),
         V2,
         K::MotorLowSpeed,
         100,
@@ -188,37 +204,37 @@ pub const CATALOG: &[Entry] = &[
         "manual Table 3.11; protocol.md 2.10",
     ),
     aperiodic(
-        standard(ID_RC_STATE),
+        FrameId::standard(ID_RC_STATE),
         V2,
         K::RcState,
         "rc",
         "AgileX SDK only, not in the manuals; protocol.md 2.8",
     ),
     aperiodic(
-        standard(ID_VERSION_RESPONSE),
+        FrameId::standard(ID_VERSION_RESPONSE),
         V2,
         K::VersionResponse,
         "version",
         "Scout V2 manual; protocol.md 2.12",
     ),
-    aperiodic(standard(ID_SYSTEM_STATE_MANUAL), V2, K::SystemState, "system", SYSTEM_STATE_MANUAL),
+    aperiodic(FrameId::standard(ID_SYSTEM_STATE_MANUAL), V2, K::SystemState, "system", SYSTEM_STATE_MANUAL),
     // CAN V1 (Chinese manual v1.1; protocol.md 3.2).
     command(
-        standard(ID_V1_MOTION_COMMAND),
+        FrameId::standard(ID_V1_MOTION_COMMAND),
         V1,
         K::MotionCommand,
         "V1 motion cmd",
         "CN manual v1.1; protocol.md 3.2",
     ),
     command(
-        standard(ID_V1_LIGHT_COMMAND),
+        FrameId::standard(ID_V1_LIGHT_COMMAND),
         V1,
         K::LightCommand,
         "V1 light cmd",
         "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
-        standard(ID_V1_MOTION_STATE),
+        FrameId::standard(ID_V1_MOTION_STATE),
         V1,
         K::MotionState,
         100,
@@ -226,7 +242,7 @@ pub const CATALOG: &[Entry] = &[
         "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
-        standard(ID_V1_LIGHT_STATE),
+        FrameId::standard(ID_V1_LIGHT_STATE),
         V1,
         K::LightState,
         100,
@@ -234,7 +250,7 @@ pub const CATALOG: &[Entry] = &[
         "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
-        standard(ID_V1_SYSTEM_STATE),
+        FrameId::standard(ID_V1_SYSTEM_STATE),
         V1,
         K::SystemState,
         100,
@@ -242,7 +258,7 @@ pub const CATALOG: &[Entry] = &[
         "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
-        standard(ID_V1_MOTOR1),
+        FrameId::standard(ID_V1_MOTOR1),
         V1,
         K::MotorHighSpeed,
         100,
@@ -250,7 +266,7 @@ pub const CATALOG: &[Entry] = &[
         "CN manual v1.1; protocol.md 3.2",
     ),
     periodic(
-        standard(ID_V1_MOTOR2),
+        FrameId::standard(ID_V1_MOTOR2),
         V1,
         K::MotorHighSpeed,
         100,

@@ -22,8 +22,13 @@ impl FrameId {
         if frame.is_extended() {
             Self::Extended(frame.id() & 0x1FFF_FFFF)
         } else {
-            Self::Standard((frame.id() & 0x7FF) as u16)
+            Self::standard(frame.id())
         }
+    }
+
+    /// A standard CAN identifier from the codec's `u32` constants (bits above the 11th dropped).
+    pub const fn standard(id: u32) -> Self {
+        Self::Standard((id & 0x7FF) as u16)
     }
 
     /// The identifier of an RS232 frame from its type and command bytes.

@@ -23,6 +23,7 @@ use crate::candump::{
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
 use crate::output::{Event, EventWriter, Format, FrameRef};
+use crate::protocol::can::EXAMPLE_FRAME;
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::{self, CanFrame, ProtocolHint};
 use crate::signals::SignalFlag;
@@ -92,7 +93,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         if io::stdin().is_terminal() {
             crate::say!(
                 "tracerctl: no input: give a candump log, '-' for standard input, \
-                 or a frame such as 211#00000103000000B1 (see tracerctl decode --help)"
+                 or a frame such as {EXAMPLE_FRAME} (see tracerctl decode --help)"
             );
             return Ok(USAGE);
         }
@@ -367,7 +368,7 @@ impl Decoder {
             self.frame(None, "-", None, &frame)?;
             return Ok(());
         }
-        bail!("{input}: no such file (frames are written like 211#00000103000000B1)")
+        bail!("{input}: no such file (frames are written like {EXAMPLE_FRAME})")
     }
 
     fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>, format: LogFormat) -> Result<()> {
