@@ -461,10 +461,10 @@ impl SendRawArgs {
     }
 }
 
-/// `doctor --help` after the options, with the command-mode identifier from the catalog's codec.
+/// `doctor --help` after the options, with the command-mode request from the catalog.
 fn doctor_after_help() -> String {
-    let mode_command = crate::protocol::FrameId::standard(crate::protocol::can::ID_CONTROL_MODE);
-    DOCTOR_AFTER_HELP.replace("{MODE_COMMAND}", &mode_command.to_string())
+    let request = ControlMode::Can.request_text(crate::protocol::Wire::CanV2).unwrap_or_default();
+    DOCTOR_AFTER_HELP.replace("{MODE_REQUEST}", &request)
 }
 
 const DOCTOR_AFTER_HELP: &str = "\
@@ -473,7 +473,7 @@ the serial port; then, listening to the robot: frames arriving, protocol version
 stream: checksum errors, sync losses), system status rate, other controllers on the bus, control mode
 and RC override, E-stop, faults, battery, motors. Every WARN and FAIL says what to do.
 
---probe also sends the command-mode command ({MODE_COMMAND} = 01; on RS232 and V1 a zero-speed motion command)
+--probe also sends the command-mode command ({MODE_REQUEST}; on RS232 and V1 a zero-speed motion command)
 and zero-velocity motion commands for 0.5 s, and checks the robot takes them. It never commands motion,
 and puts back a standby or serial mode it changed.
 

@@ -17,9 +17,9 @@ use super::Global;
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
 use crate::link::queue_full_meaning;
-use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT, MODE_CAN};
+use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT};
 use crate::protocol::Codec;
-use crate::protocol::Wire;
+use crate::protocol::{ControlMode, Wire};
 use crate::session::{RobotStatus, Session};
 use crate::signals::{self, SignalFlag};
 
@@ -326,7 +326,7 @@ impl<'a> DriveLoop<'a> {
             }
             // Power-cycle or RC override put the robot in another mode: ask for command mode again.
             if wire == Wire::CanV2
-                && state.control_mode != MODE_CAN
+                && state.mode(wire) != Some(ControlMode::Can)
                 && self.last_mode_request.elapsed() >= MODE_RETRY
             {
                 self.sender.request_mode_enable();

@@ -19,10 +19,8 @@ use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::plural;
 use crate::protocol::catalog;
 use crate::protocol::message::MessageKind;
-use crate::protocol::message::{
-    light_mode_name, Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON, MODE_STANDBY,
-};
-use crate::protocol::Wire;
+use crate::protocol::message::{light_mode_name, Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
+use crate::protocol::{ControlMode, Wire};
 use crate::session::confirm::send_until;
 use crate::session::Session;
 
@@ -101,7 +99,7 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
         Some((_, shown)) => {
             let standby = status
                 .fresh_system(live::STATUS_WAIT)
-                .filter(|(state, state_wire)| *state_wire == Wire::CanV2 && state.control_mode == MODE_STANDBY)
+                .filter(|(state, state_wire)| *state_wire == Wire::CanV2 && state.mode(*state_wire) == Some(ControlMode::Standby))
                 .map_or("", |_| {
                     "; the robot is in standby, where firmware may ignore everything but the control-mode \
                      command: run `tracerctl mode can` first"

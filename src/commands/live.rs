@@ -8,8 +8,8 @@ use anyhow::Result;
 use super::Global;
 use crate::link::LinkChoice;
 use crate::protocol::detect::Verdict;
-use crate::protocol::message::{vehicle_state_name, SystemState};
-use crate::protocol::{ControlMode, Wire};
+use crate::protocol::message::{vehicle_state_name, MessageKind, SystemState};
+use crate::protocol::{catalog, ControlMode, Wire};
 use crate::session::{RobotStatus, Session};
 
 /// How long to wait for the first status frame (the robot sends one every 20 ms).
@@ -88,8 +88,10 @@ pub fn why_not_command_mode(state: &SystemState, wire: Wire) -> String {
             fault_list(state, wire)
         );
     }
-    "no reason visible in the status: check the firmware version and that nothing else sends 0x421"
-        .to_string()
+    // On V1 and RS232 the motion command carries the mode: another sender of it fights the mode too.
+    let rival = catalog::identifier_of(MessageKind::ControlModeCommand, wire)
+        .map_or_else(|| "motion commands".to_string(), |id| id.to_string());
+    format!("no reason visible in the status: check the firmware version and that nothing else sends {rival}")
 }
 
 /// Explains a silent robot.
@@ -112,8 +114,10 @@ pub fn no_status_message(session: &Session, status: &RobotStatus) -> String {
         Verdict::Unknown => "traffic from other devices",
     };
     format!(
-        "{} frames received on {} ({seen}) but no system status (0x211): is this a TRACER, and is --protocol right?",
-        status.frames, session.name
+        "{} frames received on {} ({seen}) but no system status ({}): is this a TRACER, and is --protocol right?",
+        status.frames,
+        session.name,
+        catalog::identifier_text(MessageKind::SystemState, session.wire())
     )
 }
 

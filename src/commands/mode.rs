@@ -16,8 +16,8 @@ use super::live;
 use super::Global;
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::plural;
-use crate::protocol::message::{vehicle_state_name, SystemState};
-use crate::protocol::{ControlMode, Wire};
+use crate::protocol::message::{vehicle_state_name, MessageKind, SystemState};
+use crate::protocol::{catalog, ControlMode, Wire};
 use crate::session::confirm::send_until;
 use crate::session::Session;
 
@@ -65,7 +65,7 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
                 .map(|(_, state, wire)| (state, wire))
         },
     )?;
-    let sent = what_is_sent(wire, code);
+    let sent = args.mode.request_text(wire).unwrap_or_else(|| wanted.clone());
     if let Some((state, state_wire)) = attempt.found {
         let from = before
             .map_or_else(|| "unknown".to_string(), |(state, w)| ControlMode::describe(w, state.control_mode));
@@ -106,20 +106,14 @@ pub fn mode_code(wire: Wire, mode: ControlMode) -> Result<u8, Failure> {
             "RS232 has no control-mode command: over --serial only `mode serial` works (zero-speed serial \
              motion commands select serial mode); use the CAN link for `mode can` or `mode standby`",
         ),
-        Wire::CanV1 => usage(
-            "protocol V1 has no control-mode command (0x421): only `mode can` works (a zero-speed 0x130 \
-             command selects CAN mode); standby and serial need V2 firmware",
-        ),
+        Wire::CanV1 => usage(&format!(
+            "protocol V1 has no control-mode command ({}): only `mode can` works ({} selects CAN mode); \
+             standby and serial need V2 firmware",
+            catalog::identifier_text(MessageKind::ControlModeCommand, Wire::CanV2),
+            ControlMode::Can.request_text(Wire::CanV1).unwrap_or_default()
+        )),
         Wire::CanV2 => usage("RC mode cannot be requested: the transmitter takes control with switch SWB"),
     })
-}
-
-fn what_is_sent(wire: Wire, code: u8) -> String {
-    match wire {
-        Wire::CanV2 => format!("0x421 = 0x{code:02X}"),
-        Wire::CanV1 => "a zero-speed 0x130 command".to_string(),
-        Wire::Serial => "a zero-speed RS232 motion command".to_string(),
-    }
 }
 
 /// `normal, 25.9 V, faults: none`

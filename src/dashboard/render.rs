@@ -21,7 +21,7 @@ use super::keys;
 use crate::protocol::catalog;
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
-    light_mode_name, MessageKind, MODE_CAN, MODE_SERIAL, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
+    light_mode_name, MessageKind, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };
 use crate::protocol::{ControlMode, FlagTable, Flags, FrameId, Severity, Wire};
 
@@ -218,10 +218,7 @@ fn header_line(app: &App, theme: Theme) -> Line<'static> {
 }
 
 fn in_command_mode(mode: u8, wire: Wire) -> bool {
-    match wire {
-        Wire::Serial => mode == MODE_SERIAL,
-        Wire::CanV1 | Wire::CanV2 => mode == MODE_CAN,
-    }
+    ControlMode::from_code(wire, mode) == Some(ControlMode::command_mode_of(wire))
 }
 
 /// `3.0 s`, `42 s`.

@@ -343,6 +343,30 @@ pub fn identifier_of(kind: MessageKind, wire: Wire) -> Option<FrameId> {
     CATALOG.iter().find(|entry| entry.kind == kind && entry.wire == wire).map(|entry| entry.id)
 }
 
+/// [`identifier_of`] for messages: the identifier (`0x421`, `0xAA01`), or the message's name where `wire`
+/// has no such frame.
+pub fn identifier_text(kind: MessageKind, wire: Wire) -> String {
+    identifier_of(kind, wire).map_or_else(|| kind.name().replace('_', " "), |id| id.to_string())
+}
+
+/// Every identifier carrying one of `kinds` on `wire`, in catalog order, for messages: `0x251, 0x252`.
+pub fn identifiers_text(kinds: &[MessageKind], wire: Wire) -> String {
+    let ids: Vec<String> = CATALOG
+        .iter()
+        .filter(|entry| entry.wire == wire && kinds.contains(&entry.kind))
+        .map(|entry| entry.id.to_string())
+        .collect();
+    ids.join(", ")
+}
+
+/// The commands a host sends to drive or change the robot (not requests such as the version query), on
+/// every wire: another node sending one is another controller.
+pub fn host_commands() -> impl Iterator<Item = &'static Entry> {
+    CATALOG
+        .iter()
+        .filter(|entry| entry.direction == Direction::ToRobot && entry.kind != MessageKind::VersionRequest)
+}
+
 /// A set of standard CAN identifiers, built from the catalog at compile time (so the decoder's checks are
 /// one bit test).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

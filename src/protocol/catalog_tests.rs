@@ -154,88 +154,6 @@ const CODEC: &[&str] = &[
     "src/fuzzing.rs",
 ];
 
-/// Copies in files other helpers of issue 12 are rewriting: (file, literal, why). Each is removed when
-/// that work merges; the list must then be empty.
-const ALLOWED: &[(&str, &str, &str)] = &[
-    ("src/commands/doctor/probe.rs", "0x421", "owned by another helper (doctor), removed at merge"),
-    ("src/commands/doctor/probe.rs", "0x130", "owned by another helper (doctor), removed at merge"),
-    ("src/commands/doctor/probe.rs", "0x111", "owned by another helper (doctor), removed at merge"),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x111",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x421",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x441",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x121",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x130",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x140",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x211",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x151",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x251",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x261",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x252",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    (
-        "src/commands/doctor/robot.rs",
-        "0x262",
-        "owned by another helper (doctor; COMMAND_IDS), removed at merge",
-    ),
-    ("src/commands/live.rs", "0x421", "messages; not my file (owner unclear: boundary?), removed at merge"),
-    ("src/commands/live.rs", "0x211", "messages; not my file (owner unclear: boundary?), removed at merge"),
-    (
-        "src/commands/mode.rs",
-        "0x421",
-        "messages; owned by helper semantics (control modes), removed at merge",
-    ),
-    (
-        "src/commands/mode.rs",
-        "0x130",
-        "messages; owned by helper semantics (control modes), removed at merge",
-    ),
-    ("src/protocol/faults.rs", "0x441", "static fault texts; owned by helper semantics, removed at merge"),
-    ("src/protocol/faults.rs", "0x421", "static fault texts; owned by helper semantics, removed at merge"),
-];
-
 /// The text the compiler sees: comments blanked (newlines kept), code and string literals as they are.
 fn without_comments(text: &str) -> String {
     let bytes = text.as_bytes();
@@ -315,14 +233,13 @@ fn identifiers_in(line: &str) -> Vec<String> {
 }
 
 /// Every catalog identifier written out in shipped code outside the catalog and the codec, as
-/// `file:line: literal`, less the allowed ones; and the allowed ones no longer found.
-fn stray_identifiers(root: &Path) -> (Vec<String>, Vec<String>) {
+/// `file:line: literal`.
+fn stray_identifiers(root: &Path) -> Vec<String> {
     let mut files = Vec::new();
     rust_files(&root.join("src"), &mut files);
     assert!(files.len() > 20, "the scan found the sources");
     files.sort();
     let mut strays = Vec::new();
-    let mut used = vec![false; ALLOWED.len()];
     for path in &files {
         let relative = path.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/");
         let name = path.file_name().unwrap().to_string_lossy();
@@ -332,33 +249,20 @@ fn stray_identifiers(root: &Path) -> (Vec<String>, Vec<String>) {
         let text = std::fs::read_to_string(path).unwrap();
         for (number, line) in without_comments(shipped_part(&text)).lines().enumerate() {
             for literal in identifiers_in(line) {
-                match ALLOWED.iter().position(|&(file, text, _)| file == relative && text == literal) {
-                    Some(at) => used[at] = true,
-                    None => strays.push(format!("{relative}:{}: {literal}", number + 1)),
-                }
+                strays.push(format!("{relative}:{}: {literal}", number + 1));
             }
         }
     }
-    let gone = ALLOWED
-        .iter()
-        .zip(used)
-        .filter(|(_, used)| !used)
-        .map(|((file, text, _), _)| format!("{file}: {text}"));
-    (strays, gone.collect())
+    strays
 }
 
 #[test]
 fn identifiers_are_written_only_in_the_catalog_and_the_codec() {
-    let (strays, gone) = stray_identifiers(Path::new(env!("CARGO_MANIFEST_DIR")));
+    let strays = stray_identifiers(Path::new(env!("CARGO_MANIFEST_DIR")));
     assert!(
         strays.is_empty(),
         "identifiers belong in src/protocol/catalog.rs (or the codec); read them from there:\n{}",
         strays.join("\n")
-    );
-    assert!(
-        gone.is_empty(),
-        "allowed copies no longer in the sources: remove them from ALLOWED:\n{}",
-        gone.join("\n")
     );
 }
 

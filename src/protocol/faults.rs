@@ -108,7 +108,7 @@ pub static SYSTEM_V2: &[FlagInfo] = &[
         "rc_disconnected",
         Severity::Fault,
         "RC transmitter disconnection protection",
-        "switch the RC transmitter on (or fully off) and check its range; if the bit stays set, send a fault clear (0x441)",
+        "switch the RC transmitter on (or fully off) and check its range; if the bit stays set, clear it (tracerctl clear-errors)",
     ),
 ];
 
@@ -236,21 +236,21 @@ pub static DRIVER_STATE: &[FlagInfo] = &[
         "can_disconnected",
         Severity::Fault,
         "driver lost CAN communication with the controller (TRACER manual)",
-        "check the internal CAN wiring to this driver and power-cycle; if the bit stays set, send a fault clear (0x441) for this motor",
+        "check the internal CAN wiring to this driver and power-cycle; if the bit stays set, clear it (tracerctl clear-errors motor1 or motor2)",
     ),
     flag(
         0x20,
         "driver_fault",
         Severity::Fault,
         "driver error (SDK layout)",
-        "send a fault clear (0x441) for this motor; power-cycle if it returns",
+        "clear it (tracerctl clear-errors motor1 or motor2); power-cycle if it returns",
     ),
     flag(
         0x40,
         "driver_disabled",
         Severity::Info,
         "driver not enabled (SDK layout; normal in standby)",
-        "enable command mode (0x421 = 0x01) before driving",
+        "switch to command mode before driving (tracerctl mode can; drive and the dashboard do it themselves)",
     ),
     flag(0x80, "driver_reset", Severity::Info, "driver reset (SDK layout)", "none; report it if it repeats"),
 ];

@@ -7,7 +7,8 @@
 
 use strum::{EnumMessage, EnumString, IntoStaticStr, VariantArray};
 
-use super::message::{SystemState, Wire};
+use super::catalog::identifier_text;
+use super::message::{MessageKind, SystemState, Wire};
 
 /// Who the robot obeys. Names (`standby`, `can`, `serial`, `rc`) come from the variants.
 #[derive(
@@ -92,6 +93,22 @@ impl ControlMode {
         }
     }
 
+    /// What selects this mode on `wire`, in words: `0x421 = 0x01` on V2; elsewhere the motion command carries
+    /// the mode, so `a zero-speed 0x130 command` (V1) or `a zero-speed RS232 motion command`. `None` when
+    /// that link cannot request the mode.
+    pub fn request_text(self, wire: Wire) -> Option<String> {
+        let code = self.request_code(wire)?;
+        Some(match wire {
+            Wire::CanV2 => {
+                format!("{} = 0x{code:02X}", identifier_text(MessageKind::ControlModeCommand, wire))
+            }
+            Wire::CanV1 => {
+                format!("a zero-speed {} command", identifier_text(MessageKind::MotionCommand, wire))
+            }
+            Wire::Serial => "a zero-speed RS232 motion command".to_string(),
+        })
+    }
+
     /// The command mode of a link: CAN on either CAN wire, serial on RS232.
     pub fn command_mode_of(wire: Wire) -> Self {
         match wire {
@@ -155,6 +172,18 @@ mod tests {
         assert_eq!(ControlMode::from_code(Wire::CanV1, 0), Some(ControlMode::Rc));
         assert_eq!(ControlMode::from_code(Wire::Serial, 3), None);
         assert_eq!(ControlMode::from_code(Wire::CanV2, 4), None);
+    }
+
+    #[test]
+    fn request_texts_name_what_each_wire_sends() {
+        let can = |wire| ControlMode::Can.request_text(wire);
+        assert_eq!(can(Wire::CanV2).as_deref(), Some("0x421 = 0x01"));
+        assert_eq!(ControlMode::Standby.request_text(Wire::CanV2).as_deref(), Some("0x421 = 0x00"));
+        assert_eq!(can(Wire::CanV1).as_deref(), Some("a zero-speed 0x130 command"));
+        let serial = ControlMode::Serial.request_text(Wire::Serial);
+        assert_eq!(serial.as_deref(), Some("a zero-speed RS232 motion command"));
+        assert_eq!(can(Wire::Serial), None);
+        assert_eq!(ControlMode::Rc.request_text(Wire::CanV2), None);
     }
 
     #[test]

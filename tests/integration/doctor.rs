@@ -113,7 +113,7 @@ fn a_healthy_robot_passes_and_standby_is_the_only_warning() {
     assert_eq!(report["warnings"], 1);
     assert_eq!(status(&report, "control_mode"), "warn");
     assert!(finding(&report, "control_mode").starts_with("standby"), "{report:#}");
-    assert!(action(&report, "control_mode").contains("0x421 = 01"), "{report:#}");
+    assert!(action(&report, "control_mode").contains("0x421 = 0x01"), "{report:#}");
     assert!(finding(&report, "protocol").starts_with("V2 ("), "{report:#}");
     assert_eq!(finding(&report, "battery"), "25.9 V");
     assert_eq!(finding(&report, "faults"), "no fault bits set");
@@ -130,7 +130,10 @@ fn probe_switches_to_can_mode_sends_zero_motion_and_puts_standby_back() {
     let (code, report) = examine(&session, true);
     assert_eq!(code, SUCCESS, "{report:#}");
     assert_eq!(status(&report, "probe_mode"), "pass", "{report:#}");
-    assert!(finding(&report, "probe_mode").starts_with("0x421 = 01 accepted: standby -> can"), "{report:#}");
+    assert!(
+        finding(&report, "probe_mode").starts_with("0x421 = 0x01 accepted: standby -> can"),
+        "{report:#}"
+    );
     assert_eq!(status(&report, "probe_motion"), "pass", "{report:#}");
     assert!(
         finding(&report, "probe_motion")

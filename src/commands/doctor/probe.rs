@@ -1,4 +1,4 @@
-//! `doctor --probe`: does the robot take commands? Sends the command-mode command (0x421 = 01 on V2; a
+//! `doctor --probe`: does the robot take commands? Sends the command-mode command (0x421 = 0x01 on V2; a
 //! zero-speed motion command on RS232 and V1, which carries the mode), then zero-velocity motion commands
 //! at 50 Hz for half a second, and watches the status. Never commands motion. A standby or serial mode
 //! that the probe changed is put back.
@@ -10,8 +10,8 @@ use anyhow::Result;
 use super::report::Check;
 use crate::commands::live;
 use crate::link::LinkKind;
-use crate::protocol::message::MotionCommand;
-use crate::protocol::{ControlMode, Wire};
+use crate::protocol::message::{MessageKind, MotionCommand};
+use crate::protocol::{catalog, ControlMode, Wire};
 use crate::session::confirm::{send_until, Attempt};
 use crate::session::Session;
 use crate::signals::SignalFlag;
@@ -47,11 +47,9 @@ fn probe_mode(session: &Session, wanted: u8) -> Result<Check> {
     const ID: &str = "probe_mode";
     const TITLE: &str = "probe: mode";
     let wire = session.wire();
-    let sent = match wire {
-        Wire::CanV2 => "0x421 = 01",
-        Wire::CanV1 => "a zero-speed 0x130 (CAN mode)",
-        Wire::Serial => "a zero-speed serial command (serial mode)",
-    };
+    let sent = ControlMode::from_code(wire, wanted)
+        .and_then(|mode| mode.request_text(wire))
+        .unwrap_or_else(|| format!("control mode 0x{wanted:02X}"));
     let before =
         session.status().system.map(|(_, state, wire)| ControlMode::describe(wire, state.control_mode));
     let attempt = switch_mode(session, wanted);
@@ -97,9 +95,8 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
     let started = Instant::now();
     let (sent, send_error) = send_zero_frames(session, signals, started);
     let what = match session.wire() {
-        Wire::CanV2 => "zero-velocity 0x111",
-        Wire::CanV1 => "zero-velocity 0x130",
-        Wire::Serial => "zero-velocity serial",
+        Wire::Serial => "zero-velocity RS232".to_string(),
+        wire => format!("zero-velocity {}", catalog::identifier_text(MessageKind::MotionCommand, wire)),
     };
     let elapsed = started.elapsed().as_secs_f64();
     if let Some(error) = send_error {

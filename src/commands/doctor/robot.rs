@@ -8,7 +8,7 @@ use crate::link::LinkKind;
 use crate::protocol::constants::{volts, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{rc_switch_name, SystemState, VEHICLE_ESTOP, VEHICLE_EXCEPTION};
-use crate::protocol::{ControlMode, ProtocolHint, Severity, Wire};
+use crate::protocol::{catalog, ControlMode, MessageKind, ProtocolHint, Severity, Wire};
 use crate::session::RobotStatus;
 
 /// The robot sends its system status every 20 ms.
@@ -16,15 +16,6 @@ const STATUS_PER_SECOND: f64 = 50.0;
 /// Motor driver temperatures (manual, V1 fault table): warning above 55 C, protection above 65 C.
 const DRIVER_WARM_C: i16 = 55;
 const DRIVER_HOT_C: i16 = 65;
-/// Identifiers only a host sends: another node sending them is another controller.
-const COMMAND_IDS: &[(u32, &str)] = &[
-    (0x111, "motion command"),
-    (0x421, "control-mode command"),
-    (0x441, "fault clear"),
-    (0x121, "light command"),
-    (0x130, "V1 motion command"),
-    (0x140, "V1 light command"),
-];
 
 /// What the doctor saw.
 pub struct Observation<'a> {
@@ -211,8 +202,10 @@ pub fn protocol(seen: &Observation) -> Check {
             ID,
             TITLE,
             format!(
-                "V1 firmware ({} V1-only frames): commands go as 0x130 with checksums; V1 has no 0x421 mode command",
-                detector.v1_frames
+                "V1 firmware ({} V1-only frames): commands go as {} with checksums; V1 has no {} mode command",
+                detector.v1_frames,
+                catalog::identifier_text(MessageKind::MotionCommand, Wire::CanV1),
+                catalog::identifier_text(MessageKind::ControlModeCommand, Wire::CanV2),
             ),
         ),
         Verdict::Mixed => Check::warn(
@@ -259,7 +252,12 @@ pub fn status_rate(seen: &Observation) -> Check {
     const TITLE: &str = "system status";
     let status = seen.status;
     let Some((at, ..)) = status.system else {
-        let which = if seen.is_can() { "0x211 (or V1 0x151)" } else { "RS232 system status (AA 01)" };
+        let id = |wire| catalog::identifier_text(MessageKind::SystemState, wire);
+        let which = if seen.is_can() {
+            format!("{} (or V1 {})", id(Wire::CanV2), id(Wire::CanV1))
+        } else {
+            format!("RS232 system status ({})", id(Wire::Serial))
+        };
         return Check::fail(
             ID,
             TITLE,
@@ -300,16 +298,12 @@ pub fn status_rate(seen: &Observation) -> Check {
 }
 
 pub fn other_senders(seen: &Observation) -> Check {
-    let found: Vec<String> = COMMAND_IDS
-        .iter()
-        .filter_map(|(id, name)| {
-            let count = seen
-                .status
-                .id_counts
-                .iter()
-                .find(|(seen_id, _)| seen_id.standard_index() == Some(*id as usize))?
-                .1;
-            Some(format!("0x{id:03X} {name} x{count}"))
+    // The catalog's host commands (the version query is not one: it changes nothing).
+    let found: Vec<String> = catalog::host_commands()
+        .filter_map(|entry| {
+            let count = seen.status.id_counts.iter().find(|(id, _)| *id == entry.id)?.1;
+            let wire = if entry.wire == Wire::CanV1 { "V1 " } else { "" };
+            Some(format!("{} {wire}{} x{count}", entry.id, entry.name().replace('_', " ")))
         })
         .collect();
     if found.is_empty() {
@@ -346,8 +340,11 @@ pub fn control_mode(seen: &Observation, state: &SystemState, wire: Wire) -> Chec
                 ID,
                 TITLE,
                 format!("{finding} (the power-on mode: motion commands are ignored)"),
-                "tracerctl drive and dashboard switch to CAN mode themselves; other software must send 0x421 = 01 \
-                 first, and again after every power cycle (`tracerctl mode can`)",
+                format!(
+                    "tracerctl drive and dashboard switch to CAN mode themselves; other software must send {} \
+                     first, and again after every power cycle (`tracerctl mode can`)",
+                    ControlMode::Can.request_text(wire).unwrap_or_default()
+                ),
             ),
             Some(ControlMode::Serial) => Check::warn(
                 ID,
@@ -508,7 +505,7 @@ pub fn motors(seen: &Observation) -> Check {
         parts.push(part);
     }
     let expected =
-        if seen.wire == Wire::CanV2 { "0x251/0x261, 0x252/0x262" } else { "motor driver feedback" };
+        catalog::identifiers_text(&[MessageKind::MotorHighSpeed, MessageKind::MotorLowSpeed], seen.wire);
     if !silent.is_empty() {
         let names: Vec<String> = silent.iter().map(|motor| format!("motor {motor}")).collect();
         parts.push(format!("no feedback from {} ({expected})", names.join(" or ")));
