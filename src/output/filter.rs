@@ -46,7 +46,12 @@ impl Filter {
         self.ids.is_empty() && self.messages.is_empty()
     }
 
+    #[inline]
     pub fn passes(&self, event: &Event) -> bool {
+        // Without a filter (nearly every decode) no identifier is built: this runs for every frame.
+        if self.ids.is_empty() && self.messages.is_empty() {
+            return true;
+        }
         let id = match event.frame {
             FrameRef::Can(frame) => frame.frame_id(),
             FrameRef::Serial(frame) => frame.frame_id(),

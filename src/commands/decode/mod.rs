@@ -500,6 +500,7 @@ impl Decoder {
     }
 
     /// One CAN frame from any source.
+    #[inline]
     fn frame(
         &mut self,
         ts: Option<candump::Timestamp>,
