@@ -539,14 +539,11 @@ impl DashboardArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(after_help = crate::sim::fault_help())]
 pub struct SimArgs {
     /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port
     #[arg(long)]
     pub pty: bool,
-
-    /// Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; TIME at most 30 days; see docs/sim.md)
-    #[arg(long = "fault", value_name = "SPEC", value_parser = parse_fault)]
-    pub faults: Vec<crate::sim::ScheduledFault>,
 
     /// An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)
     #[arg(long, value_enum, value_name = "SWB")]
@@ -587,7 +584,7 @@ impl SimArgs {
         });
         Ok(commands::sim::Options {
             pty: self.pty,
-            faults: self.faults,
+            faults: link.faults.clone(),
             rc,
             battery: self.battery,
             drain: self.drain,
@@ -690,7 +687,7 @@ pub fn number_in(range: NumberRange) -> impl Fn(&str) -> Result<f64, String> + C
     move |text| parse_number(text, range)
 }
 
-/// `sim --fault NAME[@TIME]`: the name among the simulator's faults, the time within [`RUN_TIME`].
+/// `--fault NAME[@TIME]`: the name among the simulator's faults, the time within [`RUN_TIME`].
 fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
     let fault: crate::sim::ScheduledFault = text.parse().map_err(|error| format!("{error}"))?;
     if fault.at > RUN_TIME.max {
@@ -700,6 +697,40 @@ fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
         ));
     }
     Ok(fault)
+}
+
+/// `--fault`'s parser: [`parse_fault`], with the fault names as possible values so that shell completion
+/// offers them (help leaves the long list out: `sim --help` lists them with what each does).
+#[derive(Clone, Copy, Debug)]
+struct FaultParser;
+
+impl clap::builder::TypedValueParser for FaultParser {
+    type Value = crate::sim::ScheduledFault;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<Self::Value, clap::Error> {
+        let text = value.to_str().ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidUtf8))?;
+        parse_fault(text).map_err(|message| {
+            let arg = arg.map_or_else(|| "--fault".to_string(), ToString::to_string);
+            clap::Error::raw(
+                clap::error::ErrorKind::ValueValidation,
+                format!("invalid value '{text}' for '{arg}': {message}\n"),
+            )
+            .with_cmd(cmd)
+        })
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        Some(Box::new(
+            crate::sim::FaultKind::ALL
+                .into_iter()
+                .map(|fault| clap::builder::PossibleValue::new(fault.name()).help(fault.description())),
+        ))
+    }
 }
 
 /// How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
@@ -724,6 +755,10 @@ pub struct LinkArgs {
     /// Talk to an in-process virtual TRACER instead of a robot
     #[arg(long, global = true, conflicts_with = "replay")]
     pub sim: bool,
+
+    /// With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults
+    #[arg(long = "fault", global = true, value_name = "NAME[@TIME]", value_parser = FaultParser, hide_possible_values = true)]
+    pub faults: Vec<crate::sim::ScheduledFault>,
 
     /// Play a candump log back as a read-only source (monitor, dashboard)
     #[arg(long, global = true, value_name = "FILE")]
@@ -844,7 +879,19 @@ pub fn completion_script(shell: clap_complete::Shell) -> Vec<u8> {
 /// command. Returns the exit status.
 pub fn run(cli: Cli) -> anyhow::Result<u8> {
     let Cli { protocol, color, link, command } = cli;
-    let global = |link: LinkChoice| Global { link, color: color.into(), protocol: protocol.into() };
+    if !link.faults.is_empty() && !link.sim && !matches!(command, Command::Sim(_)) {
+        return Err(usage(
+            "--fault injects a fault into the simulator: add --sim (e.g. tracerctl --sim --fault estop@0s doctor), \
+             or serve a simulator with `tracerctl sim --fault ...`",
+        ));
+    }
+    let sim_faults = link.faults.clone();
+    let global = |link: LinkChoice| Global {
+        link,
+        color: color.into(),
+        protocol: protocol.into(),
+        sim_faults: sim_faults.clone(),
+    };
     // What `decode` and `completions` get: they open no link.
     let offline = || global(LinkChoice::SocketCan { iface: link.iface() });
     match command {

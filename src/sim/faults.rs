@@ -113,6 +113,33 @@ impl FaultKind {
     }
 }
 
+/// The fault language for `sim --help` (and so its man page): every fault with what it does, the
+/// `--fault NAME[@TIME]` syntax, and the names typed on standard input at run time.
+pub fn fault_help() -> String {
+    let width = FaultKind::ALL.iter().map(|fault| fault.name().len()).max().unwrap_or(0);
+    let mut text =
+        String::from("Faults (--fault NAME[@TIME], or a NAME typed on standard input while it runs):\n");
+    for fault in FaultKind::ALL {
+        text.push_str(&format!("  {:width$}  {}\n", fault.name(), fault.description()));
+    }
+    text.push_str(
+        "\n\
+         TIME counts from the start: 2s, 1.5s, 500ms, 1m 30s or plain seconds (2, 0.25); without\n\
+         @TIME the fault is there from the start. Names are case-insensitive; _ may stand for -.\n\
+         \n\
+         At run time, type one NAME per line on standard input: it acts at once (no @TIME), and\n\
+         each line is answered on stderr (`sim: injected estop`, or why it was not understood).\n\
+         For example, `estop` then `estop-release`, or `motor1-comm` and clear it with\n\
+         `tracerctl --iface vcan0 clear-errors` from another terminal.\n\
+         \n\
+         The same faults work on the in-process simulator of every command:\n  \
+         tracerctl --sim --fault estop@0s doctor\n  \
+         tracerctl --sim --fault motor1-comm@1s dashboard\n\
+         docs/sim.md says what each fault sets on the wire.",
+    );
+    text
+}
+
 impl fmt::Display for FaultKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(self.name())
