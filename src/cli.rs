@@ -1097,8 +1097,11 @@ mod tests {
         assert!(message.contains("out of range: give one from 0s to 30days"), "{message}");
         use clap::Parser;
         let cli = Cli::try_parse_from(["tracerctl", "sim", "--fault", "estop@2s"]).unwrap();
-        let Command::Sim(args) = cli.command else { panic!() };
-        assert_eq!(args.faults[0].at, Duration::from_secs(2));
+        assert!(matches!(cli.command, Command::Sim(_)));
+        assert_eq!(cli.link.faults[0].at, Duration::from_secs(2));
+        // One option for `sim` and for `--sim`, before or after the command.
+        let cli = Cli::try_parse_from(["tracerctl", "doctor", "--sim", "--fault", "motor1-comm@1s"]).unwrap();
+        assert_eq!(cli.link.faults[0].fault, crate::sim::FaultKind::Motor1Comm);
     }
 
     #[test]

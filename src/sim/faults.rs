@@ -23,7 +23,8 @@ pub enum FaultKind {
     Motor2Comm,
     /// Battery drops to 22.4 V open-circuit: under-voltage warning.
     BatteryWarning,
-    /// Battery drops to 21.9 V: under-voltage fault (the robot beeps but still drives).
+    /// Battery drops to 21.9 V: under-voltage fault (the robot beeps but still drives; a load that sags it
+    /// to the cut-off for 1 s cuts drive power off).
     BatteryLow,
     /// Battery drops to 21.4 V: cut-off, drive power off.
     BatteryEmpty,
@@ -97,8 +98,10 @@ impl FaultKind {
             FaultKind::Motor1Comm => "driver 1 communication lost: latches until cleared",
             FaultKind::Motor2Comm => "driver 2 communication lost: latches until cleared",
             FaultKind::BatteryWarning => "battery to 22.4 V: under-voltage warning",
-            FaultKind::BatteryLow => "battery to 21.9 V: under-voltage fault, still drives",
-            FaultKind::BatteryEmpty => "battery to 21.4 V: cut-off, motion refused",
+            FaultKind::BatteryLow => {
+                "battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off"
+            }
+            FaultKind::BatteryEmpty => "battery to 21.4 V: cut-off, motion refused until battery-ok",
             FaultKind::BatteryOk => "fresh battery at the start voltage",
             FaultKind::RcLost => "RC transmitter link lost: motion stops",
             FaultKind::RcRestore => "RC transmitter link back",
