@@ -191,3 +191,34 @@ fn the_bash_completion_offers_the_fault_names() {
         "{fault_cases} --fault cases, {completing} complete names"
     );
 }
+
+#[test]
+fn sim_answers_every_line_typed_on_its_standard_input() {
+    use std::io::Write;
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["sim", "--pty", "--duration", "1500ms"])
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child.stdin.take().unwrap().write_all(b"estop\n\n  Motor1_Comm \nbogus\nestop-release@2s\n").unwrap();
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(i32::from(SUCCESS)));
+    let lines: Vec<String> =
+        stderr(&output).lines().filter(|line| line.starts_with("sim: ")).map(str::to_string).collect();
+    assert_eq!(
+        lines,
+        [
+            "sim: injected estop".to_string(),
+            "sim: injected Motor1_Comm".to_string(),
+            format!("sim: unknown fault \"bogus\"; known faults: {}", FaultKind::names()),
+            "sim: not injected: a fault typed here acts at once, so type the name alone (estop-release); \
+             --fault NAME@TIME schedules one from the start"
+                .to_string(),
+        ]
+    );
+    // The status line shows both (RS232 on a pseudo-terminal: motor 1 communication is bit 0x0004).
+    let report = stderr(&output);
+    assert!(report.contains("estop, 25.9 V, fault code 0x0004, motion blocked: estop"), "{report}");
+}
