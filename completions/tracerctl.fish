@@ -33,7 +33,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -83,7 +83,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -126,7 +126,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -167,7 +167,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -202,7 +202,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -235,7 +235,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -267,7 +267,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -309,7 +309,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -343,7 +343,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -381,7 +381,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -420,7 +420,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -459,7 +459,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
@@ -491,7 +491,7 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l fault -d 'With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
 estop-release\t'release the E-stop: back to standby (enable command mode again)'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'

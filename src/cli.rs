@@ -756,7 +756,7 @@ pub struct LinkArgs {
     #[arg(long, global = true, conflicts_with = "replay")]
     pub sim: bool,
 
-    /// With --sim: inject a fault, NAME[@TIME] (e.g. estop@0s, motor1-comm@2s; repeatable; TIME since the start, at most 30 days). `tracerctl sim --help` lists the faults
+    /// Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)
     #[arg(long = "fault", global = true, value_name = "NAME[@TIME]", value_parser = FaultParser, hide_possible_values = true)]
     pub faults: Vec<crate::sim::ScheduledFault>,
 
@@ -816,6 +816,7 @@ impl LinkArgs {
             (self.iface.is_some(), "--iface"),
             (self.baud.is_some(), "--baud"),
             (self.speed.is_some(), "--speed"),
+            (!self.faults.is_empty(), "--fault"),
         ];
         match live.iter().find(|(given, _)| *given) {
             Some((_, option)) => Err(usage(format!(
@@ -879,7 +880,9 @@ pub fn completion_script(shell: clap_complete::Shell) -> Vec<u8> {
 /// command. Returns the exit status.
 pub fn run(cli: Cli) -> anyhow::Result<u8> {
     let Cli { protocol, color, link, command } = cli;
-    if !link.faults.is_empty() && !link.sim && !matches!(command, Command::Sim(_)) {
+    // `--fault` goes to a simulator: `sim` itself or `--sim`'s (decode refuses it with the live options).
+    let simulator = link.sim || matches!(command, Command::Sim(_));
+    if !link.faults.is_empty() && !simulator && !matches!(command, Command::Decode(_)) {
         return Err(usage(
             "--fault injects a fault into the simulator: add --sim (e.g. tracerctl --sim --fault estop@0s doctor), \
              or serve a simulator with `tracerctl sim --fault ...`",

@@ -44,7 +44,7 @@ fn fault_without_sim_is_a_usage_error_naming_sim() {
         &["mode", "can"],
         &["clear-errors"],
         &["lights", "--release"],
-        &["decode", "-"],
+        &["send-raw", "121#0101000000000000"],
     ];
     for args in commands {
         for placement in [&["--fault", "estop@0s"][..], &["--iface", "vcan0", "--fault", "estop"]] {
@@ -57,6 +57,10 @@ fn fault_without_sim_is_a_usage_error_naming_sim() {
     // The option is global: after the command too.
     let output = tracerctl().args(["doctor", "--fault", "estop"]).output().unwrap();
     assert_eq!(output.status.code(), Some(i32::from(USAGE)));
+    // decode reads files: --fault is refused with the other live-link options.
+    let output = tracerctl().args(["decode", "--fault", "estop", "-"]).output().unwrap();
+    assert_eq!(output.status.code(), Some(i32::from(USAGE)));
+    assert!(stderr(&output).contains("--fault is for live links; decode reads files"), "{}", stderr(&output));
 }
 
 #[test]
