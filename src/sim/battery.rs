@@ -1,5 +1,6 @@
-//! The battery: charge drawn, a linear open-circuit voltage, a resistive sag, and the three thresholds of
-//! the TRACER manual (`protocol::constants`): warning, fault (beeping), drive cut-off.
+//! The battery: charge drawn, a linear open-circuit voltage, a resistive sag under load that recovers at
+//! rest, and the three thresholds of the TRACER manual (`protocol::constants`): warning, fault (beeping),
+//! drive cut-off, each with hysteresis in value and time so that no bit flaps (docs/sim.md, "Battery").
 
 use super::SimConfig;
 // Thresholds in 0.1 V, compared with the voltage the robot reports (so a reported value at a threshold
