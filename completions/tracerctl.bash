@@ -98,7 +98,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash completions help"
+            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -124,6 +124,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -140,7 +144,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__clear__subcmd__errors)
-            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --replay --speed --help --version all motor1 motor2"
+            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version all motor1 motor2"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -170,6 +174,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -186,7 +194,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__completions)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --replay --speed --help --version bash elvish fish powershell zsh"
+            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version bash elvish fish powershell zsh"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -212,6 +220,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -228,7 +240,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__dashboard)
-            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -282,6 +294,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -298,7 +314,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -s -h -V --format --summary --strict --id --msg --delta-stamps --no-progress --plot --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-f -s -h -V --format --summary --strict --id --msg --delta-stamps --no-progress --plot --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -344,6 +360,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -360,7 +380,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__doctor)
-            opts="-f -h -V --probe --listen --format --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-f -h -V --probe --listen --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -398,6 +418,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -414,7 +438,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -474,6 +498,10 @@ _tracerctl() {
                     ;;
                 --baud)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -674,7 +702,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__lights)
-            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -720,6 +748,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -736,7 +768,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__mode)
-            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --replay --speed --help --version can serial standby"
+            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version can serial standby"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -766,6 +798,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -782,7 +818,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__monitor)
-            opts="-f -h -V --format --raw --id --msg --log --duration --silence --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-f -h -V --format --raw --id --msg --log --duration --silence --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -836,6 +872,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -852,7 +892,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__send__subcmd__raw)
-            opts="-h -V --repeat --period --force --fix-checksum --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --repeat --period --force --fix-checksum --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -886,6 +926,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
                 --replay)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -902,16 +946,12 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__sim)
-            opts="-h -V --pty --fault --rc --battery --drain --duration --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
             case "${prev}" in
-                --fault)
-                    COMPREPLY=($(compgen -f "${cur}"))
-                    return 0
-                    ;;
                 --rc)
                     COMPREPLY=($(compgen -W "top middle" -- "${cur}"))
                     return 0
@@ -946,6 +986,10 @@ _tracerctl() {
                     ;;
                 --baud)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
                     return 0
                     ;;
                 --replay)

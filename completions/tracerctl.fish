@@ -1,6 +1,6 @@
 # Print an optspec for argparse to handle cmd's options that are independent of any subcommand.
 function __fish_tracerctl_global_optspecs
-    string join \n protocol= color= iface= serial= baud= sim replay= speed= h/help V/version
+    string join \n protocol= color= iface= serial= baud= sim fault= replay= speed= h/help V/version
 end
 
 function __fish_tracerctl_needs_command
@@ -33,6 +33,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -66,6 +83,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
@@ -92,6 +126,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines instead of decoding them (so not with --format)'
@@ -116,6 +167,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-faults -d 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
@@ -134,6 +202,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l probe -d 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
@@ -150,6 +235,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -165,6 +267,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -190,6 +309,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l release -d 'Hand the lights back to the firmware'
@@ -207,6 +343,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)'
@@ -214,7 +367,6 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-che
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; TIME at most 30 days; see docs/sim.md)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l rc -d 'An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)' -r -f -a "top\t'SWB at the top: command mode allowed'
 middle\t'SWB in the middle: RC mode, commands are ignored'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l battery -d 'Starting battery voltage (18 to 30)' -r
@@ -229,6 +381,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port'
@@ -251,6 +420,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
@@ -273,6 +459,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
@@ -288,6 +491,23 @@ never\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: back to standby (enable command mode again)'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
+battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'

@@ -539,14 +539,11 @@ impl DashboardArgs {
 }
 
 #[derive(Debug, Args)]
+#[command(after_help = crate::sim::fault_help())]
 pub struct SimArgs {
     /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port
     #[arg(long)]
     pub pty: bool,
-
-    /// Inject a fault: NAME[@TIME], e.g. estop@2s, motor1-overheat@10s (repeatable; TIME at most 30 days; see docs/sim.md)
-    #[arg(long = "fault", value_name = "SPEC", value_parser = parse_fault)]
-    pub faults: Vec<crate::sim::ScheduledFault>,
 
     /// An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)
     #[arg(long, value_enum, value_name = "SWB")]
@@ -587,7 +584,7 @@ impl SimArgs {
         });
         Ok(commands::sim::Options {
             pty: self.pty,
-            faults: self.faults,
+            faults: link.faults.clone(),
             rc,
             battery: self.battery,
             drain: self.drain,
@@ -690,7 +687,7 @@ pub fn number_in(range: NumberRange) -> impl Fn(&str) -> Result<f64, String> + C
     move |text| parse_number(text, range)
 }
 
-/// `sim --fault NAME[@TIME]`: the name among the simulator's faults, the time within [`RUN_TIME`].
+/// `--fault NAME[@TIME]`: the name among the simulator's faults, the time within [`RUN_TIME`].
 fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
     let fault: crate::sim::ScheduledFault = text.parse().map_err(|error| format!("{error}"))?;
     if fault.at > RUN_TIME.max {
@@ -700,6 +697,40 @@ fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
         ));
     }
     Ok(fault)
+}
+
+/// `--fault`'s parser: [`parse_fault`], with the fault names as possible values so that shell completion
+/// offers them (help leaves the long list out: `sim --help` lists them with what each does).
+#[derive(Clone, Copy, Debug)]
+struct FaultParser;
+
+impl clap::builder::TypedValueParser for FaultParser {
+    type Value = crate::sim::ScheduledFault;
+
+    fn parse_ref(
+        &self,
+        cmd: &clap::Command,
+        arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<Self::Value, clap::Error> {
+        let text = value.to_str().ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidUtf8))?;
+        parse_fault(text).map_err(|message| {
+            let arg = arg.map_or_else(|| "--fault".to_string(), ToString::to_string);
+            clap::Error::raw(
+                clap::error::ErrorKind::ValueValidation,
+                format!("invalid value '{text}' for '{arg}': {message}\n"),
+            )
+            .with_cmd(cmd)
+        })
+    }
+
+    fn possible_values(&self) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        Some(Box::new(
+            crate::sim::FaultKind::ALL
+                .into_iter()
+                .map(|fault| clap::builder::PossibleValue::new(fault.name()).help(fault.description())),
+        ))
+    }
 }
 
 /// How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
@@ -724,6 +755,10 @@ pub struct LinkArgs {
     /// Talk to an in-process virtual TRACER instead of a robot
     #[arg(long, global = true, conflicts_with = "replay")]
     pub sim: bool,
+
+    /// Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)
+    #[arg(long = "fault", global = true, value_name = "NAME[@TIME]", value_parser = FaultParser, hide_possible_values = true)]
+    pub faults: Vec<crate::sim::ScheduledFault>,
 
     /// Play a candump log back as a read-only source (monitor, dashboard)
     #[arg(long, global = true, value_name = "FILE")]
@@ -781,6 +816,7 @@ impl LinkArgs {
             (self.iface.is_some(), "--iface"),
             (self.baud.is_some(), "--baud"),
             (self.speed.is_some(), "--speed"),
+            (!self.faults.is_empty(), "--fault"),
         ];
         match live.iter().find(|(given, _)| *given) {
             Some((_, option)) => Err(usage(format!(
@@ -844,7 +880,21 @@ pub fn completion_script(shell: clap_complete::Shell) -> Vec<u8> {
 /// command. Returns the exit status.
 pub fn run(cli: Cli) -> anyhow::Result<u8> {
     let Cli { protocol, color, link, command } = cli;
-    let global = |link: LinkChoice| Global { link, color: color.into(), protocol: protocol.into() };
+    // `--fault` goes to a simulator: `sim` itself or `--sim`'s (decode refuses it with the live options).
+    let simulator = link.sim || matches!(command, Command::Sim(_));
+    if !link.faults.is_empty() && !simulator && !matches!(command, Command::Decode(_)) {
+        return Err(usage(
+            "--fault injects a fault into the simulator: add --sim (e.g. tracerctl --sim --fault estop@0s doctor), \
+             or serve a simulator with `tracerctl sim --fault ...`",
+        ));
+    }
+    let sim_faults = link.faults.clone();
+    let global = |link: LinkChoice| Global {
+        link,
+        color: color.into(),
+        protocol: protocol.into(),
+        sim_faults: sim_faults.clone(),
+    };
     // What `decode` and `completions` get: they open no link.
     let offline = || global(LinkChoice::SocketCan { iface: link.iface() });
     match command {
@@ -1050,8 +1100,11 @@ mod tests {
         assert!(message.contains("out of range: give one from 0s to 30days"), "{message}");
         use clap::Parser;
         let cli = Cli::try_parse_from(["tracerctl", "sim", "--fault", "estop@2s"]).unwrap();
-        let Command::Sim(args) = cli.command else { panic!() };
-        assert_eq!(args.faults[0].at, Duration::from_secs(2));
+        assert!(matches!(cli.command, Command::Sim(_)));
+        assert_eq!(cli.link.faults[0].at, Duration::from_secs(2));
+        // One option for `sim` and for `--sim`, before or after the command.
+        let cli = Cli::try_parse_from(["tracerctl", "doctor", "--sim", "--fault", "motor1-comm@1s"]).unwrap();
+        assert_eq!(cli.link.faults[0].fault, crate::sim::FaultKind::Motor1Comm);
     }
 
     #[test]

@@ -74,7 +74,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         .into());
     }
     let limits = args.limits;
-    let session = Session::open_recording(&global.link, global.protocol, None, args.record.as_deref())?;
+    let session =
+        Session::open_recording(&global.link, global.protocol, global.sim_config(), args.record.as_deref())?;
     let color = global.color.enabled(true);
 
     let (end, stopped) = {

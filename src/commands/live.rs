@@ -26,7 +26,7 @@ pub fn open(global: &Global, sends: bool) -> Result<Session> {
         }
         .into());
     }
-    let session = Session::open(choice, global.protocol, None)?;
+    let session = Session::open(choice, global.protocol, global.sim_config())?;
     Ok(session)
 }
 

@@ -25,6 +25,16 @@ pub struct Global {
     pub link: LinkChoice,
     pub color: ColorChoice,
     pub protocol: ProtocolHint,
+    /// Faults the `--sim` robot is given (`--fault NAME@TIME`); the command line allows them only with `--sim`.
+    pub sim_faults: Vec<crate::sim::ScheduledFault>,
+}
+
+impl Global {
+    /// The in-process robot's settings for `--sim` (its faults); `None` for other links.
+    pub fn sim_config(&self) -> Option<crate::sim::SimConfig> {
+        matches!(self.link, LinkChoice::Sim)
+            .then(|| crate::sim::SimConfig { faults: self.sim_faults.clone(), ..Default::default() })
+    }
 }
 
 /// A usage error (exit status 2) with this message.

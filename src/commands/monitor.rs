@@ -77,7 +77,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         _ => Some(1.0),
     };
     let log = args.log.as_deref().map(LogFile::create).transpose()?;
-    let (link, simulator) = session::open_link(&choice, None)?;
+    let (link, simulator) = session::open_link(&choice, global.sim_config())?;
     let flag = signals::listen(|_| {})?;
     let options = Settings {
         format: args.format,

@@ -88,7 +88,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         crate::say!("tracerctl: {} = {}", planned.text, planned.meaning);
     }
 
-    let (link, simulator) = session::open_link(&choice, None)?;
+    let (link, simulator) = session::open_link(&choice, global.sim_config())?;
     let wire_ok = (link.wire == Wire::Serial) == serial_link;
     anyhow::ensure!(wire_ok, "{} is not the kind of link the frames were written for", link.name);
     let stops = Stops::listen()?;

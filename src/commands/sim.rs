@@ -1,7 +1,8 @@
 //! `tracerctl sim`: a virtual TRACER on a CAN interface, a serial port, or a new pseudo-terminal.
 //!
 //! Faults come from `--fault NAME@TIME` and, at run time, from lines on standard input (`estop`,
-//! `estop-release`, any fault name): a test or a second terminal can press the E-stop mid-run.
+//! `estop-release`, any fault name; `sim --help` documents the language): a test or a trainer in the
+//! simulator's terminal can press the E-stop mid-run.
 
 use std::io::{BufRead, Write};
 use std::sync::mpsc;
@@ -155,6 +156,15 @@ fn inject_faults(running: &serve::Running, inbox: &mpsc::Receiver<String>, stder
             Ok(fault) => {
                 running.inject(fault);
                 let _ = writeln!(stderr, "sim: injected {line}");
+            }
+            // A time has no meaning here: say so rather than call a known name unknown.
+            Err(_) if line.split_once('@').is_some_and(|(name, _)| name.parse::<FaultKind>().is_ok()) => {
+                let name = line.split('@').next().unwrap_or_default().trim();
+                let _ = writeln!(
+                    stderr,
+                    "sim: not injected: a fault typed here acts at once, so type the name alone ({name}); \
+                     --fault NAME@TIME schedules one from the start"
+                );
             }
             Err(error) => {
                 let _ = writeln!(stderr, "sim: {error}");

@@ -23,7 +23,8 @@ pub enum FaultKind {
     Motor2Comm,
     /// Battery drops to 22.4 V open-circuit: under-voltage warning.
     BatteryWarning,
-    /// Battery drops to 21.9 V: under-voltage fault (the robot beeps but still drives).
+    /// Battery drops to 21.9 V: under-voltage fault (the robot beeps but still drives; a load that sags it
+    /// to the cut-off for 1 s cuts drive power off).
     BatteryLow,
     /// Battery drops to 21.4 V: cut-off, drive power off.
     BatteryEmpty,
@@ -97,8 +98,10 @@ impl FaultKind {
             FaultKind::Motor1Comm => "driver 1 communication lost: latches until cleared",
             FaultKind::Motor2Comm => "driver 2 communication lost: latches until cleared",
             FaultKind::BatteryWarning => "battery to 22.4 V: under-voltage warning",
-            FaultKind::BatteryLow => "battery to 21.9 V: under-voltage fault, still drives",
-            FaultKind::BatteryEmpty => "battery to 21.4 V: cut-off, motion refused",
+            FaultKind::BatteryLow => {
+                "battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off"
+            }
+            FaultKind::BatteryEmpty => "battery to 21.4 V: cut-off, motion refused until battery-ok",
             FaultKind::BatteryOk => "fresh battery at the start voltage",
             FaultKind::RcLost => "RC transmitter link lost: motion stops",
             FaultKind::RcRestore => "RC transmitter link back",
@@ -111,6 +114,33 @@ impl FaultKind {
     pub fn names() -> String {
         Self::ALL.iter().map(|fault| fault.name()).collect::<Vec<_>>().join(", ")
     }
+}
+
+/// The fault language for `sim --help` (and so its man page): every fault with what it does, the
+/// `--fault NAME[@TIME]` syntax, and the names typed on standard input at run time.
+pub fn fault_help() -> String {
+    let width = FaultKind::ALL.iter().map(|fault| fault.name().len()).max().unwrap_or(0);
+    let mut text =
+        String::from("Faults (--fault NAME[@TIME], or a NAME typed on standard input while it runs):\n");
+    for fault in FaultKind::ALL {
+        text.push_str(&format!("  {:width$}  {}\n", fault.name(), fault.description()));
+    }
+    text.push_str(
+        "\n\
+         TIME counts from the start: 2s, 1.5s, 500ms, 1m 30s or plain seconds (2, 0.25); without\n\
+         @TIME the fault is there from the start. Names are case-insensitive; _ may stand for -.\n\
+         \n\
+         At run time, type one NAME per line on standard input: it acts at once (no @TIME), and\n\
+         each line is answered on stderr (`sim: injected estop`, or why it was not understood).\n\
+         For example, `estop` then `estop-release`, or `motor1-comm` and clear it with\n\
+         `tracerctl --iface vcan0 clear-errors` from another terminal.\n\
+         \n\
+         The same faults work on the in-process simulator of every command:\n  \
+         tracerctl --sim --fault estop@0s doctor\n  \
+         tracerctl --sim --fault motor1-comm@1s dashboard\n\
+         docs/sim.md says what each fault sets on the wire.",
+    );
+    text
 }
 
 impl fmt::Display for FaultKind {

@@ -25,7 +25,7 @@ use crate::protocol::message::Lights;
 /// The control mode as the model keeps it; `ControlMode::code` gives the value the wire reports.
 pub use crate::protocol::ControlMode;
 pub use chassis::Chassis;
-pub use faults::{FaultKind, FaultParseError, ScheduledFault};
+pub use faults::{fault_help, FaultKind, FaultParseError, ScheduledFault};
 
 /// Which link the virtual robot speaks: decides the commands it obeys, the feedback set it sends and the
 /// layout of the fault bits it reports.

@@ -24,6 +24,7 @@ mod robot_commands;
 mod send_raw;
 mod serial_peer;
 mod sim_command;
+mod sim_training;
 mod usage;
 mod util;
 mod variants;

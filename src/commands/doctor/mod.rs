@@ -59,7 +59,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     ))?;
 
     let opened = check_link(&choice, &mut report)?;
-    let session = if opened { open_session(&choice, global.protocol, &mut report)? } else { None };
+    let session = if opened { open_session(global, &mut report)? } else { None };
     let signal = match &session {
         Some(session) => examine(session, args, &mut report)?,
         None => {
@@ -109,12 +109,9 @@ fn check_link<W: Write>(choice: &LinkChoice, report: &mut Report<W>) -> Result<b
 }
 
 /// Opens the session, reporting the serial port open (or the link that could not be opened).
-fn open_session<W: Write>(
-    choice: &LinkChoice,
-    hint: crate::protocol::ProtocolHint,
-    report: &mut Report<W>,
-) -> Result<Option<Session>> {
-    match Session::open(choice, hint, None) {
+fn open_session<W: Write>(global: &Global, report: &mut Report<W>) -> Result<Option<Session>> {
+    let choice = &global.link;
+    match Session::open(choice, global.protocol, global.sim_config()) {
         Ok(session) => {
             if let LinkChoice::Serial { path, baud } = choice {
                 report.add(Check::pass(
