@@ -27,9 +27,9 @@ end
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -40,29 +40,45 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -s h -l help -d 'Print
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r -f
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r -f -a "motion_command\t''
+light_command\t''
+control_mode_command\t''
+fault_clear\t''
+version_request\t''
+system_state\t''
+motion_state\t''
+light_state\t''
+rc_state\t''
+motor_high_speed\t''
+motor_low_speed\t''
+odometry\t''
+version_response\t''
+raw\t''
+invalid\t''
+error_frame\t''
+remote_request\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l plot -d 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -70,37 +86,53 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (it is shown only on a terminal, for large files)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like those of candump -t z, so tracerctl cannot tell them apart'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (shown only for large files, on a terminal)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (hex, comma-separated)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages (comma-separated)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (hex, comma-separated)' -r -f
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry' -r -f -a "motion_command\t''
+light_command\t''
+control_mode_command\t''
+fault_clear\t''
+version_request\t''
+system_state\t''
+motion_state\t''
+light_state\t''
+rc_state\t''
+motor_high_speed\t''
+motor_low_speed\t''
+odometry\t''
+version_response\t''
+raw\t''
+invalid\t''
+error_frame\t''
+remote_request\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s, 2m; at most 30 days); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s; up to 30 days); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long (0 to 1h; 0: never)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines instead of decoding them (so not with --format)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines, undecoded (so not with --format)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ counter-clockwise; -100 to 100, capped at --max-angular)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms; at most 24h); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
@@ -110,9 +142,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-de
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -128,9 +160,9 @@ json\t'One JSON object (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -144,9 +176,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l timeout -d 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -159,9 +191,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l tim
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -175,7 +207,7 @@ on\t''
 breath\t''
 custom\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l brightness -d 'Front brightness for --front custom, percent (0-100)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear -d 'Rear light mode (reserved on TRACER: sent, but the firmware ignores it)' -r -f -a "off\t''
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear -d 'Rear light mode (reserved on TRACER: the firmware ignores it)' -r -f -a "off\t''
 on\t''
 breath\t''
 custom\t''"
@@ -184,9 +216,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l timeout -
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -201,9 +233,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l period 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -223,9 +255,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l duration -d 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -245,9 +277,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -267,9 +299,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d '
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -282,9 +314,9 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s V -l versio
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+never\t'Never colour'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -295,13 +327,13 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
