@@ -72,6 +72,11 @@ fn every_help_fits_80_columns_without_orphan_words() {
         let orphans = orphans(&text);
         assert!(orphans.is_empty(), "{label} at 80 columns: orphan words:\n{}", orphans.join("\n--\n"));
     }
+    // On a wide terminal prose stops at 100 columns (max_term_width), for the top level and below.
+    for sub in [None, Some("doctor")] {
+        let widest = help(sub, "--help", 200).lines().map(|line| line.chars().count()).max().unwrap_or(0);
+        assert!((90..=100).contains(&widest), "{sub:?} at 200 columns: {widest} wide");
+    }
 }
 
 #[test]
