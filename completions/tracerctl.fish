@@ -28,12 +28,12 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -l protocol -d 'Protoc
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -42,7 +42,7 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "decode" -d 'Dec
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
@@ -77,12 +77,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l protocol 
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
@@ -94,8 +94,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s V -l vers
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (hex, comma-separated)' -r -f
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry' -r -f -a "motion_command\t''
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (comma-separated hex numbers)' -r -f
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages, e.g. system_state,odometry (see --help for all)' -r -f -a "motion_command\t''
 light_command\t''
 control_mode_command\t''
 fault_clear\t''
@@ -119,12 +119,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l protocol
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines, undecoded (so not with --format)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -143,30 +143,30 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-faults -d 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot (100ms to 10m)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Output format' -r -f -a "text\t'One line per check, then the verdict'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Format of the report' -r -f -a "text\t'One line per check, then the verdict'
 json\t'One JSON object (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l probe -d 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -177,12 +177,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l protocol -d
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -192,12 +192,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l pro
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -217,12 +217,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l protocol 
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l release -d 'Hand the lights back to the firmware'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -234,15 +234,15 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l protoco
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute the checksum of RS232 frames instead of requiring it'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute RS232 frames\' checksums instead of requiring them'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s V -l version -d 'Print version'
@@ -256,12 +256,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l protocol -d 
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -278,12 +278,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protoc
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -300,12 +300,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
@@ -315,12 +315,12 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l prot
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
-always\t'Colour even into a pipe or a file, and even with NO_COLOR set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
@@ -329,7 +329,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'

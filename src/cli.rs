@@ -94,7 +94,7 @@ pub enum Command {
     /// Why isn't it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)
     #[command(after_help = doctor_after_help())]
     Doctor(DoctorArgs),
-    /// Switch the control mode (0x421) and report the mode before and after
+    /// Switch the control mode (0x421) and report it before and after
     Mode(ModeArgs),
     /// Clear latched faults (0x441) and report which bits cleared and which remain
     ClearErrors(ClearErrorsArgs),
@@ -206,11 +206,11 @@ pub struct MonitorArgs {
     #[arg(long, conflicts_with = "format")]
     pub raw: bool,
 
-    /// Only frames with these identifiers (hex, comma-separated)
+    /// Only frames with these identifiers (comma-separated hex numbers)
     #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_hint = clap::ValueHint::Other, value_parser = parse_id)]
     pub ids: Vec<crate::protocol::FrameId>,
 
-    /// Only these messages (comma-separated), e.g. system_state,odometry
+    /// Only these messages, e.g. system_state,odometry (see --help for all)
     #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = MsgNameParser, hide_possible_values = true, long_help = msg_long_help())]
     pub messages: Vec<&'static str>,
 
@@ -375,7 +375,7 @@ impl ModeArgs {
 
 #[derive(Debug, Args)]
 pub struct ClearErrorsArgs {
-    /// Which faults to clear
+    /// Which latched faults to clear
     #[arg(value_enum, default_value_t = ClearTargetArg::All)]
     pub target: ClearTargetArg,
 
@@ -480,7 +480,7 @@ pub struct SendRawArgs {
     #[arg(long)]
     pub force: bool,
 
-    /// Compute the checksum of RS232 frames instead of requiring it
+    /// Compute RS232 frames' checksums instead of requiring them
     #[arg(long)]
     pub fix_checksum: bool,
 }
@@ -525,7 +525,7 @@ pub struct DoctorArgs {
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(LISTEN))]
     pub listen: std::time::Duration,
 
-    /// Output format
+    /// Format of the report
     #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
     pub format: ReportFormatArg,
 }
@@ -746,7 +746,7 @@ fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
 #[derive(Debug, Args)]
 #[command(next_help_heading = LINK_HEADING)]
 pub struct LinkArgs {
-    /// SocketCAN interface [default: $TRACERCTL_IFACE, else can0]
+    /// SocketCAN interface [default: $TRACERCTL_IFACE or can0]
     #[arg(long, global = true, value_name = "NAME", conflicts_with_all = ["serial", "sim", "replay"])]
     pub iface: Option<String>,
 
@@ -762,7 +762,7 @@ pub struct LinkArgs {
     #[arg(long, global = true, conflicts_with = "replay")]
     pub sim: bool,
 
-    /// Play a candump log back as a read-only source (monitor, dashboard)
+    /// Play back a candump log as a read-only source (for monitor, dashboard)
     #[arg(long, global = true, value_name = "FILE")]
     pub replay: Option<PathBuf>,
 
@@ -939,7 +939,7 @@ impl From<ProtocolArg> for ProtocolHint {
 pub enum ColorArg {
     /// Colour on a terminal, unless the NO_COLOR environment variable is set
     Auto,
-    /// Colour even into a pipe or a file, and even with NO_COLOR set
+    /// Colour even into a pipe or a file, even with NO_COLOR set
     Always,
     /// Never colour
     Never,

@@ -34,8 +34,8 @@ fn indent(line: &str) -> usize {
     line.len() - line.trim_start().len()
 }
 
-/// Lines holding one word that continue the line before (same indentation, not after a heading): what a
-/// paragraph wrapped twice, or wrapped badly once, leaves behind.
+/// Lines holding one word that continue the line before (not after a heading): what a paragraph wrapped
+/// twice, or wrapped badly once, leaves behind.
 fn orphans(text: &str) -> Vec<String> {
     let lines: Vec<&str> = text.lines().collect();
     lines
@@ -43,8 +43,9 @@ fn orphans(text: &str) -> Vec<String> {
         .filter(|pair| {
             let (previous, line) = (pair[0], pair[1]);
             let one_word = !line.trim().is_empty() && !line.trim().contains(' ');
+            // The same indentation, or deeper: the second column of `-h` (`--iface <NAME>   SocketCAN ...`).
             let continues = !previous.trim().is_empty()
-                && indent(previous) == indent(line)
+                && indent(previous) <= indent(line)
                 && !previous.trim_end().ends_with(':');
             one_word && continues
         })
@@ -59,6 +60,8 @@ fn the_orphan_check_finds_a_paragraph_wrapped_twice() {
                  stops at the first).\nsyntax up.\nthe\nnext line\n";
     assert_eq!(orphans(twice), ["syntax up.\nthe"]);
     assert!(orphans("Options:\n      --sim\n          Talk to the simulator\n").is_empty());
+    let two_columns = "      --iface <NAME>   SocketCAN interface [default: $TRACERCTL_IFACE, else\n                       can0]";
+    assert_eq!(orphans(two_columns).len(), 1);
 }
 
 #[test]
