@@ -35,7 +35,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
             [CompletionResult]::new('decode', 'decode', [CompletionResultType]::ParameterValue, 'Decode candump logs, single frames or RS232 captures')
             [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the live bus, decoded, with warnings when periodic frames go stale')
-            [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops')
+            [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it')
             [CompletionResult]::new('doctor', 'doctor', [CompletionResultType]::ParameterValue, 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)')
             [CompletionResult]::new('mode', 'mode', [CompletionResultType]::ParameterValue, 'Switch the control mode (0x421) and report it before and after')
             [CompletionResult]::new('clear-errors', 'clear-errors', [CompletionResultType]::ParameterValue, 'Clear latched faults (0x441) and report which bits cleared and which remain')
@@ -297,7 +297,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         'tracerctl;help' {
             [CompletionResult]::new('decode', 'decode', [CompletionResultType]::ParameterValue, 'Decode candump logs, single frames or RS232 captures')
             [CompletionResult]::new('monitor', 'monitor', [CompletionResultType]::ParameterValue, 'Watch the live bus, decoded, with warnings when periodic frames go stale')
-            [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops')
+            [CompletionResult]::new('drive', 'drive', [CompletionResultType]::ParameterValue, 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it')
             [CompletionResult]::new('doctor', 'doctor', [CompletionResultType]::ParameterValue, 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)')
             [CompletionResult]::new('mode', 'mode', [CompletionResultType]::ParameterValue, 'Switch the control mode (0x421) and report it before and after')
             [CompletionResult]::new('clear-errors', 'clear-errors', [CompletionResultType]::ParameterValue, 'Clear latched faults (0x441) and report which bits cleared and which remain')

@@ -32,7 +32,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --version 'Print version'
             cand decode 'Decode candump logs, single frames or RS232 captures'
             cand monitor 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-            cand drive 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops'
+            cand drive 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
             cand doctor 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
             cand mode 'Switch the control mode (0x421) and report it before and after'
             cand clear-errors 'Clear latched faults (0x441) and report which bits cleared and which remain'
@@ -281,7 +281,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help'= {
             cand decode 'Decode candump logs, single frames or RS232 captures'
             cand monitor 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-            cand drive 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops'
+            cand drive 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
             cand doctor 'Why isn''t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
             cand mode 'Switch the control mode (0x421) and report it before and after'
             cand clear-errors 'Clear latched faults (0x441) and report which bits cleared and which remain'

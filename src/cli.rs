@@ -89,7 +89,7 @@ pub enum Command {
     Decode(DecodeArgs),
     /// Watch the live bus, decoded, with warnings when periodic frames go stale
     Monitor(MonitorArgs),
-    /// Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops
+    /// Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it
     Drive(DriveArgs),
     /// Why isn't it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)
     #[command(after_help = doctor_after_help())]
