@@ -329,11 +329,14 @@ _tracerctl() {
                     return 0
                     ;;
                 --id)
-                    COMPREPLY=($(compgen -f "${cur}"))
+                    COMPREPLY=("${cur}")
+                    if [[ "${BASH_VERSINFO[0]}" -ge 4 ]]; then
+                        compopt -o nospace
+                    fi
                     return 0
                     ;;
                 --msg)
-                    COMPREPLY=($(compgen -f "${cur}"))
+                    COMPREPLY=($(compgen -W "motion_command light_command control_mode_command fault_clear version_request system_state motion_state light_state rc_state motor_high_speed motor_low_speed odometry version_response raw invalid error_frame remote_request" -- "${cur}"))
                     return 0
                     ;;
                 --plot)
@@ -833,11 +836,14 @@ _tracerctl() {
                     return 0
                     ;;
                 --id)
-                    COMPREPLY=($(compgen -f "${cur}"))
+                    COMPREPLY=("${cur}")
+                    if [[ "${BASH_VERSINFO[0]}" -ge 4 ]]; then
+                        compopt -o nospace
+                    fi
                     return 0
                     ;;
                 --msg)
-                    COMPREPLY=($(compgen -f "${cur}"))
+                    COMPREPLY=($(compgen -W "motion_command light_command control_mode_command fault_clear version_request system_state motion_state light_state rc_state motor_high_speed motor_low_speed odometry version_response raw invalid error_frame remote_request" -- "${cur}"))
                     return 0
                     ;;
                 --log)

@@ -27,14 +27,14 @@ end
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -43,48 +43,64 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r -f
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r -f -a "motion_command\t''
+light_command\t''
+control_mode_command\t''
+fault_clear\t''
+version_request\t''
+system_state\t''
+motion_state\t''
+light_state\t''
+rc_state\t''
+motor_high_speed\t''
+motor_low_speed\t''
+odometry\t''
+version_response\t''
+raw\t''
+invalid\t''
+error_frame\t''
+remote_request\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l plot -d 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -93,41 +109,57 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like -t z ones, so this cannot be detected'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (it is shown only on a terminal, for large files)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like those of candump -t z, so tracerctl cannot tell them apart'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (shown only for large files, on a terminal)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
 csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (hex, comma-separated)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages (comma-separated)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l id -d 'Only frames with these identifiers (comma-separated hex numbers)' -r -f
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l msg -d 'Only these messages, e.g. system_state,odometry (see --help for all)' -r -f -a "motion_command\t''
+light_command\t''
+control_mode_command\t''
+fault_clear\t''
+version_request\t''
+system_state\t''
+motion_state\t''
+light_state\t''
+rc_state\t''
+motor_high_speed\t''
+motor_low_speed\t''
+odometry\t''
+version_response\t''
+raw\t''
+invalid\t''
+error_frame\t''
+remote_request\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s, 2m; at most 30 days); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s; up to 30 days); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long (0 to 1h; 0: never)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -136,22 +168,22 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines instead of decoding them (so not with --format)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines, undecoded (so not with --format)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ counter-clockwise; -100 to 100, capped at --max-angular)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms; at most 24h); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
@@ -161,14 +193,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-de
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -177,33 +209,33 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-faults -d 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot (100ms to 10m)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Output format' -r -f -a "text\t'One line per check, then the verdict'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Format of the report' -r -f -a "text\t'One line per check, then the verdict'
 json\t'One JSON object (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -212,31 +244,31 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l probe -d 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l timeout -d 'How long to wait for the robot to confirm (0 to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -245,30 +277,30 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l timeout -d 'How long to watch the status afterwards (0 to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -277,16 +309,16 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l front -d 'Front light mode' -r -f -a "off\t''
@@ -294,7 +326,7 @@ on\t''
 breath\t''
 custom\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l brightness -d 'Front brightness for --front custom, percent (0-100)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear -d 'Rear light mode (reserved on TRACER: sent, but the firmware ignores it)' -r -f -a "off\t''
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l rear -d 'Rear light mode (reserved on TRACER: the firmware ignores it)' -r -f -a "off\t''
 on\t''
 breath\t''
 custom\t''"
@@ -303,14 +335,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l timeout -
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -319,17 +351,17 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l release -d 'Hand the lights back to the firmware'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l repeat -d 'Send the frames this many times' -r
@@ -337,14 +369,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l period 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -353,18 +385,18 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute the checksum of RS232 frames instead of requiring it'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute RS232 frames\' checksums instead of requiring them'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l rc -d 'An RC transmitter is on, with SWB in this position (middle = RC mode overrides commands)' -r -f -a "top\t'SWB at the top: command mode allowed'
@@ -375,14 +407,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l duration -d 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -391,17 +423,17 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
@@ -414,14 +446,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -430,17 +462,17 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
@@ -453,14 +485,14 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d '
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -469,30 +501,30 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (colour is never used with NO_COLOR set)' -r -f -a "auto\t''
-always\t''
-never\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'SocketCAN interface [default: $TRACERCTL_IFACE, else can0]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
-estop-release\t'release the E-stop: back to standby (enable command mode again)'
+estop-release\t'release the E-stop: standby until command mode again'
 motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
 motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
 overcurrent\t'over-current protection latches on both drivers'
@@ -501,27 +533,27 @@ motor2-overcurrent\t'over-current protection latches on driver 2'
 motor1-comm\t'driver 1 communication lost: latches until cleared'
 motor2-comm\t'driver 2 communication lost: latches until cleared'
 battery-warning\t'battery to 22.4 V: under-voltage warning'
-battery-low\t'battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off'
-battery-empty\t'battery to 21.4 V: cut-off, motion refused until battery-ok'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
 battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
-swb-middle\t'RC switch SWB to the middle: RC mode, host commands ignored'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play a candump log back as a read-only source (monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Talk to an in-process virtual TRACER instead of a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report the mode before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -16,28 +16,63 @@ use crate::protocol::{ClearTarget, ControlMode, ProtocolHint};
 
 const ABOUT: &str = "Decode, monitor, drive and diagnose the AgileX TRACER robot";
 
+// Prose is written as paragraphs that `reflow` joins, so clap wraps it once, to the terminal; indented lines
+// (examples, key tables) are kept as written and fit 80 columns.
 const AFTER_HELP: &str = "\
 Examples:
-  tracerctl decode capture.log                 decode a candump log, one line per frame
-  tracerctl decode --summary capture.log       the technician's report: rates, lost frames, faults, battery
-  tracerctl decode --format json capture.log   one JSON object per frame (docs/json.md)
-  tracerctl decode {EXAMPLE_FRAME}        decode one frame given in cansend syntax
-  tracerctl decode --serial uart.bin           decode an RS232 capture (raw bytes or hex text)";
+  Try the dashboard on the built-in virtual robot, no robot needed:
+    tracerctl --sim dashboard
+  Why isn't it moving? A checklist of PASS/WARN/FAIL with what to do:
+    tracerctl doctor
+  Drive forward at 0.3 m/s for 2 s over CAN interface can0:
+    tracerctl --iface can0 drive --linear 0.3 --for 2s
+  Watch the robot's state and speeds live, with stale frames flagged:
+    tracerctl monitor --msg system_state,motion_state
+  The technician's report of a log: rates, lost frames, faults, battery:
+    tracerctl decode --summary capture.log
+  Decode one frame given in cansend syntax:
+    tracerctl decode {EXAMPLE_FRAME}
+
+Each command has its own help: tracerctl COMMAND --help (or -h for a summary).";
 
 /// A help text with the example frame (`{EXAMPLE_FRAME}`) taken from the codec.
 fn with_example_frame(text: &str) -> String {
-    text.replace("{EXAMPLE_FRAME}", crate::protocol::can::EXAMPLE_FRAME)
+    reflow(&text.replace("{EXAMPLE_FRAME}", crate::protocol::can::EXAMPLE_FRAME))
 }
 
+/// An after-help text as clap should get it: each hand-wrapped prose paragraph joined into one line, so
+/// that clap wraps it once, to the terminal (wrapping it twice left orphan words); indented lines
+/// (examples, key tables) and lines ending with `:` (headings) stay as written.
+pub fn reflow(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    let mut joinable = false;
+    for line in text.lines() {
+        let prose = !line.trim().is_empty() && !line.starts_with(char::is_whitespace);
+        if joinable && prose {
+            out.push(' ');
+        } else if !out.is_empty() {
+            out.push('\n');
+        }
+        out.push_str(if prose { line.trim_end() } else { line });
+        joinable = prose && !line.trim_end().ends_with(':');
+    }
+    out
+}
+
+/// The heading of the options every command takes (`--protocol`, `--color`), after the command's own.
+pub const GLOBAL_HEADING: &str = "Global options";
+/// The heading of the link options ([`LinkArgs`]), after the global ones.
+pub const LINK_HEADING: &str = "Link options";
+
 #[derive(Debug, Parser)]
-#[command(name = "tracerctl", version, about = ABOUT, after_help = with_example_frame(AFTER_HELP), propagate_version = true)]
+#[command(name = "tracerctl", version, about = ABOUT, after_help = with_example_frame(AFTER_HELP), propagate_version = true, max_term_width = 100)]
 pub struct Cli {
     /// Protocol version: auto detects from the identifiers on the bus
-    #[arg(long, global = true, value_enum, default_value_t = ProtocolArg::Auto, value_name = "VERSION")]
+    #[arg(long, global = true, help_heading = GLOBAL_HEADING, value_enum, default_value_t = ProtocolArg::Auto, value_name = "VERSION")]
     pub protocol: ProtocolArg,
 
-    /// When to colour output (colour is never used with NO_COLOR set)
-    #[arg(long, global = true, value_enum, default_value_t = ColorArg::Auto, value_name = "WHEN")]
+    /// When to colour output (an explicit always or never overrides NO_COLOR)
+    #[arg(long, global = true, help_heading = GLOBAL_HEADING, value_enum, default_value_t = ColorArg::Auto, value_name = "WHEN")]
     pub color: ColorArg,
 
     #[command(flatten)]
@@ -54,23 +89,23 @@ pub enum Command {
     Decode(DecodeArgs),
     /// Watch the live bus, decoded, with warnings when periodic frames go stale
     Monitor(MonitorArgs),
-    /// Drive at a fixed speed (50 Hz commands, ramped and capped; Ctrl-C stops the robot)
+    /// Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it
     Drive(DriveArgs),
     /// Why isn't it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)
     #[command(after_help = doctor_after_help())]
     Doctor(DoctorArgs),
-    /// Switch the control mode (0x421) and report the mode before and after
+    /// Switch the control mode (0x421) and report it before and after
     Mode(ModeArgs),
     /// Clear latched faults (0x441) and report which bits cleared and which remain
     ClearErrors(ClearErrorsArgs),
     /// Set the lights (0x121), confirmed from the light state (0x231)
     Lights(LightsArgs),
-    /// Send raw frames in cansend syntax (or hex RS232 frames), after showing what they mean
+    /// Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)
     SendRaw(SendRawArgs),
-    /// Run a virtual TRACER on a CAN interface (--iface vcan0) or a pseudo-terminal (--pty)
+    /// Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)
     Sim(SimArgs),
-    /// Live dashboard: battery, faults, motors, odometry, link health; the arrow keys drive
-    #[command(visible_alias = "dash", after_help = crate::dashboard::keys::help_text())]
+    /// Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive
+    #[command(visible_alias = "dash", after_help = reflow(&crate::dashboard::keys::help_text()))]
     Dashboard(DashboardArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
@@ -102,19 +137,19 @@ pub struct DecodeArgs {
     pub strict: bool,
 
     /// Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)
-    #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_parser = parse_id)]
+    #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_hint = clap::ValueHint::Other, value_parser = parse_id)]
     pub ids: Vec<crate::protocol::FrameId>,
 
     /// Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame
-    #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = parse_msg_name)]
+    #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = Completing { parse: parse_msg_name, values: msg_values }, hide_possible_values = true, long_help = msg_long_help())]
     pub messages: Vec<&'static str>,
 
-    /// Console timestamps are deltas between frames (candump -t d): add them up.
-    /// Such stamps look exactly like -t z ones, so this cannot be detected.
+    /// Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look
+    /// exactly like those of candump -t z, so tracerctl cannot tell them apart.
     #[arg(long)]
     pub delta_stamps: bool,
 
-    /// Never show a progress bar (it is shown only on a terminal, for large files)
+    /// Never show a progress bar (shown only for large files, on a terminal)
     #[arg(long)]
     pub no_progress: bool,
 
@@ -167,23 +202,23 @@ pub struct MonitorArgs {
     #[arg(long, short = 'f', value_enum, default_value_t = FormatArg::Text)]
     pub format: FormatArg,
 
-    /// Print frames as candump -L lines instead of decoding them (so not with --format)
+    /// Print frames as candump -L lines, undecoded (so not with --format)
     #[arg(long, conflicts_with = "format")]
     pub raw: bool,
 
-    /// Only frames with these identifiers (hex, comma-separated)
-    #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_parser = parse_id)]
+    /// Only frames with these identifiers (comma-separated hex numbers)
+    #[arg(long = "id", value_name = "IDS", value_delimiter = ',', value_hint = clap::ValueHint::Other, value_parser = parse_id)]
     pub ids: Vec<crate::protocol::FrameId>,
 
-    /// Only these messages (comma-separated)
-    #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = parse_msg_name)]
+    /// Only these messages, e.g. system_state,odometry (see --help for all)
+    #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = Completing { parse: parse_msg_name, values: msg_values }, hide_possible_values = true, long_help = msg_long_help())]
     pub messages: Vec<&'static str>,
 
     /// Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
 
-    /// Stop after this long (e.g. 10s, 2m; at most 30 days); default: until Ctrl-C
+    /// Stop after this long (e.g. 10s; up to 30 days); default: until Ctrl-C
     #[arg(long, value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(RUN_TIME))]
     pub duration: Option<std::time::Duration>,
 
@@ -212,11 +247,11 @@ pub struct DriveArgs {
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "M/S", value_parser = number_in(SPEED))]
     pub linear: f64,
 
-    /// Angular speed in rad/s (+ counter-clockwise; -100 to 100, capped at --max-angular)
+    /// Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)
     #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "RAD/S", value_parser = number_in(SPEED))]
     pub angular: f64,
 
-    /// How long to drive (e.g. 2s, 1500ms; at most 24h); default: until Ctrl-C
+    /// How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C
     #[arg(long = "for", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
     pub duration: Option<std::time::Duration>,
 
@@ -240,7 +275,8 @@ impl DriveArgs {
     }
 }
 
-/// Caps and ramps of the commands that move the robot (drive, dashboard).
+// Caps and ramps of the commands that move the robot (drive, dashboard). A plain comment: clap would take
+// a flattened struct's doc as the command's description.
 #[derive(Debug, Args)]
 pub struct MotionLimitArgs {
     /// Cap on the linear speed, m/s (above 0; at most 1.5 is used)
@@ -339,7 +375,7 @@ impl ModeArgs {
 
 #[derive(Debug, Args)]
 pub struct ClearErrorsArgs {
-    /// Which faults to clear
+    /// Which latched faults to clear
     #[arg(value_enum, default_value_t = ClearTargetArg::All)]
     pub target: ClearTargetArg,
 
@@ -396,7 +432,7 @@ pub struct LightsArgs {
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
     pub brightness: Option<u8>,
 
-    /// Rear light mode (reserved on TRACER: sent, but the firmware ignores it)
+    /// Rear light mode (reserved on TRACER: the firmware ignores it)
     #[arg(long, value_enum)]
     pub rear: Option<LightModeArg>,
 
@@ -444,7 +480,7 @@ pub struct SendRawArgs {
     #[arg(long)]
     pub force: bool,
 
-    /// Compute the checksum of RS232 frames instead of requiring it
+    /// Compute RS232 frames' checksums instead of requiring them
     #[arg(long)]
     pub fix_checksum: bool,
 }
@@ -464,14 +500,14 @@ impl SendRawArgs {
 /// `doctor --help` after the options, with the command-mode request from the catalog.
 fn doctor_after_help() -> String {
     let request = ControlMode::Can.request_text(crate::protocol::Wire::CanV2).unwrap_or_default();
-    DOCTOR_AFTER_HELP.replace("{MODE_REQUEST}", &request)
+    reflow(&DOCTOR_AFTER_HELP.replace("{MODE_REQUEST}", &request))
 }
 
 const DOCTOR_AFTER_HELP: &str = "\
 Checks in order: kernel CAN support, the interface (exists, up, 500 kbit/s, error state and counters) or
 the serial port; then, listening to the robot: frames arriving, protocol version (or the RS232 frame
 stream: checksum errors, sync losses), system status rate, other controllers on the bus, control mode
-and RC override, E-stop, faults, battery, motors. Every WARN and FAIL says what to do.
+and RC override, E-stop, faults, battery, motors. Every WARN and every FAIL says what to do.
 
 --probe also sends the command-mode command ({MODE_REQUEST}; on RS232 and V1 a zero-speed motion command)
 and zero-velocity motion commands for 0.5 s, and checks the robot takes them. It never commands motion,
@@ -489,7 +525,7 @@ pub struct DoctorArgs {
     #[arg(long, value_name = "DURATION", default_value = "1s", allow_hyphen_values = true, value_parser = duration_in(LISTEN))]
     pub listen: std::time::Duration,
 
-    /// Output format
+    /// Format of the report
     #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
     pub format: ReportFormatArg,
 }
@@ -539,7 +575,7 @@ impl DashboardArgs {
 }
 
 #[derive(Debug, Args)]
-#[command(after_help = crate::sim::fault_help())]
+#[command(after_help = reflow(&crate::sim::fault_help()))]
 pub struct SimArgs {
     /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port
     #[arg(long)]
@@ -699,52 +735,51 @@ fn parse_fault(text: &str) -> Result<crate::sim::ScheduledFault, String> {
     Ok(fault)
 }
 
-/// `--fault`'s parser: [`parse_fault`], with the fault names as possible values so that shell completion
-/// offers them (help leaves the long list out: `sim --help` lists them with what each does).
-#[derive(Clone, Copy, Debug)]
-struct FaultParser;
+/// The simulator's fault names, for `--fault`'s completion (help leaves the long list out: `sim --help` lists
+/// them with what each does).
+fn fault_values() -> Vec<clap::builder::PossibleValue> {
+    let faults = crate::sim::FaultKind::ALL.into_iter();
+    faults.map(|fault| clap::builder::PossibleValue::new(fault.name()).help(fault.description())).collect()
+}
 
-impl clap::builder::TypedValueParser for FaultParser {
-    type Value = crate::sim::ScheduledFault;
+/// A value parser that parses with `parse` (clap shows its error text) and offers `values` to shell
+/// completion, for values a plain enum cannot list (`--fault NAME@TIME`, `--msg` names).
+#[derive(Clone, Copy)]
+struct Completing<T> {
+    parse: fn(&str) -> Result<T, String>,
+    values: fn() -> Vec<clap::builder::PossibleValue>,
+}
+
+impl<T: Clone + Send + Sync + 'static> clap::builder::TypedValueParser for Completing<T> {
+    type Value = T;
 
     fn parse_ref(
         &self,
         cmd: &clap::Command,
         arg: Option<&clap::Arg>,
         value: &std::ffi::OsStr,
-    ) -> Result<Self::Value, clap::Error> {
-        let text = value.to_str().ok_or_else(|| clap::Error::new(clap::error::ErrorKind::InvalidUtf8))?;
-        parse_fault(text).map_err(|message| {
-            let arg = arg.map_or_else(|| "--fault".to_string(), ToString::to_string);
-            clap::Error::raw(
-                clap::error::ErrorKind::ValueValidation,
-                format!("invalid value '{text}' for '{arg}': {message}\n"),
-            )
-            .with_cmd(cmd)
-        })
+    ) -> Result<T, clap::Error> {
+        self.parse.parse_ref(cmd, arg, value)
     }
 
     fn possible_values(&self) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
-        Some(Box::new(
-            crate::sim::FaultKind::ALL
-                .into_iter()
-                .map(|fault| clap::builder::PossibleValue::new(fault.name()).help(fault.description())),
-        ))
+        Some(Box::new((self.values)().into_iter()))
     }
 }
 
-/// How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
-///
-/// Options of one link are refused with another (`--iface` with `--sim`, `--baud` without `--serial`,
-/// `--speed` without `--replay`): clap checks them, so help and completions say the same.
+// How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
+//
+// Options of one link are refused with another (`--iface` with `--sim`, `--baud` without `--serial`,
+// `--speed` without `--replay`): clap checks them, so help and completions say the same. A plain comment,
+// not a doc comment: clap would take a flattened struct's doc as the top-level `--help` description.
 #[derive(Debug, Args)]
-#[command(next_help_heading = "Link")]
+#[command(next_help_heading = LINK_HEADING)]
 pub struct LinkArgs {
-    /// SocketCAN interface [default: $TRACERCTL_IFACE, else can0]
+    /// CAN interface [default: $TRACERCTL_IFACE or can0]
     #[arg(long, global = true, value_name = "NAME", conflicts_with_all = ["serial", "sim", "replay"])]
     pub iface: Option<String>,
 
-    /// RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture file (raw bytes or hex text)
+    /// RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)
     #[arg(long, global = true, value_name = "PATH", conflicts_with_all = ["sim", "replay"])]
     pub serial: Vec<PathBuf>,
 
@@ -752,15 +787,15 @@ pub struct LinkArgs {
     #[arg(long, global = true, value_name = "BAUD", requires = "serial", conflicts_with_all = ["sim", "replay", "iface"], value_parser = clap::value_parser!(u32).range(1..=4_000_000))]
     pub baud: Option<u32>,
 
-    /// Talk to an in-process virtual TRACER instead of a robot
+    /// Drive an in-process virtual TRACER, not a robot
     #[arg(long, global = true, conflicts_with = "replay")]
     pub sim: bool,
 
     /// Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)
-    #[arg(long = "fault", global = true, value_name = "NAME[@TIME]", value_parser = FaultParser, hide_possible_values = true)]
+    #[arg(long = "fault", global = true, value_name = "NAME[@TIME]", value_parser = Completing { parse: parse_fault, values: fault_values }, hide_possible_values = true)]
     pub faults: Vec<crate::sim::ScheduledFault>,
 
-    /// Play a candump log back as a read-only source (monitor, dashboard)
+    /// Play back a candump log as a read-only source (for monitor, dashboard)
     #[arg(long, global = true, value_name = "FILE")]
     pub replay: Option<PathBuf>,
 
@@ -950,8 +985,11 @@ impl From<ProtocolArg> for ProtocolHint {
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ColorArg {
+    /// Colour on a terminal, unless the NO_COLOR environment variable is set
     Auto,
+    /// Colour even into a pipe or a file, even with NO_COLOR set
     Always,
+    /// Never colour
     Never,
 }
 
@@ -968,17 +1006,27 @@ impl From<ColorArg> for ColorChoice {
 /// Message names accepted by `--msg`: every TRACER message plus the shapes of other frames.
 pub const FILTER_NAMES: &[&str] = crate::output::filter::FrameShape::NAMES;
 
+/// Every name `--msg` accepts: the messages, then the shapes of other frames.
+fn msg_names() -> impl Iterator<Item = &'static str> {
+    crate::protocol::message::MESSAGE_NAMES.iter().chain(FILTER_NAMES).copied()
+}
+
+/// The names `--msg` accepts, for completion.
+fn msg_values() -> Vec<clap::builder::PossibleValue> {
+    msg_names().map(clap::builder::PossibleValue::new).collect()
+}
+
+/// `--msg` in `--help` and the man pages: every name (`-h` gives an example; completions offer them all).
+fn msg_long_help() -> String {
+    let names: Vec<_> = msg_names().collect();
+    format!("Only these messages (comma-separated), e.g. system_state,odometry. Names: {}", names.join(", "))
+}
+
 fn parse_msg_name(text: &str) -> Result<&'static str, String> {
-    crate::protocol::message::MESSAGE_NAMES
-        .iter()
-        .chain(FILTER_NAMES)
-        .find(|name| **name == text)
-        .copied()
-        .ok_or_else(|| {
-            let known: Vec<_> =
-                crate::protocol::message::MESSAGE_NAMES.iter().chain(FILTER_NAMES).copied().collect();
-            format!("unknown message name '{text}'; known: {}", known.join(", "))
-        })
+    msg_names().find(|name| *name == text).ok_or_else(|| {
+        let known: Vec<_> = msg_names().collect();
+        format!("unknown message name '{text}'; known: {}", known.join(", "))
+    })
 }
 
 fn parse_id(text: &str) -> Result<crate::protocol::FrameId, String> {
@@ -1021,6 +1069,16 @@ mod tests {
         assert!(Cli::try_parse_from(["tracerctl", "lights"]).is_err(), "lights needs --front or --release");
         assert!(
             Cli::try_parse_from(["tracerctl", "lights", "--front", "custom", "--brightness", "101"]).is_err()
+        );
+    }
+
+    #[test]
+    fn reflow_joins_prose_and_keeps_tables_and_headings() {
+        let text =
+            "A paragraph wrapped\nby hand.\n\nKeys:\n  q  quit\n  ?  help\nAfter the table\ncontinued.";
+        assert_eq!(
+            reflow(text),
+            "A paragraph wrapped by hand.\n\nKeys:\n  q  quit\n  ?  help\nAfter the table continued."
         );
     }
 

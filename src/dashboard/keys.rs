@@ -372,8 +372,8 @@ pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'stat
 const HELP_BEFORE: &str = "\
 The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
 is not disturbed). The first arrow key, m, c or l asks \"Arm driving?\"; y arms ({MODE_COMMAND} command mode, then
-motion commands at 50 Hz), a disarms at once. --watch forbids arming. The state, ARMED or WATCHING, is on
-screen.";
+motion commands at 50 Hz), a disarms at once. --watch forbids arming. The header says ARMED or
+WATCHING.";
 
 /// The paragraph of `tracerctl dashboard --help` after the keys.
 const HELP_AFTER: &str = "\

@@ -118,14 +118,17 @@ pub enum ColorChoice {
 }
 
 impl ColorChoice {
-    /// Whether to colour a stream that is (or is not) a terminal; NO_COLOR always wins.
+    /// Whether to colour a stream that is (or is not) a terminal. NO_COLOR (set and not empty) changes only
+    /// the `auto` default: an explicit `--color always` wins, as in ripgrep and as no-color.org asks.
     pub fn enabled(self, is_terminal: bool) -> bool {
-        let no_color = std::env::var_os("NO_COLOR").is_some_and(|value| !value.is_empty());
+        self.enabled_with(is_terminal, std::env::var_os("NO_COLOR").is_some_and(|value| !value.is_empty()))
+    }
+
+    fn enabled_with(self, is_terminal: bool, no_color: bool) -> bool {
         match self {
-            _ if no_color => false,
             ColorChoice::Always => true,
             ColorChoice::Never => false,
-            ColorChoice::Auto => is_terminal,
+            ColorChoice::Auto => is_terminal && !no_color,
         }
     }
 }
@@ -145,7 +148,7 @@ pub enum Format {
 #[derive(Clone, Copy, Debug)]
 pub struct EventWriter {
     pub format: Format,
-    /// ANSI colour in text output (only on a terminal, never with NO_COLOR).
+    /// ANSI colour in text output (by default only on a terminal and not with NO_COLOR).
     pub color: bool,
 }
 
@@ -191,5 +194,25 @@ fn direction_name(dir: Direction) -> &'static str {
     match dir {
         Direction::Rx => "rx",
         Direction::Tx => "tx",
+    }
+}
+
+#[cfg(test)]
+mod color_tests {
+    use super::ColorChoice;
+
+    #[test]
+    fn no_color_changes_only_the_auto_default() {
+        // (choice, is a terminal, NO_COLOR set) -> colour
+        for (choice, terminal, no_color, expected) in [
+            (ColorChoice::Auto, true, false, true),
+            (ColorChoice::Auto, true, true, false),
+            (ColorChoice::Auto, false, false, false),
+            (ColorChoice::Always, false, true, true),
+            (ColorChoice::Always, true, true, true),
+            (ColorChoice::Never, true, false, false),
+        ] {
+            assert_eq!(choice.enabled_with(terminal, no_color), expected, "{choice:?} {terminal} {no_color}");
+        }
     }
 }

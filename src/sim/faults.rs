@@ -89,7 +89,7 @@ impl FaultKind {
     pub fn description(self) -> &'static str {
         match self {
             FaultKind::EStop => "press the E-stop: stops at once, commands ignored",
-            FaultKind::EStopRelease => "release the E-stop: back to standby (enable command mode again)",
+            FaultKind::EStopRelease => "release the E-stop: standby until command mode again",
             FaultKind::Motor1Overheat => "driver 1 at 70 C: over-temperature protection latches",
             FaultKind::Motor2Overheat => "driver 2 at 70 C: over-temperature protection latches",
             FaultKind::Overcurrent => "over-current protection latches on both drivers",
@@ -98,14 +98,12 @@ impl FaultKind {
             FaultKind::Motor1Comm => "driver 1 communication lost: latches until cleared",
             FaultKind::Motor2Comm => "driver 2 communication lost: latches until cleared",
             FaultKind::BatteryWarning => "battery to 22.4 V: under-voltage warning",
-            FaultKind::BatteryLow => {
-                "battery to 21.9 V: under-voltage fault; drives, but a heavy load cuts off"
-            }
-            FaultKind::BatteryEmpty => "battery to 21.4 V: cut-off, motion refused until battery-ok",
+            FaultKind::BatteryLow => "battery to 21.9 V: under-voltage; heavy loads cut off",
+            FaultKind::BatteryEmpty => "battery to 21.4 V: cut off until battery-ok",
             FaultKind::BatteryOk => "fresh battery at the start voltage",
             FaultKind::RcLost => "RC transmitter link lost: motion stops",
             FaultKind::RcRestore => "RC transmitter link back",
-            FaultKind::SwbMiddle => "RC switch SWB to the middle: RC mode, host commands ignored",
+            FaultKind::SwbMiddle => "SWB to the middle: RC mode, host commands ignored",
             FaultKind::SwbTop => "RC switch SWB to the top: command mode allowed",
         }
     }

@@ -221,15 +221,12 @@ fn closed_pipe_exits_zero_quietly() {
 }
 
 #[test]
-fn colour_only_when_asked_and_never_with_no_color() {
+fn colour_only_when_asked_and_not_by_default_with_no_color() {
     let colored = tracerctl().args(["--color", "always", "decode", "211#00000103010000B1"]).output().unwrap();
     assert!(stdout(&colored).contains("\x1b["));
     assert!(stdout(&colored).contains("battery_undervoltage_fault[fault]"), "severity spelled out");
-    let plain = tracerctl()
-        .env("NO_COLOR", "1")
-        .args(["--color", "always", "decode", "211#00000103010000B1"])
-        .output()
-        .unwrap();
+    // NO_COLOR changes the default only; `--color always` wins (tests/integration/help_layout.rs).
+    let plain = tracerctl().env("NO_COLOR", "1").args(["decode", "211#00000103010000B1"]).output().unwrap();
     assert!(!stdout(&plain).contains('\x1b'));
     let piped = tracerctl().args(["decode", "211#00000103010000B1"]).output().unwrap();
     assert!(!stdout(&piped).contains('\x1b'), "not a terminal: no colour");

@@ -15,6 +15,7 @@ mod faults;
 mod formats;
 mod fuzz;
 mod generated;
+mod help_layout;
 mod layers;
 mod long_functions;
 mod monitor;
