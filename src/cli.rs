@@ -217,7 +217,7 @@ pub struct DriveArgs {
     pub angular: f64,
 
     /// How long to drive (e.g. 2s, 1500ms; at most 24h); default: until Ctrl-C
-    #[arg(long = "for", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
+    #[arg(long = "for", visible_alias = "duration", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
     pub duration: Option<std::time::Duration>,
 
     #[command(flatten)]
@@ -226,6 +226,10 @@ pub struct DriveArgs {
     /// Start even with the E-stop pressed or a latched fault (the robot may still refuse)
     #[arg(long)]
     pub ignore_faults: bool,
+
+    /// Status lines and the final report on stdout as text or JSON (docs/json.md); diagnostics go to stderr
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
 }
 
 impl DriveArgs {
@@ -236,6 +240,7 @@ impl DriveArgs {
             duration: self.duration,
             limits: self.limits.limits()?,
             ignore_faults: self.ignore_faults,
+            format: self.format.into(),
         })
     }
 }
@@ -440,13 +445,17 @@ pub struct SendRawArgs {
     #[arg(long, default_value_t = 20, value_name = "MS")]
     pub period: u64,
 
-    /// Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)
+    /// Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control), and frames the robot would reject (a TRACER identifier with the wrong length or checksum)
     #[arg(long)]
     pub force: bool,
 
     /// Compute the checksum of RS232 frames instead of requiring it
     #[arg(long)]
     pub fix_checksum: bool,
+
+    /// What was sent, on stdout, as text or JSON (docs/json.md); diagnostics go to stderr
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
 }
 
 impl SendRawArgs {
@@ -457,6 +466,7 @@ impl SendRawArgs {
             period: self.period,
             force: self.force,
             fix_checksum: self.fix_checksum,
+            format: self.format.into(),
         }
     }
 }
@@ -505,13 +515,22 @@ impl DoctorArgs {
     }
 }
 
-/// `doctor --format`.
+/// `--format` of doctor, drive and send-raw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ReportFormatArg {
-    /// One line per check, then the verdict
+    /// Lines for people
     Text,
-    /// One JSON object (docs/json.md)
+    /// JSON (docs/json.md)
     Json,
+}
+
+impl From<ReportFormatArg> for Format {
+    fn from(value: ReportFormatArg) -> Self {
+        match value {
+            ReportFormatArg::Text => Format::Text,
+            ReportFormatArg::Json => Format::Json,
+        }
+    }
 }
 
 #[derive(Debug, Args)]
