@@ -414,7 +414,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -429,6 +429,10 @@ _tracerctl() {
                     return 0
                     ;;
                 --for)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --duration)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -454,6 +458,14 @@ _tracerctl() {
                     ;;
                 --angular-decel)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
                     return 0
                     ;;
                 --protocol)
@@ -852,7 +864,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__send__subcmd__raw)
-            opts="-h -V --repeat --period --force --fix-checksum --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
+            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --iface --serial --baud --sim --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -864,6 +876,14 @@ _tracerctl() {
                     ;;
                 --period)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
                     return 0
                     ;;
                 --protocol)

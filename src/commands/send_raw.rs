@@ -237,14 +237,13 @@ impl Out {
     fn frame(&self, planned: &Planned, hint: ProtocolHint) {
         match self.format {
             Format::Json => {
+                // decode's own line inside, byte for byte; the keys in the order serde_json writes the others.
                 let decoded = describe(&planned.frame, hint, Format::Json);
-                let record = serde_json::json!({
-                    "type": "frame",
-                    "text": planned.text,
-                    "needs_force": planned.needs_force || planned.rejected.is_some(),
-                    "decoded": serde_json::from_str::<serde_json::Value>(&decoded).unwrap_or_default(),
-                });
-                self.line(&record.to_string());
+                let needs_force = planned.needs_force || planned.rejected.is_some();
+                let text = serde_json::Value::from(planned.text.as_str());
+                self.line(&format!(
+                    r#"{{"decoded":{decoded},"needs_force":{needs_force},"text":{text},"type":"frame"}}"#
+                ));
             }
             _ => self.line(&format!("{} = {}", planned.text, planned.meaning)),
         }
