@@ -208,6 +208,8 @@ fn report_json(
         "frames_sent": stats.frames,
         "send_errors": stats.send_errors,
         "not_sent": stats.queue_full,
+        "held_back": stats.held_back,
+        "discarded": stats.discarded,
         "watchdog_trips": stats.watchdog_trips,
         "distance": measured.then(|| status::round(follow.distance, 3)),
         "peak_linear_velocity": measured.then(|| status::round(follow.peak_linear, 3)),
