@@ -70,7 +70,7 @@ enum Faults {
     List,
     /// `normal, 0 faults`, `normal, 2 faults [fault]`
     Count,
-    /// `ok`, `estop`, `fault` (at most 5 characters: 40 columns show it)
+    /// `ok`, `fault`, or the vehicle state when it is not normal (`estop`): a word, so 40 columns keep it
     Word,
     Hidden,
 }
