@@ -441,7 +441,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-h -V --linear --angular --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -456,6 +456,10 @@ _tracerctl() {
                     return 0
                     ;;
                 --for)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --duration)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
@@ -481,6 +485,14 @@ _tracerctl() {
                     ;;
                 --angular-decel)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
                     return 0
                     ;;
                 --protocol)
@@ -898,7 +910,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__send__subcmd__raw)
-            opts="-h -V --repeat --period --force --fix-checksum --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -910,6 +922,14 @@ _tracerctl() {
                     ;;
                 --period)
                     COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
                     return 0
                     ;;
                 --protocol)

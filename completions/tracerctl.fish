@@ -183,13 +183,15 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l hel
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -d 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -l duration -d 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l accel -d 'Linear acceleration of the ramp, m/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s f -l format -d 'Status lines and final report on stdout: text, or JSON (docs/json.md)' -r -f -a "text\t'Lines for people'
+json\t'JSON (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -223,8 +225,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Dr
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot (100ms to 10m)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Format of the report' -r -f -a "text\t'One line per check, then the verdict'
-json\t'One JSON object (docs/json.md)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Format of the report' -r -f -a "text\t'Lines for people'
+json\t'JSON (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -366,6 +368,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s h -l help
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l repeat -d 'Send the frames this many times' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l period -d 'Time between repeats, milliseconds' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s f -l format -d 'What was sent, on stdout, as text or JSON (docs/json.md); diagnostics go to stderr' -r -f -a "text\t'Lines for people'
+json\t'JSON (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -394,8 +398,8 @@ swb-middle\t'SWB to the middle: RC mode, host commands ignored'
 swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute RS232 frames\' checksums instead of requiring them'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control), and frames the robot would reject (a TRACER identifier with the wrong length or checksum)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l fix-checksum -d 'Compute RS232 checksums instead of requiring them'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -s V -l version -d 'Print version'

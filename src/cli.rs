@@ -252,7 +252,7 @@ pub struct DriveArgs {
     pub angular: f64,
 
     /// How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C
-    #[arg(long = "for", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
+    #[arg(long = "for", visible_alias = "duration", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
     pub duration: Option<std::time::Duration>,
 
     #[command(flatten)]
@@ -261,6 +261,10 @@ pub struct DriveArgs {
     /// Start even with the E-stop pressed or a latched fault (the robot may still refuse)
     #[arg(long)]
     pub ignore_faults: bool,
+
+    /// Status lines and final report on stdout: text, or JSON (docs/json.md)
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
 }
 
 impl DriveArgs {
@@ -271,6 +275,7 @@ impl DriveArgs {
             duration: self.duration,
             limits: self.limits.limits()?,
             ignore_faults: self.ignore_faults,
+            format: self.format.into(),
         })
     }
 }
@@ -476,13 +481,17 @@ pub struct SendRawArgs {
     #[arg(long, default_value_t = 20, value_name = "MS")]
     pub period: u64,
 
-    /// Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control)
+    /// Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control), and frames the robot would reject (a TRACER identifier with the wrong length or checksum)
     #[arg(long)]
     pub force: bool,
 
-    /// Compute RS232 frames' checksums instead of requiring them
+    /// Compute RS232 checksums instead of requiring them
     #[arg(long)]
     pub fix_checksum: bool,
+
+    /// What was sent, on stdout, as text or JSON (docs/json.md); diagnostics go to stderr
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
 }
 
 impl SendRawArgs {
@@ -493,6 +502,7 @@ impl SendRawArgs {
             period: self.period,
             force: self.force,
             fix_checksum: self.fix_checksum,
+            format: self.format.into(),
         }
     }
 }
@@ -541,13 +551,22 @@ impl DoctorArgs {
     }
 }
 
-/// `doctor --format`.
+/// `--format` of doctor, drive and send-raw.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum ReportFormatArg {
-    /// One line per check, then the verdict
+    /// Lines for people
     Text,
-    /// One JSON object (docs/json.md)
+    /// JSON (docs/json.md)
     Json,
+}
+
+impl From<ReportFormatArg> for Format {
+    fn from(value: ReportFormatArg) -> Self {
+        match value {
+            ReportFormatArg::Text => Format::Text,
+            ReportFormatArg::Json => Format::Json,
+        }
+    }
 }
 
 #[derive(Debug, Args)]

@@ -5,6 +5,8 @@
 //! machine) or a watchdog trip ends the drive with zeros, since the robot has stopped by itself and only a
 //! fresh command may move it again; and the report says whether the stop frames really left.
 
+mod status;
+
 use std::io::{IsTerminal, Write};
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -17,6 +19,8 @@ use super::Global;
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
 use crate::link::queue_full_meaning;
+use crate::output::Format;
+use crate::protocol::detect::Verdict;
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT};
 use crate::protocol::Codec;
 use crate::protocol::{ControlMode, Wire};
@@ -26,7 +30,7 @@ use crate::signals::{self, SignalFlag};
 /// The main loop refreshes the target this often; the watchdog zeroes it if that stops for this long.
 const REFRESH: Duration = Duration::from_millis(20);
 const WATCHDOG: Duration = Duration::from_millis(250);
-/// Status line rate on a terminal; in a pipe or log, one line a second.
+/// Status line rate on a terminal; in a pipe or log (or as JSON), one line a second.
 const STATUS_EVERY_TTY: Duration = Duration::from_millis(250);
 const STATUS_EVERY_PIPE: Duration = Duration::from_secs(1);
 /// Re-enable command mode at most this often when the robot reports another mode.
@@ -59,7 +63,7 @@ enum End {
     Watchdog,
     /// The robot's measured speed did not follow the command; why, as far as the status tells.
     NotFollowing(String),
-    /// The status output (stderr) went away: nobody can watch the drive any more.
+    /// The status output (stdout) went away: nobody can watch the drive any more.
     OutputGone(String),
 }
 
@@ -75,6 +79,8 @@ pub struct Options {
     pub limits: Limits,
     /// Start even with the E-stop pressed or a latched fault.
     pub ignore_faults: bool,
+    /// Text or JSON status and report on stdout (no CSV).
+    pub format: Format,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -101,7 +107,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     };
     let session = live::open(global, true)?;
     let context = Context { signal, sender_slot, suspended_early };
-    execute_with(&session, args, limits, &mut std::io::stderr(), &context).map_err(|error| {
+    // Status and the report go to stdout, for scripts (`drive ... > run.txt`); diagnostics to stderr.
+    execute_with(&session, args, limits, &mut std::io::stdout(), &context).map_err(|error| {
         // A broken pipe is a quiet success for output nobody reads any more (decode | head), not for the
         // status of a robot being driven: whoever watched it must learn from the exit status that it is gone.
         if exit::is_broken_pipe(&error) {
@@ -119,7 +126,7 @@ struct Context {
     suspended_early: Arc<std::sync::atomic::AtomicBool>,
 }
 
-/// Drives on an open session; progress and the result go to `out`.
+/// Drives on an open session; the status and the report go to `out`, diagnostics to stderr.
 fn execute_with(
     session: &Session,
     args: &Options,
@@ -128,7 +135,7 @@ fn execute_with(
     context: &Context,
 ) -> Result<u8> {
     let signal = &context.signal;
-    let target = capped_target(args, limits, out)?;
+    let target = capped_target(args, limits);
     if let Some(status) = check_before_driving(session, args, out, context)? {
         return Ok(status);
     }
@@ -138,7 +145,7 @@ fn execute_with(
 
     let mut drive = DriveLoop::new(session, args, target, &sender);
     let end = drive.run(out, signal);
-    let DriveLoop { started, follow, overwrite, .. } = drive;
+    let DriveLoop { started, follow, style, .. } = drive;
     let stats = match end {
         End::TimeUp => sender.ramp_down_and_stop(&limits),
         _ => sender.stop(),
@@ -149,28 +156,87 @@ fn execute_with(
         (end, _) => end,
     };
     context.sender_slot.lock().take();
-    if overwrite && !matches!(end, End::OutputGone(_)) {
-        writeln!(out)?;
+    // Ends the overwritten line; a failure shows again when the report is written.
+    if style == Style::Overwrite && !matches!(end, End::OutputGone(_)) {
+        let _ = writeln!(out);
     }
     let elapsed = started.elapsed().as_secs_f64();
-    let report = report(&stats, &follow, session);
-    outcome(end, &stats, &follow, elapsed, &report, session, out)
+    let parts = report(&stats, &follow, session);
+    let report = parts.join("; ");
+    let result = outcome(&end, &stats, &follow, elapsed, &report, session);
+    if matches!(end, End::OutputGone(_)) {
+        return result;
+    }
+    // The record a script reads last. In text, an error's message (stderr) already carries the report; a
+    // normal end gives it one part a line, so it fits a narrow terminal.
+    let lines = |reason: &str| format!("stopped after {elapsed:.2} s ({reason})\n  {}", parts.join("\n  "));
+    let written = match (args.format, &end) {
+        (Format::Json, _) => {
+            let exit_status = result.as_ref().map_or_else(
+                |error| error.downcast_ref::<Failure>().map_or(FAILURE, |failure| failure.code),
+                |status| *status,
+            );
+            let record = report_json(&end, elapsed, exit_status, &stats, &follow, &report);
+            writeln!(out, "{record}")
+        }
+        (_, End::TimeUp) => writeln!(out, "{}", lines("time up")),
+        (_, End::Signal(name, _)) => writeln!(out, "{}", lines(name)),
+        _ => Ok(()),
+    };
+    match (written.and_then(|()| out.flush()), result) {
+        (Err(error), Ok(_)) => Err(error.into()),
+        (_, result) => result,
+    }
 }
 
-/// The speed to drive at, within the limits; says so when the request was capped.
-fn capped_target(args: &Options, limits: Limits, out: &mut impl Write) -> Result<(f64, f64)> {
+/// The end of the drive as one JSON object (docs/json.md, "drive").
+fn report_json(
+    end: &End,
+    elapsed: f64,
+    exit_status: u8,
+    stats: &SenderStats,
+    follow: &Follow,
+    message: &str,
+) -> serde_json::Value {
+    let measured = follow.samples > 0;
+    serde_json::json!({
+        "type": "report",
+        "end": end.name(),
+        "signal": match end { End::Signal(name, _) => Some(*name), _ => None },
+        "elapsed": status::round(elapsed, 3),
+        "exit_status": exit_status,
+        "frames_sent": stats.frames,
+        "send_errors": stats.send_errors,
+        "not_sent": stats.queue_full,
+        "held_back": stats.held_back,
+        "discarded": stats.discarded,
+        "watchdog_trips": stats.watchdog_trips,
+        "distance": measured.then(|| status::round(follow.distance, 3)),
+        "peak_linear_velocity": measured.then(|| status::round(follow.peak_linear, 3)),
+        "last_command": status::velocity_json((stats.sent.linear(), stats.sent.angular())),
+        "stop_confirmed": stats.stop_confirmed(),
+        "message": message,
+    })
+}
+
+/// The speed to drive at, within the limits; says so (stderr) when the request was capped.
+fn capped_target(args: &Options, limits: Limits) -> (f64, f64) {
     let target = (
         args.linear.clamp(-limits.max_linear, limits.max_linear),
         args.angular.clamp(-limits.max_angular, limits.max_angular),
     );
     if target != (args.linear, args.angular) {
-        writeln!(
-            out,
-            "capped: {:+.3} m/s {:+.3} rad/s -> {:+.3} m/s {:+.3} rad/s (--max-linear {}, --max-angular {})",
-            args.linear, args.angular, target.0, target.1, limits.max_linear, limits.max_angular
-        )?;
+        crate::say!(
+            "tracerctl: capped: {:+.3} m/s {:+.3} rad/s -> {:+.3} m/s {:+.3} rad/s (--max-linear {}, --max-angular {})",
+            args.linear,
+            args.angular,
+            target.0,
+            target.1,
+            limits.max_linear,
+            limits.max_angular
+        );
     }
-    Ok(target)
+    target
 }
 
 /// Waits for the robot's first status and refuses to drive a robot that cannot (unless --ignore-faults).
@@ -184,16 +250,21 @@ fn check_before_driving(
     let signal = &context.signal;
     let first = live::first_status_unless(session, || signal.received().is_some());
     if let (Some(status), name) = (signal.exit_status(), signal.name()) {
-        writeln!(out, "{name} before driving: nothing was sent")?;
+        crate::say!("tracerctl: {name} before driving: nothing was sent");
         return Ok(Some(status));
     }
     let refusal = match first {
         Some((state, wire)) => {
-            let protocol = match wire {
-                Wire::Serial => "RS232".to_string(),
-                _ => session.status().detector.describe(),
+            // The wire the status came on; the detector's counts only when the bus carries both versions.
+            let protocol = match (wire, session.status().detector.verdict()) {
+                (Wire::Serial, _) => "RS232".to_string(),
+                (_, Verdict::Mixed) => session.status().detector.describe(),
+                (Wire::CanV1, _) => "CAN V1".to_string(),
+                (Wire::CanV2, _) => "CAN V2".to_string(),
             };
-            writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
+            if args.format == Format::Text {
+                writeln!(out, "robot: {} (protocol {protocol})", live::describe(&state, wire))?;
+            }
             state.why_not_drivable(wire)
         }
         None => Some(live::no_status_message(session, &session.status())),
@@ -204,7 +275,7 @@ fn check_before_driving(
                 Failure::not_done(format!("not driving: {reason} (--ignore-faults to try anyway)")).into()
             );
         }
-        writeln!(out, "warning: {reason}; driving anyway (--ignore-faults)")?;
+        crate::say!("tracerctl: warning: {reason}; driving anyway (--ignore-faults)");
     }
     if context.suspended_early.load(std::sync::atomic::Ordering::SeqCst) {
         return Err(Failure {
@@ -228,14 +299,28 @@ struct DriveLoop<'a> {
     last_iteration: Instant,
     follow: Follow,
     suspend_seen: Option<Instant>,
-    /// On a terminal the status line overwrites itself.
-    overwrite: bool,
+    style: Style,
     status_every: Duration,
+}
+
+/// How the status is written.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Style {
+    /// On a terminal: one line fitted to its width, overwriting itself.
+    Overwrite,
+    /// In a pipe or a log: full lines.
+    Lines,
+    /// `--format json`: one object per line.
+    Json,
 }
 
 impl<'a> DriveLoop<'a> {
     fn new(session: &'a Session, args: &'a Options, target: (f64, f64), sender: &'a MotionSender) -> Self {
-        let overwrite = std::io::stderr().is_terminal();
+        let style = match args.format {
+            Format::Json => Style::Json,
+            _ if std::io::stdout().is_terminal() => Style::Overwrite,
+            _ => Style::Lines,
+        };
         Self {
             session,
             args,
@@ -247,8 +332,8 @@ impl<'a> DriveLoop<'a> {
             last_iteration: Instant::now(),
             follow: Follow::default(),
             suspend_seen: None,
-            overwrite,
-            status_every: if overwrite { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE },
+            style,
+            status_every: if style == Style::Overwrite { STATUS_EVERY_TTY } else { STATUS_EVERY_PIPE },
         }
     }
 
@@ -344,8 +429,15 @@ impl<'a> DriveLoop<'a> {
         if self.last_status.elapsed() < self.status_every {
             return None;
         }
-        let line = status_line(self.started.elapsed(), self.target, self.sender, status);
-        let written = if self.overwrite { write!(out, "\r\x1b[K{line}") } else { writeln!(out, "{line}") };
+        let view = status_view(self.started.elapsed(), self.target, self.sender, status);
+        let written = match self.style {
+            Style::Overwrite => {
+                let width = terminal_columns().unwrap_or(DEFAULT_COLUMNS);
+                write!(out, "\r\x1b[K{}", status::fit(&view, width))
+            }
+            Style::Lines => writeln!(out, "{}", status::full(&view)),
+            Style::Json => writeln!(out, "{}", status::json(&view)),
+        };
         if let Err(error) = written.and_then(|()| out.flush()) {
             return Some(End::OutputGone(error.to_string()));
         }
@@ -356,26 +448,16 @@ impl<'a> DriveLoop<'a> {
 
 /// The exit status or the error for how the drive ended, with the report.
 fn outcome(
-    end: End,
+    end: &End,
     stats: &SenderStats,
     follow: &Follow,
     elapsed: f64,
     report: &str,
     session: &Session,
-    out: &mut impl Write,
 ) -> Result<u8> {
     match end {
-        End::TimeUp => {
-            writeln!(out, "stopped after {elapsed:.2} s (time up): {report}")?;
-            if !stats.stop_confirmed() {
-                return Ok(FAILURE);
-            }
-            Ok(SUCCESS)
-        }
-        End::Signal(name, status) => {
-            writeln!(out, "stopped after {elapsed:.2} s ({name}): {report}")?;
-            Ok(status)
-        }
+        End::TimeUp => Ok(if stats.stop_confirmed() { SUCCESS } else { FAILURE }),
+        End::Signal(_, status) => Ok(*status),
         End::EStop => {
             Err(Failure::not_done(format!("stopped after {elapsed:.2} s: the E-stop was pressed; {report}"))
                 .into())
@@ -394,7 +476,7 @@ fn outcome(
         }
         .into()),
         End::Suspended(gap) => {
-            Err(Failure { code: FAILURE, message: format!("{}; {report}", suspended_message(gap)) }.into())
+            Err(Failure { code: FAILURE, message: format!("{}; {report}", suspended_message(*gap)) }.into())
         }
         End::SuspendResumed => Err(Failure {
             code: FAILURE,
@@ -417,7 +499,7 @@ fn outcome(
             "stopped after {elapsed:.2} s: the link {} failed ({error}); {report}",
             session.name
         ),
-        // The stderr reader is gone: nothing more can be said; the robot was stopped above.
+        // The stdout reader is gone: nothing more can be said there; the robot was stopped above.
         End::OutputGone(error) => {
             Err(Failure { code: FAILURE, message: format!("the status output went away ({error})") }.into())
         }
@@ -442,8 +524,8 @@ fn suspended_message(gap: Duration) -> String {
     }
 }
 
-/// The end-of-run report: frames, what the robot measured, and whether the stop frames really left.
-fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> String {
+/// The end-of-run report, in parts: frames, what the robot measured, and whether the stop frames really left.
+fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> Vec<String> {
     let mut parts = vec![format!("{} motion frames sent", stats.frames)];
     let mut trouble = Vec::new();
     if stats.send_errors > 0 {
@@ -489,7 +571,7 @@ fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> String {
             COMMAND_TIMEOUT.as_millis()
         ));
     }
-    parts.join("; ")
+    parts
 }
 
 /// Why the link cannot take frames, if it said.
@@ -555,28 +637,57 @@ impl Follow {
     }
 }
 
-fn status_line(elapsed: Duration, target: (f64, f64), sender: &MotionSender, status: &RobotStatus) -> String {
+/// The status of this moment, for [`status::fit`], [`status::full`] or [`status::json`].
+fn status_view(
+    elapsed: Duration,
+    target: (f64, f64),
+    sender: &MotionSender,
+    status: &RobotStatus,
+) -> status::Status {
     let sent = sender.stats().sent;
-    let measured = status
-        .motion
-        .map(|(_, m)| format!("{:+.3} m/s {:+.3} rad/s", m.linear(), m.angular()))
-        .unwrap_or_else(|| "-".to_string());
-    let robot = status
-        .fresh_system(Duration::from_millis(500))
-        .map(|(state, wire)| live::describe(&state, wire))
-        .unwrap_or_else(|| "no status".to_string());
-    let mut line = format!(
-        "{:6.2} s  target {:+.3} m/s {:+.3} rad/s  sent {:+.3} {:+.3}  measured {measured}  {robot}",
-        elapsed.as_secs_f64(),
-        target.0,
-        target.1,
-        sent.linear(),
-        sent.angular()
-    );
-    if let Some(error) = sender.last_error() {
-        line.push_str(&format!("  send error: {error}"));
+    status::Status {
+        elapsed,
+        target,
+        sent: (sent.linear(), sent.angular()),
+        measured: status.motion.map(|(_, motion)| (motion.linear(), motion.angular())),
+        robot: status
+            .fresh_system(Duration::from_millis(500))
+            .map(|(state, wire)| status::Robot::new(&state, wire)),
+        send_error: sender.last_error(),
     }
-    line
+}
+
+/// A terminal that does not say its width is taken as this wide.
+const DEFAULT_COLUMNS: usize = 80;
+
+/// The width of the terminal on stdout, asked at every update (it may be resized).
+#[cfg(unix)]
+fn terminal_columns() -> Option<usize> {
+    // SAFETY: TIOCGWINSZ fills the winsize it is given and touches nothing else.
+    let mut size: libc::winsize = unsafe { std::mem::zeroed() };
+    let done = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut size) };
+    (done == 0 && size.ws_col > 0).then_some(usize::from(size.ws_col))
+}
+
+#[cfg(not(unix))]
+fn terminal_columns() -> Option<usize> {
+    None
+}
+
+impl End {
+    /// The `end` of the JSON report.
+    fn name(&self) -> &'static str {
+        match self {
+            End::TimeUp => "time_up",
+            End::Signal(..) => "signal",
+            End::EStop => "estop",
+            End::LinkLost(_) => "link_lost",
+            End::Suspended(_) | End::SuspendResumed => "suspended",
+            End::Watchdog => "watchdog",
+            End::NotFollowing(_) => "not_following",
+            End::OutputGone(_) => "output_gone",
+        }
+    }
 }
 
 #[cfg(test)]

@@ -1,10 +1,13 @@
 //! `tracerctl send-raw`: frames in cansend syntax (strict where cansend is sloppy), or 13-byte RS232 frames in
 //! hex, shown decoded before they are sent, optionally repeated on a fixed schedule.
 //!
-//! Frames that can move the robot need `--force`. Once a frame that could move the robot has been sent, every
+//! Frames that can move the robot, and frames the robot would reject (a TRACER identifier with the wrong
+//! length or checksum), need `--force`. What is sent, decoded, and the result go to stdout (text or JSON);
+//! warnings and errors to stderr. Once a frame that could move the robot has been sent, every
 //! way out (the repeats ending, a termination signal, a send error, a panic that unwinds) ends with
 //! zero-velocity frames for the wire that motion came on.
 
+use std::io::Write;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
@@ -39,6 +42,8 @@ pub struct Planned {
     pub needs_force: bool,
     /// It can make the robot move, on this wire: zero-velocity frames for that wire must follow it.
     pub moves_on: Option<Wire>,
+    /// Why the robot would reject it (a TRACER identifier that does not decode): needs `--force`.
+    pub rejected: Option<String>,
 }
 
 /// `tracerctl send-raw`'s settings.
@@ -54,6 +59,8 @@ pub struct Options {
     pub force: bool,
     /// Compute the checksum of RS232 frames.
     pub fix_checksum: bool,
+    /// Text or JSON on stdout (no CSV).
+    pub format: Format,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -83,9 +90,11 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     }
     let hint: ProtocolHint = global.protocol;
     let plan = plan_all(&args.frames, serial_link, args.fix_checksum, hint)?;
+    refuse_rejected_without_force(&plan, args.force)?;
     refuse_motion_without_force(&plan, args.force)?;
+    let out = Out { format: args.format };
     for planned in &plan {
-        crate::say!("tracerctl: {} = {}", planned.text, planned.meaning);
+        out.frame(planned, hint);
     }
 
     let (link, simulator) = session::open_link(&choice, global.sim_config())?;
@@ -103,13 +112,17 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
             if failure.stop_frames > 0 {
                 crate::say!("tracerctl: sent {} zero-velocity frames to stop the robot", failure.stop_frames);
             }
-            return Err(failure
-                .error
-                .context(format!("on {} after {} of {total} frames", link.name, failure.sent)));
+            let error =
+                failure.error.context(format!("on {} after {} of {total} frames", link.name, failure.sent));
+            let report = Report { sent: failure.sent, stop_frames: failure.stop_frames, not_sent: 0 };
+            out.result(&report, total, &link.name, None, Some(&format!("{error:#}")));
+            return Err(error);
         }
     };
     drop(simulator);
-    say_what_was_sent(&report, &stops.flag, total, &link.name, queue_full_meaning(link.kind));
+    let stopped_by = stops.flag.received().map(|_| stops.flag.name());
+    out.result(&report, total, &link.name, stopped_by, None);
+    say_what_was_not_sent(&report, stopped_by, total, &link.name, queue_full_meaning(link.kind));
     if stops.suspended.load(Ordering::SeqCst) {
         return Err(anyhow::anyhow!(
             "suspended (SIGTSTP): the repeats ended with zero-velocity frames; run send-raw again to send more"
@@ -135,6 +148,29 @@ fn plan_all(
             })
         })
         .collect()
+}
+
+/// Frames the robot would reject are only sent with `--force` (to see how the robot takes them).
+fn refuse_rejected_without_force(plan: &[Planned], force: bool) -> Result<()> {
+    let rejected: Vec<String> = plan
+        .iter()
+        .filter_map(|planned| Some(format!("{} ({})", planned.text, planned.rejected.as_deref()?)))
+        .collect();
+    if rejected.is_empty() || force {
+        return Ok(());
+    }
+    let moving: Vec<&str> =
+        plan.iter().filter(|planned| planned.needs_force).map(|planned| planned.text.as_str()).collect();
+    let also = if moving.is_empty() {
+        String::new()
+    } else {
+        format!(" (--force also allows {}, which can move the robot or enable motion)", moving.join(", "))
+    };
+    Err(usage(format!(
+        "refusing to send frames the robot would reject: {}. Correct the frame, or add --force to send it anyway \
+         (to test how the robot handles a bad frame){also}; nothing was sent",
+        rejected.join("; ")
+    )))
 }
 
 /// Frames that can move the robot or enable motion are only sent with `--force`.
@@ -185,24 +221,76 @@ impl Stops {
     }
 }
 
-/// The closing lines on stderr: how many frames left, how many did not, and the stop frames.
-fn say_what_was_sent(
+/// What send-raw prints on stdout: each frame decoded, then what was sent. A closed stdout never stops the
+/// sending (and the stop frames after it): the frames are the point, the lines only tell about them.
+struct Out {
+    format: Format,
+}
+
+impl Out {
+    fn line(&self, line: &str) {
+        // A reader that went away (`| head -c0`) is not a failure to send: the error is dropped on purpose.
+        let _ = writeln!(std::io::stdout().lock(), "{line}");
+    }
+
+    /// `421#01 = 0x421 control_mode_command control_mode=can`, or the frame's JSON object.
+    fn frame(&self, planned: &Planned, hint: ProtocolHint) {
+        match self.format {
+            Format::Json => {
+                // decode's own line inside, byte for byte; the keys in the order serde_json writes the others.
+                let decoded = describe(&planned.frame, hint, Format::Json);
+                let needs_force = planned.needs_force || planned.rejected.is_some();
+                let text = serde_json::Value::from(planned.text.as_str());
+                self.line(&format!(
+                    r#"{{"decoded":{decoded},"needs_force":{needs_force},"text":{text},"type":"frame"}}"#
+                ));
+            }
+            _ => self.line(&format!("{} = {}", planned.text, planned.meaning)),
+        }
+    }
+
+    /// `sent 10 frames on sim` and `then 3 zero-velocity frames to stop the robot`, or the JSON result.
+    fn result(&self, report: &Report, total: u64, link: &str, stopped_by: Option<&str>, error: Option<&str>) {
+        match self.format {
+            Format::Json => {
+                let record = serde_json::json!({
+                    "type": "result",
+                    "link": link,
+                    "frames": total,
+                    "sent": report.sent,
+                    "not_sent": report.not_sent,
+                    "stop_frames": report.stop_frames,
+                    "stopped_by": stopped_by,
+                    "error": error,
+                });
+                self.line(&record.to_string());
+            }
+            _ => {
+                let plural = if report.sent == 1 { "" } else { "s" };
+                self.line(&format!("sent {} frame{plural} on {link}", report.sent));
+                if report.stop_frames > 0 {
+                    self.line(&format!("then {} zero-velocity frames to stop the robot", report.stop_frames));
+                }
+            }
+        }
+    }
+}
+
+/// The warnings on stderr: a signal that ended the repeats, frames the link could not take.
+fn say_what_was_not_sent(
     report: &Report,
-    flag: &signals::SignalFlag,
+    stopped_by: Option<&str>,
     total: u64,
     link_name: &str,
     queue_full: &str,
 ) {
     let plural = |n: u64| if n == 1 { "" } else { "s" };
-    match flag.received() {
-        Some(_) => crate::say!(
-            "tracerctl: stopped by {} after {} of {total} frame{} on {}",
-            flag.name(),
+    if let Some(name) = stopped_by {
+        crate::say!(
+            "tracerctl: stopped by {name} after {} of {total} frame{} on {link_name}",
             report.sent,
-            plural(total),
-            link_name
-        ),
-        None => crate::say!("tracerctl: sent {} frame{} on {}", report.sent, plural(report.sent), link_name),
+            plural(total)
+        );
     }
     if report.not_sent > 0 {
         crate::say!(
@@ -211,9 +299,6 @@ fn say_what_was_sent(
             plural(report.not_sent),
             queue_full
         );
-    }
-    if report.stop_frames > 0 {
-        crate::say!("tracerctl: then {} zero-velocity frames to stop the robot", report.stop_frames);
     }
 }
 
@@ -230,13 +315,18 @@ pub fn plan(
         LinkFrame::Can(candump::parse_cansend(text.as_bytes()).map_err(|error| error.to_string())?)
     };
     let (needs_force, moves_on) = classify(&frame);
+    let rejected = match &frame {
+        LinkFrame::Can(can) => protocol::decode(can, hint).err().map(|error| error.to_string()),
+        // An RS232 frame with a wrong start, length, type or checksum does not parse at all (above).
+        LinkFrame::Serial(_) => None,
+    };
     let text = match &frame {
         LinkFrame::Can(_) => text.to_string(),
         LinkFrame::Serial(frame) => {
             frame.to_bytes().iter().map(|byte| format!("{byte:02X}")).collect::<Vec<_>>().join(" ")
         }
     };
-    Ok(Planned { meaning: meaning(&frame, hint), frame, text, needs_force, moves_on })
+    Ok(Planned { meaning: meaning(&frame, hint), frame, text, needs_force, moves_on, rejected })
 }
 
 /// Whether a frame needs `--force`, and the wire on which it can make the robot move.
@@ -272,15 +362,20 @@ pub fn classify(frame: &LinkFrame) -> (bool, Option<Wire>) {
 /// `0x111 motion_command linear_velocity=0.15m/s angular_velocity=0rad/s`: the text output of `decode`
 /// without its timestamp and interface columns.
 fn meaning(frame: &LinkFrame, hint: ProtocolHint) -> String {
+    let line = describe(frame, hint, Format::Text);
+    line.strip_prefix("- - ").unwrap_or(&line).to_string()
+}
+
+/// The frame as `decode` shows it (text or JSON), without the line end.
+fn describe(frame: &LinkFrame, hint: ProtocolHint, format: Format) -> String {
     let (frame_ref, decoded) = match frame {
         LinkFrame::Can(frame) => (FrameRef::Can(frame), protocol::decode(frame, hint)),
         LinkFrame::Serial(frame) => (FrameRef::Serial(frame), Ok(serial::decode(frame))),
     };
     let event = Event { ts: None, iface: "-", dir: None, frame: frame_ref, decoded };
     let mut line = Vec::new();
-    EventWriter::new(Format::Text, false).write(&mut line, &event);
-    let line = String::from_utf8_lossy(&line);
-    line.trim_end().strip_prefix("- - ").unwrap_or(line.trim_end()).to_string()
+    EventWriter::new(format, false).write(&mut line, &event);
+    String::from_utf8_lossy(&line).trim_end().to_string()
 }
 
 /// 13 bytes of hex, bytes optionally separated by spaces or colons (`5A A5 0A ...`, `5A:A5:0A...`,
@@ -530,6 +625,18 @@ mod tests {
         assert_eq!(other.meaning, "0x123 raw len=4 data=DEADBEEF");
         let extended = can_plan("00000111#0096000000000000");
         assert_eq!((extended.needs_force, extended.moves_on), (false, None), "0x00000111 is another frame");
+        // What the robot would reject is marked (and refused without --force); other frames are not.
+        assert_eq!(
+            can_plan("121#01031E00000000").rejected.as_deref(),
+            Some("0x121 light_command needs at least 8 data bytes, frame has 7")
+        );
+        assert!(can_plan("130#01000A0000000045")
+            .rejected
+            .unwrap()
+            .starts_with("V1 checksum mismatch on 0x130"));
+        for fine in [&lights, &other, &extended, &motion, &short] {
+            assert_eq!(fine.rejected.is_some(), fine.text == "111#01", "{fine:?}");
+        }
     }
 
     #[test]

@@ -7,7 +7,7 @@ use tracerctl::protocol::message::{SystemState, VEHICLE_ESTOP};
 use tracerctl::protocol::serial::SerialFrame;
 
 use crate::serial_peer::{healthy, FakeRobot};
-use crate::util::{stderr, tracerctl};
+use crate::util::{stderr, stdout, tracerctl};
 
 /// (linear %, angular %) of an RS232 motion control frame, or None for other frames.
 fn percent(frame: &SerialFrame) -> Option<(i8, i8)> {
@@ -18,10 +18,10 @@ fn percent(frame: &SerialFrame) -> Option<(i8, i8)> {
 #[test]
 fn drives_the_simulator_and_stops_when_time_is_up() {
     let output = tracerctl().args(["--sim", "drive", "--linear", "0.3", "--for", "2s"]).output().unwrap();
-    let report = stderr(&output);
-    assert_eq!(output.status.code(), Some(0), "{report}");
+    let report = stdout(&output);
+    assert_eq!(output.status.code(), Some(0), "{report}{}", stderr(&output));
     assert!(report.contains("robot: normal, mode standby"), "the simulator boots in standby: {report}");
-    // One status line a second when stderr is not a terminal; by the second, the robot moves at 0.3 m/s.
+    // One status line a second when stdout is not a terminal; by the second, the robot moves at 0.3 m/s.
     let moving = report.lines().filter(|l| l.contains("measured +0.3") || l.contains("measured +0.29"));
     assert!(moving.count() >= 1, "{report}");
     assert!(report.contains("(time up)"), "{report}");
@@ -104,6 +104,7 @@ fn stops_when_the_robot_falls_silent() {
     let robot = FakeRobot::start(healthy());
     let driver = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
         .args(["--serial", &robot.path, "drive", "--linear", "0.3", "--for", "20s"])
+        .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();

@@ -12,8 +12,9 @@
 //! only make the host look slower, never faster.
 
 use std::io::{BufRead, BufReader, Read};
+use std::os::fd::{FromRawFd, OwnedFd};
 use std::os::unix::process::ExitStatusExt;
-use std::process::{Child, ChildStderr, Command, ExitStatus, Stdio};
+use std::process::{Child, Command, ExitStatus, Stdio};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
@@ -102,22 +103,27 @@ impl Drive {
         drive
     }
 
-    /// The same, the caller reading (or closing) stderr.
-    fn spawn_with_stderr(robot: &FaultyRobot, args: &[&str]) -> (Self, ChildStderr) {
+    /// The same, the caller reading (or closing) stdout and stderr: one pipe, in the order they were written
+    /// (the status and report go to stdout, diagnostics to stderr).
+    fn spawn_with_stderr(robot: &FaultyRobot, args: &[&str]) -> (Self, std::fs::File) {
+        let mut fds = [0; 2];
+        // SAFETY: pipe2 fills the two descriptors, owned from here on (close-on-exec: no other child
+        // spawned meanwhile keeps the write end open).
+        assert_eq!(unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) }, 0, "pipe2");
+        let (read, write) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
         let spawned = Instant::now();
-        let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        let child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
             .env_remove("NO_COLOR")
             .env_remove("TRACERCTL_IFACE")
             .args(["--serial", &robot.path, "drive"])
             .args(args)
             .stdin(Stdio::null())
-            .stdout(Stdio::null())
-            .stderr(Stdio::piped())
+            .stdout(Stdio::from(write.try_clone().unwrap()))
+            .stderr(Stdio::from(write))
             .spawn()
             .expect("tracerctl runs");
-        let pipe = child.stderr.take().unwrap();
         let pid = child.id() as i32;
-        (Self { child, pid, spawned, stderr: None }, pipe)
+        (Self { child, pid, spawned, stderr: None }, std::fs::File::from(read))
     }
 
     /// Sends `signal`; the moment just before it was sent.

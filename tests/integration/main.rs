@@ -8,6 +8,7 @@ mod decode_losses;
 mod docs;
 mod doctor;
 mod drive;
+mod drive_output;
 #[cfg(target_os = "linux")]
 mod fault_peer;
 #[cfg(target_os = "linux")]

@@ -11,7 +11,7 @@ use serialport::SerialPort;
 use tracerctl::protocol::serial::{SerialFrame, StreamDecoder, StreamEvent};
 
 use super::monitor::{signal, wait_with_timeout};
-use super::util::{stderr, tracerctl};
+use super::util::{stderr, stdout, tracerctl};
 
 fn send_raw(args: &[&str]) -> Output {
     tracerctl().args(args).output().unwrap()
@@ -21,16 +21,16 @@ fn send_raw(args: &[&str]) -> Output {
 fn frames_are_explained_then_sent() {
     let output = send_raw(&["--sim", "send-raw", "--force", "421#01", "121#01031E0000000005"]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
-    let errors = stderr(&output);
-    assert!(errors.contains("tracerctl: 421#01 = 0x421 control_mode_command control_mode=can\n"), "{errors}");
+    let errors = stdout(&output);
+    assert!(errors.contains("421#01 = 0x421 control_mode_command control_mode=can\n"), "{errors}");
     assert!(errors.contains("121#01031E0000000005 = 0x121 light_command"), "{errors}");
     assert!(errors.contains("sent 2 frames on sim"), "{errors}");
     assert!(!errors.contains("zero-velocity"), "nothing moved: {errors}");
 
     let output = send_raw(&["--sim", "send-raw", "--repeat", "3", "--period", "10", "123#DEADBEEF"]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
-    assert!(stderr(&output).contains("123#DEADBEEF = 0x123 raw len=4 data=DEADBEEF"), "{}", stderr(&output));
-    assert!(stderr(&output).contains("sent 3 frames on sim"), "{}", stderr(&output));
+    assert!(stdout(&output).contains("123#DEADBEEF = 0x123 raw len=4 data=DEADBEEF"), "{}", stdout(&output));
+    assert!(stdout(&output).contains("sent 3 frames on sim"), "{}", stdout(&output));
 }
 
 #[test]
@@ -45,8 +45,8 @@ fn motion_frames_need_force() {
     }
     let output = send_raw(&["--sim", "send-raw", "--force", "111#0096000000000000"]);
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
-    assert!(stderr(&output).contains("0x111 motion_command linear_velocity=0.15m/s"), "{}", stderr(&output));
-    assert!(stderr(&output).contains("then 3 zero-velocity frames to stop the robot"), "{}", stderr(&output));
+    assert!(stdout(&output).contains("0x111 motion_command linear_velocity=0.15m/s"), "{}", stdout(&output));
+    assert!(stdout(&output).contains("then 3 zero-velocity frames to stop the robot"), "{}", stdout(&output));
 }
 
 #[test]
@@ -80,8 +80,8 @@ fn cansend_sloppiness_is_an_error_and_nothing_is_sent() {
 }
 
 /// The robot's side of a pseudo-terminal: records every frame the host writes, with its arrival time.
-struct PtyRobot {
-    path: String,
+pub struct PtyRobot {
+    pub path: String,
     frames: Arc<Mutex<Vec<(Instant, SerialFrame)>>>,
     bytes: Arc<Mutex<Vec<u8>>>,
     stop: Arc<AtomicBool>,
@@ -90,7 +90,7 @@ struct PtyRobot {
 }
 
 impl PtyRobot {
-    fn start() -> Self {
+    pub fn start() -> Self {
         let (mut master, slave) = serialport::TTYPort::pair().expect("a pseudo-terminal pair");
         let path = slave.name().unwrap();
         master.set_timeout(Duration::from_millis(2)).unwrap();
@@ -117,7 +117,7 @@ impl PtyRobot {
         Self { path, frames, bytes, stop, thread: Some(thread), _slave: slave }
     }
 
-    fn finish(mut self) -> (Vec<(Instant, SerialFrame)>, Vec<u8>) {
+    pub fn finish(mut self) -> (Vec<(Instant, SerialFrame)>, Vec<u8>) {
         std::thread::sleep(Duration::from_millis(100));
         self.stop.store(true, Ordering::SeqCst);
         self.thread.take().unwrap().join().unwrap();
@@ -135,7 +135,7 @@ fn rs232_hex_with_a_computed_checksum_reaches_the_port_byte_for_byte() {
     let (_, bytes) = robot.finish();
     assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
     assert_eq!(bytes, [0x5A, 0xA5, 0x0A, 0x55, 0x02, 0x00, 0x03, 0x28, 0x00, 0x00, 0x00, 0x00, 0x8B]);
-    let errors = stderr(&output);
+    let errors = stdout(&output);
     assert!(errors.contains("5A A5 0A 55 02 00 03 28 00 00 00 00 8B = 0x5502 light_command"), "{errors}");
 
     // Without --fix-checksum the checksum must be right; a wrong one is refused before anything is sent.
@@ -191,7 +191,7 @@ fn sigint_during_repeats_stops_the_robot_at_once() {
     assert!(late < Duration::from_millis(50), "zeros {late:?} after the signal");
     let errors = stderr(&output);
     assert!(errors.contains("stopped by SIGINT after"), "{errors}");
-    assert!(errors.contains("then 3 zero-velocity frames"), "{errors}");
+    assert!(stdout(&output).contains("then 3 zero-velocity frames"), "{}", stdout(&output));
 }
 
 /// `send-raw --force --repeat N --period 20` of a 10 % RS232 motion frame to `robot`.

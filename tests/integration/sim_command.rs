@@ -5,7 +5,7 @@ use std::io::{BufRead, BufReader, Write};
 use std::process::{Child, Command, Stdio};
 use std::time::Duration;
 
-use crate::util::{stderr, tracerctl};
+use crate::util::{stderr, stdout, tracerctl};
 
 pub struct Simulator {
     child: Child,
@@ -50,7 +50,7 @@ fn a_second_process_drives_the_simulator_over_the_pseudo_terminal() {
         .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "2s"])
         .output()
         .unwrap();
-    let report = stderr(&output);
+    let report = stdout(&output);
     assert_eq!(output.status.code(), Some(0), "{report}");
     let fastest = report
         .lines()
@@ -64,6 +64,7 @@ fn an_estop_injected_at_run_time_stops_the_drive() {
     let mut sim = Simulator::start(&[]);
     let driver = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
         .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "10s"])
+        .stdout(Stdio::null())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();

@@ -164,7 +164,7 @@ fn decode_with_rejects_and_a_closed_stderr_decodes_and_does_not_panic() {
 
 #[test]
 fn send_raw_and_usage_errors_with_a_closed_stderr_do_not_panic() {
-    let output = with_closed_stderr(&["--sim", "send-raw", "131#0100000000000000"]);
+    let output = with_closed_stderr(&["--sim", "send-raw", "131#010000000000003B"]);
     assert_eq!(output.status.code(), Some(0));
     let output = with_closed_stderr(&["--sim", "drive", "--for", "1e20"]);
     assert_eq!(output.status.code(), Some(2));
@@ -178,18 +178,21 @@ fn percent(frame: &SerialFrame) -> Option<(i8, i8)> {
         .then(|| (frame.payload[2] as i8, frame.payload[3] as i8))
 }
 
+/// The status and the report are on stdout (docs/troubleshooting.md, "Closed standard error"): a closed
+/// stderr loses only the messages, and the drive runs and stops as usual.
 #[test]
-fn drive_with_a_closed_stderr_says_so_in_its_exit_status_and_moves_nothing() {
+fn drive_with_a_closed_stderr_still_drives_and_reports_on_stdout() {
     let robot = FakeRobot::start(healthy());
     let output = with_closed_stderr(&["--serial", &robot.path, "drive", "--linear", "0.3", "--for", "1s"]);
-    assert_eq!(output.status.code(), Some(1), "nobody can see the drive: not a success");
-    std::thread::sleep(Duration::from_millis(50));
-    let frames = robot.frames();
-    let moving = frames.iter().filter(|(_, f)| percent(f).is_some_and(|p| p != (0, 0))).count();
-    assert_eq!(moving, 0, "the status could not be shown: nothing that moves was sent ({frames:?})");
-
-    let output = with_closed_stderr(&["--sim", "drive", "--linear", "0.3", "--for", "1s"]);
-    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(output.status.code(), Some(0), "{}", stdout(&output));
+    assert!(stdout(&output).contains("(time up)"), "{}", stdout(&output));
+    assert!(
+        stdout(&output).contains("last command +0.000 m/s +0.000 rad/s"),
+        "stop frames sent: {}",
+        stdout(&output)
+    );
+    let moving = robot.frames().iter().filter(|(_, f)| percent(f).is_some_and(|p| p != (0, 0))).count();
+    assert!(moving > 0, "it drove");
 }
 
 #[test]
