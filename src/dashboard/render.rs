@@ -18,17 +18,19 @@ use super::app::{
     BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
-use crate::protocol::catalog;
+use crate::protocol::catalog::{self, Direction};
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
     light_mode_name, MessageKind, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };
-use crate::protocol::{ControlMode, FlagTable, Flags, FrameId, Severity, Wire};
+use crate::protocol::{ControlMode, FlagTable, Flags, Severity, Wire};
 
 /// Below this the panels do not fit and a short text view is drawn instead.
 const MIN_PANELS: (u16, u16) = (60, 20);
 /// From this size on, the full panels; below, abbreviated ones.
 const FULL: (u16, u16) = (100, 30);
+/// Width of the full link panel: its two columns of identifiers.
+const LINK_FULL_WIDTH: u16 = 44;
 /// Width of the severity column of the faults list: `[protection]`.
 const SEVERITY_COLUMN: usize = 12;
 
@@ -77,6 +79,7 @@ impl Theme {
             Tone::Ok => self.ok(),
             Tone::Warning => self.warning().add_modifier(Modifier::BOLD),
             Tone::Alarm => self.alarm(),
+            Tone::Info => self.paint(Color::Cyan).add_modifier(Modifier::BOLD),
         }
     }
 }
@@ -84,6 +87,8 @@ impl Theme {
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Tone {
     Ok,
+    /// Neither good nor bad news: a replay that ended.
+    Info,
     Warning,
     Alarm,
 }
@@ -109,8 +114,9 @@ pub fn render(frame: &mut Frame, app: &App) {
             Constraint::Length(1),
         ])
         .areas(area);
-        frame.render_widget(Paragraph::new(header_line(app, theme)), header);
+        frame.render_widget(Paragraph::new(header_line(app, theme, header.width)), header);
         let (tone, text) = alert_text(app);
+        let text = fit_words(&text, usize::from(alert.width));
         frame.render_widget(Paragraph::new(Line::styled(text, theme.tone(tone))), alert);
 
         let [battery, speeds, odometry] = Layout::horizontal([
@@ -124,12 +130,14 @@ pub fn render(frame: &mut Frame, app: &App) {
         render_odometry(frame, odometry, app, theme, compact);
         render_faults(frame, faults, app, theme);
         // Full: the link table's two columns of IDs take 44; the motors table the rest.
-        let link_width = if compact { Constraint::Percentage(45) } else { Constraint::Length(44) };
+        let link_width =
+            if compact { Constraint::Percentage(45) } else { Constraint::Length(LINK_FULL_WIDTH) };
         let [motors, link] = Layout::horizontal([Constraint::Fill(1), link_width]).areas(bottom);
         render_motors(frame, motors, app, theme, compact);
         render_link(frame, link, app, theme, compact);
 
-        frame.render_widget(Paragraph::new(Line::styled(release_text(app), theme.dim())), release);
+        let release_line = fit_words(&release_text(app), usize::from(release.width));
+        frame.render_widget(Paragraph::new(Line::styled(release_line, theme.dim())), release);
         frame.render_widget(Paragraph::new(keys_line(keys.width, theme, app.arming)), keys);
         frame.render_widget(Paragraph::new(message_line(app, theme)), message);
     }
@@ -146,7 +154,9 @@ pub fn render(frame: &mut Frame, app: &App) {
 /// faults have their lines (the faults come first).
 fn full_bottom_height(app: &App, area: Rect) -> u16 {
     let ids = app.shown.ids.len() as u16;
-    let link_lines = 4 + ids.div_ceil(2).max(1);
+    let inside = usize::from(LINK_FULL_WIDTH - 2);
+    let missing = not_reported_lines(app.shown.protocol, inside, Theme { color: false }).len() as u16;
+    let link_lines = 4 + ids.div_ceil(2).max(1) + missing;
     let wanted = (link_lines + 2).clamp(6, 15);
     let body_width = usize::from(area.width.saturating_sub(2)).saturating_sub(SEVERITY_COLUMN + 1).max(1);
     let fault_lines: usize = app
@@ -168,23 +178,41 @@ fn separator(theme: Theme) -> Span<'static> {
     Span::styled(" · ", theme.dim())
 }
 
-/// `tracerctl · ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s`
-fn header_line(app: &App, theme: Theme) -> Line<'static> {
+/// A piece of the header, and when it gives way to a narrow terminal.
+struct HeaderPart {
+    spans: Vec<Span<'static>>,
+    /// Dropped when the header does not fit, lowest first; `None`: always shown.
+    drop: Option<u8>,
+}
+
+impl HeaderPart {
+    fn new(span: Span<'static>, drop: Option<u8>) -> Self {
+        Self { spans: vec![span], drop }
+    }
+
+    fn width(&self) -> usize {
+        self.spans.iter().map(Span::width).sum()
+    }
+}
+
+/// The fewest characters a long link name (a `--replay` path) keeps before it is left out altogether.
+const MIN_LINK_NAME: usize = 12;
+
+/// `tracerctl · ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s`, fitted to `width`: a long link
+/// name (a replayed file's path) loses its middle first, then the tool's name, the protocol, the link and
+/// the mode go; arming, the vehicle state and the status age always stay.
+fn header_line(app: &App, theme: Theme, width: u16) -> Line<'static> {
     let shown = &app.shown;
     let arming = match app.arming {
         Arming::Armed => Span::styled("ARMED", theme.alarm()),
         Arming::Watching => Span::styled("WATCHING", theme.ok().add_modifier(Modifier::BOLD)),
         Arming::WatchOnly => Span::styled("WATCH ONLY", theme.ok().add_modifier(Modifier::BOLD)),
     };
-    let mut spans = vec![
-        Span::styled("tracerctl", theme.bold()),
-        separator(theme),
-        arming,
-        separator(theme),
-        Span::raw(shown.link_name.clone()),
-        separator(theme),
-        Span::raw(shown.protocol.label()),
-        separator(theme),
+    let mut parts = vec![
+        HeaderPart::new(Span::styled("tracerctl", theme.bold()), Some(0)),
+        HeaderPart::new(arming, None),
+        HeaderPart::new(Span::raw(shown.link_name.clone()), Some(2)),
+        HeaderPart::new(Span::raw(shown.protocol.label()), Some(1)),
     ];
     match shown.system {
         Some(system) => {
@@ -194,27 +222,86 @@ fn header_line(app: &App, theme: Theme) -> Line<'static> {
                 VEHICLE_EXCEPTION => ("EXCEPTION".to_string(), theme.alarm()),
                 other => (format!("STATE 0x{other:02X}"), theme.alarm()),
             };
-            spans.push(Span::styled(text, style));
-            spans.push(separator(theme));
+            parts.push(HeaderPart::new(Span::styled(text, style), None));
             let mode = format!("mode {}", ControlMode::describe(system.wire, system.control_mode));
             let style = if in_command_mode(system.control_mode, system.wire) {
                 Style::new()
             } else {
                 theme.warning()
             };
-            spans.push(Span::styled(mode, style));
+            parts.push(HeaderPart::new(Span::styled(mode, style), Some(3)));
         }
-        None => spans.push(Span::styled("state ?", theme.dim())),
+        None => parts.push(HeaderPart::new(Span::styled("state ?", theme.dim()), None)),
     }
-    spans.push(separator(theme));
-    spans.push(match shown.status_age {
+    let age = match shown.status_age {
+        _ if shown.link_ended => Span::styled(REPLAY_ENDED, theme.tone(Tone::Info)),
         StatusAge::Never => Span::styled("no status yet", theme.warning()),
         StatusAge::Fresh => Span::raw("status <0.1 s"),
         StatusAge::Stale { deciseconds } => {
             Span::styled(format!("NO STATUS FOR {}", age_text(deciseconds)), theme.alarm())
         }
-    });
+    };
+    parts.push(HeaderPart::new(age, None));
+    fit_header(&mut parts, usize::from(width));
+    let mut spans = Vec::new();
+    for (index, part) in parts.into_iter().enumerate() {
+        if index > 0 {
+            spans.push(separator(theme));
+        }
+        spans.extend(part.spans);
+    }
     Line::from(spans)
+}
+
+/// Shortens the link name (middle ellipsis), then drops parts by rank, until the header fits `width`.
+fn fit_header(parts: &mut Vec<HeaderPart>, width: usize) {
+    const SEPARATOR: usize = 3;
+    let total = |parts: &[HeaderPart]| {
+        parts.iter().map(HeaderPart::width).sum::<usize>() + SEPARATOR * parts.len().saturating_sub(1)
+    };
+    if let Some(link) = parts.iter().position(|part| part.drop == Some(2)) {
+        let others = total(parts) - parts[link].width();
+        let room = width.saturating_sub(others).max(MIN_LINK_NAME);
+        if parts[link].width() > room {
+            let name = parts[link].spans[0].content.to_string();
+            parts[link].spans[0].content = middle_ellipsis(&name, room).into();
+        }
+    }
+    while total(parts) > width {
+        let lowest =
+            parts.iter().enumerate().filter_map(|(index, part)| part.drop.map(|rank| (rank, index))).min();
+        let Some((_, index)) = lowest else { break };
+        parts.remove(index);
+    }
+}
+
+/// `/home/me/lo…/session.log`: the start and the end of `text` (a path's file name), in `width` characters.
+fn middle_ellipsis(text: &str, width: usize) -> String {
+    let count = text.chars().count();
+    if count <= width {
+        return text.to_string();
+    }
+    let keep = width.saturating_sub(1);
+    let tail = keep.div_ceil(2);
+    let head = keep - tail;
+    let mut out: String = text.chars().take(head).collect();
+    out.push('…');
+    out.extend(text.chars().skip(count - tail));
+    out
+}
+
+/// `text` within `width` characters, cut after a whole word with `…` when it is longer (a word longer than
+/// the line is cut).
+fn fit_words(text: &str, width: usize) -> String {
+    if text.chars().count() <= width {
+        return text.to_string();
+    }
+    let keep: String = text.chars().take(width.saturating_sub(1)).collect();
+    let cut = match keep.rfind(' ') {
+        Some(space) if space > 0 => keep[..space].trim_end(),
+        _ => keep.as_str(),
+    };
+    format!("{cut}…")
 }
 
 fn in_command_mode(mode: u8, wire: Wire) -> bool {
@@ -230,9 +317,16 @@ fn age_text(deciseconds: u64) -> String {
     }
 }
 
+/// Said when the source ended on its own. Only a replay stays on screen after its end (the dashboard closes
+/// when any other link ends), so this is always a replay.
+const REPLAY_ENDED: &str = "replay ended";
+
 /// The one thing to know now, worst first.
 fn alert_text(app: &App) -> (Tone, String) {
     let shown = &app.shown;
+    if shown.link_ended {
+        return (Tone::Info, format!("[info] {REPLAY_ENDED}: the log's last values stay on screen; q quits"));
+    }
     if let Some(error) = &shown.link_error {
         return (Tone::Alarm, format!("[fault] LINK FAILED: {error}"));
     }
@@ -266,8 +360,7 @@ fn alert_text(app: &App) -> (Tone, String) {
     };
     let state = system.state();
     let faults = app.faults();
-    let blocking: Vec<&FaultLine> =
-        faults.iter().filter(|f| matches!(f.info.severity, Severity::Fault | Severity::Protection)).collect();
+    let blocking: Vec<&FaultLine> = faults.iter().filter(|f| f.info.severity.blocks_driving()).collect();
     if state.is_estop() {
         let reason = state.why_not_drivable(system.wire).unwrap_or_default();
         return (Tone::Alarm, format!("[fault] E-STOP: {reason}"));
@@ -291,7 +384,7 @@ fn alert_text(app: &App) -> (Tone, String) {
         return (Tone::Warning, format!("[warning] not in command mode (mode {mode}): press m to enable it"));
     }
     let battery = BatteryZone::of(system.decivolts);
-    if faults.iter().any(|f| f.info.severity > Severity::Info) || battery != BatteryZone::Ok {
+    if faults.iter().any(|f| f.info.severity.is_problem()) || battery != BatteryZone::Ok {
         return (
             Tone::Warning,
             "[warning] ready to drive, with warnings: see Faults and Battery".to_string(),
@@ -412,11 +505,17 @@ fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
     // The scale is known once the glue has set the teleop view (it always sets the release mode).
     let title = if teleop.release_mode.is_empty() {
         "Speeds".to_string()
-    } else {
+    } else if area.width >= 23 {
         format!("Speeds · scale {} %", scale_percent(teleop.scale))
+    } else {
+        format!("Speeds · {} %", scale_percent(teleop.scale))
     };
     let block = block(title, theme);
-    let row = |label: &str, linear: String, angular: String| format!("{label:<6}{linear:>7} {angular:>7}");
+    // Narrower columns in a narrow panel (60 columns: 18 inside), so that rad/s stays on screen.
+    let (label_width, value_width) = if area.width >= 23 { (6, 7) } else { (5, 6) };
+    let row = |label: &str, linear: String, angular: String| {
+        format!("{label:<label_width$}{linear:>value_width$} {angular:>value_width$}")
+    };
     let held: String = teleop
         .held
         .iter()
@@ -524,7 +623,11 @@ fn lights_span(app: &App, theme: Theme) -> Span<'static> {
 
 fn render_faults(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
     let faults = app.faults();
-    let title = if faults.is_empty() { "Faults".to_string() } else { format!("Faults ({})", faults.len()) };
+    // Counted as doctor counts: info lines (states) are listed, not counted.
+    let title = match app.fault_count() {
+        0 => "Faults".to_string(),
+        count => format!("Faults ({count})"),
+    };
     let block = block(title, theme);
     let inner = block.inner(area);
     frame.render_widget(block, area);
@@ -654,6 +757,8 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
         ]
     };
     let dash = || Span::styled("-", theme.dim());
+    // The driver state comes in low-speed frames, which RS232 and V1 do not have.
+    let lacks_driver_state = not_reported(app.shown.protocol).contains(&MessageKind::MotorLowSpeed.name());
     let rows = app.shown.motors.iter().enumerate().map(|(index, motor)| {
         let rpm = motor.rpm.map_or_else(dash, |rpm| Span::raw(format!("{rpm:+}")));
         let current = motor.current_deciamps.map_or_else(dash, |da| {
@@ -667,6 +772,9 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
             other => temperature(other.map(i16::from)),
         };
         let state = match motor.driver_state {
+            None if lacks_driver_state => {
+                Span::styled(format!("not on {}", app.shown.protocol.label()), theme.dim())
+            }
             None => dash(),
             Some(0) => Span::styled("ok", theme.ok()),
             Some(bits) => {
@@ -741,14 +849,19 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     let c = &shown.counters;
     let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
     let bad = |value: u64| bad_if_any(value, theme);
-    let mut first = vec![
-        Span::raw(format!("rx {fps}/s ")),
-        Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)),
-        Span::raw(" "),
-        Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)),
-        Span::raw(" "),
-        Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
-    ];
+    let mut first = vec![Span::raw(format!("rx {fps}/s"))];
+    // A serial port has no error frames nor socket drops.
+    if shown.protocol != Protocol::Serial {
+        first.push(Span::raw(" "));
+        first.push(Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)));
+        first.push(Span::raw(" "));
+        first.push(Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)));
+    }
+    first.push(Span::raw(" "));
+    first.push(Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)));
+    if shown.protocol == Protocol::Serial {
+        first.push(Span::raw(format!(" skip {}", c.serial_skipped_bytes)));
+    }
     if c.send_errors > 0 || c.watchdog_trips > 0 {
         first.push(Span::styled(format!(" tx err {} wd {}", c.send_errors, c.watchdog_trips), theme.alarm()));
     }
@@ -757,10 +870,7 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     let mut used = 0usize;
     let width = usize::from(area.width.saturating_sub(2));
     for id in &shown.ids {
-        let label = match id.id {
-            FrameId::Standard(id) => format!("{id:03X}"),
-            other => other.to_string(),
-        };
+        let label = id.id.to_string().trim_start_matches("0x").to_string();
         let text = format!("{label}:{}", id.fps.map_or_else(|| "-".to_string(), |f| f.to_string()));
         let needed = text.len() + usize::from(used > 0);
         if used + needed > width && used > 0 {
@@ -781,6 +891,8 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     if shown.ids.is_empty() {
         lines.push(Line::styled("no frames yet", theme.dim()));
     }
+    let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
+    lines.extend(not_reported_lines(shown.protocol, width, theme).into_iter().take(room));
     frame.render_widget(Paragraph::new(lines).block(block("Link · ID:fps", theme)), area);
 }
 
@@ -790,37 +902,87 @@ fn render_link_full(frame: &mut Frame, area: Rect, app: &App, theme: Theme, stal
     let c = &shown.counters;
     let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
     let bad = |value: u64| bad_if_any(value, theme);
-    let mut lines = vec![Line::from(vec![
-        Span::raw(format!("rx {fps} fps · ")),
-        Span::styled(format!("error frames {}", c.error_frames), bad(c.error_frames)),
-        Span::raw(" · "),
-        Span::styled(format!("dropped {}", c.socket_drops), bad(c.socket_drops)),
-    ])];
-    let mut checksum = vec![Span::styled(
-        format!("serial checksum errors {}", c.serial_bad_checksum),
-        bad(c.serial_bad_checksum),
-    )];
-    if c.serial_skipped_bytes > 0 {
-        checksum.push(Span::raw(format!(" · skipped bytes {}", c.serial_skipped_bytes)));
+    let mut lines = Vec::new();
+    // What the link can count: error frames and drops on CAN, checksums and skipped bytes on RS232.
+    if shown.protocol == Protocol::Serial {
+        lines.push(Line::from(vec![
+            Span::raw(format!("rx {fps} fps · ")),
+            Span::styled(format!("checksum errors {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
+            Span::raw(format!(" · skipped bytes {}", c.serial_skipped_bytes)),
+        ]));
+    } else {
+        lines.push(Line::from(vec![
+            Span::raw(format!("rx {fps} fps · ")),
+            Span::styled(format!("error frames {}", c.error_frames), bad(c.error_frames)),
+            Span::raw(" · "),
+            Span::styled(format!("dropped {}", c.socket_drops), bad(c.socket_drops)),
+        ]));
+        let mut checksum = vec![Span::styled(
+            format!("serial checksum errors {}", c.serial_bad_checksum),
+            bad(c.serial_bad_checksum),
+        )];
+        if c.serial_skipped_bytes > 0 {
+            checksum.push(Span::raw(format!(" · skipped bytes {}", c.serial_skipped_bytes)));
+        }
+        lines.push(Line::from(checksum));
     }
-    lines.push(Line::from(checksum));
     lines.push(Line::from(vec![
         Span::styled(format!("tx send errors {}", c.send_errors), bad(c.send_errors)),
         Span::raw(" · "),
         Span::styled(format!("watchdog trips {}", c.watchdog_trips), bad(c.watchdog_trips)),
     ]));
     lines.push(stale);
+    let width = usize::from(area.width.saturating_sub(2));
     let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
-    lines.extend(id_columns(app, theme, usize::from(area.width.saturating_sub(2)), room));
+    lines.extend(id_columns(app, theme, width, room));
+    // Then, in the room left (the panel's height counts them), what this wire does not report.
+    let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
+    lines.extend(not_reported_lines(shown.protocol, width, theme).into_iter().take(room));
     frame.render_widget(Paragraph::new(lines).block(block("Link health", theme)), area);
+}
+
+/// What the robot reports on CAN V2 and not on this protocol's wire, by message name (RS232: odometry,
+/// motor_low_speed, rc_state, version_response): the catalog's robot frames compared, wire by wire.
+fn not_reported(protocol: Protocol) -> Vec<&'static str> {
+    let Some(wire) = protocol.wire() else { return Vec::new() };
+    let sends = |kind: MessageKind, wire: Wire| {
+        catalog::CATALOG
+            .iter()
+            .any(|entry| entry.kind == kind && entry.wire == wire && entry.direction == Direction::FromRobot)
+    };
+    let mut missing = Vec::new();
+    for entry in
+        catalog::CATALOG.iter().filter(|e| e.wire == Wire::CanV2 && e.direction == Direction::FromRobot)
+    {
+        if !sends(entry.kind, wire) && !missing.contains(&entry.kind.name()) {
+            missing.push(entry.kind.name());
+        }
+    }
+    missing
+}
+
+/// `RS232 does not report: odometry, ...`, wrapped to `width`; nothing on CAN V2.
+fn not_reported_lines(protocol: Protocol, width: usize, theme: Theme) -> Vec<Line<'static>> {
+    let missing = not_reported(protocol);
+    if missing.is_empty() {
+        return Vec::new();
+    }
+    let text = format!("{} does not report: {}", protocol.label(), missing.join(", "));
+    wrap(&text, width).into_iter().map(|row| Line::styled(row, theme.dim())).collect()
 }
 
 /// `0x211  system     50/s` per ID, in as many columns as fit `width`, at most `room` rows (the last cell
 /// then says how many more).
 fn id_columns(app: &App, theme: Theme, width: usize, room: usize) -> Vec<Line<'static>> {
-    const CELL: usize = 20;
+    const NAME: usize = 8;
+    const RATE: usize = 5;
     let shown = &app.shown;
-    let columns = ((width + 2) / (CELL + 2)).max(1);
+    // As wide as the identifiers shown (0x211: 5, 0xAA01: 6) and their names, with a space after each.
+    let id_width = shown.ids.iter().map(|id| id.id.to_string().len()).max().unwrap_or(5) + 1;
+    let name_width =
+        shown.ids.iter().map(|id| id_name(id.id).chars().count().min(NAME)).max().unwrap_or(0) + 1;
+    let cell = id_width + name_width + RATE;
+    let columns = ((width + 2) / (cell + 2)).max(1);
     let capacity = room * columns;
     let overflow = shown.ids.len() > capacity;
     let listed = if overflow { capacity.saturating_sub(1) } else { shown.ids.len() };
@@ -832,7 +994,11 @@ fn id_columns(app: &App, theme: Theme, width: usize, room: usize) -> Vec<Line<'s
                 (None, Some(fps)) => format!("{fps}/s"),
                 (None, None) => "-".to_string(),
             };
-            let text = format!("{:<6}{:<9}{:>5}", id.id.to_string(), truncate(id_name(id.id), 8), rate);
+            let text = format!(
+                "{:<id_width$}{:<name_width$}{rate:>RATE$}",
+                id.id.to_string(),
+                truncate(id_name(id.id), NAME)
+            );
             let style = if id.stale_deciseconds.is_some() { theme.alarm() } else { Style::new() };
             Span::styled(text, style)
         })
@@ -865,38 +1031,58 @@ fn release_text(app: &App) -> String {
     }
 }
 
-/// The key summary from the key table, long or short to fit.
+/// The key summary from the key table, long labels or short ones to fit. Still too wide, whole entries go,
+/// never part of one: the spare ones first (lowest rank first), then the others from the end of the table,
+/// then help; quitting stays.
 fn keys_line(width: u16, theme: Theme, arming: Arming) -> Line<'static> {
+    let width = usize::from(width);
     let entries = keys::footer_entries(arming);
     let length = |keys: &[(&str, &str)]| -> usize {
-        keys.iter().map(|(k, d)| k.chars().count() + 1 + d.len()).sum::<usize>()
+        keys.iter().map(|(k, d)| k.chars().count() + 1 + d.chars().count()).sum::<usize>()
             + 2 * keys.len().saturating_sub(1)
     };
     let long: Vec<(&str, &str)> = entries.iter().map(|entry| (entry.0, entry.1)).collect();
-    let mut keys = if length(&long) <= usize::from(width) {
-        long
-    } else {
-        entries.iter().map(|entry| (entry.0, entry.2)).collect()
-    };
-    // Still too wide: drop the least needed, so stopping, arming, help and quitting always show.
-    let mut spare: Vec<(u8, &str)> =
-        entries.iter().filter_map(|entry| entry.3.map(|rank| (rank, entry.0))).collect();
-    spare.sort_unstable();
-    for (_, least) in spare {
-        if length(&keys) <= usize::from(width) {
+    let labelled: Vec<(&str, &str)> =
+        if length(&long) <= width { long } else { entries.iter().map(|entry| (entry.0, entry.2)).collect() };
+    let mut kept = vec![true; labelled.len()];
+    let mut order: Vec<usize> = (0..entries.len()).collect();
+    order.sort_by_key(|&index| footer_drop_rank(entries[index].0, entries[index].3, index));
+    for index in order {
+        let shown: Vec<(&str, &str)> =
+            labelled.iter().zip(&kept).filter(|(_, keep)| **keep).map(|(entry, _)| *entry).collect();
+        if length(&shown) <= width || footer_action(entries[index].0, keys::Action::Quit) {
             break;
         }
-        keys.retain(|(key, _)| *key != least);
+        kept[index] = false;
     }
     let mut spans = Vec::new();
-    for (index, (key, description)) in keys.iter().enumerate() {
-        if index > 0 {
+    for (key, description) in labelled.iter().zip(&kept).filter(|(_, keep)| **keep).map(|(entry, _)| *entry) {
+        if !spans.is_empty() {
             spans.push(Span::raw("  "));
         }
-        spans.push(Span::styled(*key, theme.key()));
+        spans.push(Span::styled(key, theme.key()));
         spans.push(Span::raw(format!(" {description}")));
     }
     Line::from(spans)
+}
+
+/// The order in which footer entries give way, lowest first: spare entries by rank, then the others from
+/// the end of the table, then help, then quit.
+fn footer_drop_rank(keys: &str, spare: Option<u8>, index: usize) -> (u8, usize) {
+    match spare {
+        Some(rank) => (0, usize::from(rank)),
+        None if footer_action(keys, keys::Action::Quit) => (3, 0),
+        None if footer_action(keys, keys::Action::Help) => (2, 0),
+        None => (1, usize::MAX - index),
+    }
+}
+
+/// Whether the footer entry shown as `keys` belongs to the row of the key table that does `action`.
+fn footer_action(keys: &str, action: keys::Action) -> bool {
+    keys::BINDINGS.iter().any(|row| {
+        row.footer.is_some_and(|footer| footer.keys == keys)
+            && row.keys.iter().any(|bind| bind.action == action)
+    })
 }
 
 /// The footer: a recording that loses frames (it stays: the exit status will say so too), then the message.
@@ -921,28 +1107,33 @@ fn message_line(app: &App, theme: Theme) -> Line<'static> {
 /// Under 60x20: the essentials as text.
 fn render_small(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
     let (tone, alert) = alert_text(app);
-    let mut lines = vec![header_line(app, theme), Line::styled(alert, theme.tone(tone))];
+    let mut lines = vec![header_line(app, theme, area.width), Line::styled(alert, theme.tone(tone))];
     if let Some(system) = app.shown.system {
-        let faults = app.faults();
-        let worst = faults.iter().map(|f| f.info.severity).max();
+        let worst = app.faults().iter().map(|f| f.info.severity).filter(|s| s.is_problem()).max();
         lines.push(Line::raw(format!(
             "battery {} · faults {}{}",
             volts(system.decivolts),
-            faults.len(),
+            app.fault_count(),
             worst.map(|s| format!(" (worst {})", severity_tag(s))).unwrap_or_default()
         )));
     }
+    let mm = |value: i16| speed_text(f64::from(value) / 1000.0);
+    let measured =
+        app.shown.measured.map_or_else(|| "-".to_string(), |(l, a)| format!("{} {}", mm(l), mm(a)));
     lines.push(Line::raw(format!(
-        "keys {}/{} · sent {}/{}",
+        "m/s rad/s: keys {} {} · sent {} {} · robot {measured}",
         speed_text(app.teleop.requested.0),
         speed_text(app.teleop.requested.1),
-        speed_text(f64::from(app.shown.sent.0) / 1000.0),
-        speed_text(f64::from(app.shown.sent.1) / 1000.0)
+        mm(app.shown.sent.0),
+        mm(app.shown.sent.1),
     )));
     lines.push(Line::styled(release_text(app), theme.dim()));
     lines.push(keys_line(area.width, theme, app.arming));
     lines.push(Line::styled(
-        format!("terminal {}x{}: 80x24 or larger shows the full dashboard", area.width, area.height),
+        format!(
+            "terminal {}x{}: {}x{} or larger shows the panels",
+            area.width, area.height, MIN_PANELS.0, MIN_PANELS.1
+        ),
         theme.warning(),
     ));
     lines.push(message_line(app, theme));
@@ -1063,6 +1254,7 @@ mod tests {
     use crate::protocol::message::{
         Lights, MotionCommand, MotionState, MotorHighSpeed, MotorLowSpeed, Odometry, SystemState,
     };
+    use crate::protocol::FrameId;
     use crate::session::RobotStatus;
 
     /// The buffer as text, one line per row, trailing spaces trimmed.
@@ -1554,7 +1746,8 @@ mod tests {
             (250, 80),
         ] {
             let screen = screen(&app, width, height);
-            assert!(width < 20 || screen.contains("tracerctl"), "{width}x{height}:\n{screen}");
+            // The header gives way from its least needed part: the arming state stays.
+            assert!(width < 20 || screen.contains("WATCHING"), "{width}x{height}:\n{screen}");
             app.toggle_help();
             let _ = self::screen(&app, width, height);
             app.toggle_help();
@@ -1563,7 +1756,7 @@ mod tests {
             app.cancel_prompt();
         }
         let small = screen(&app, 50, 15);
-        assert_contains(&small, &["80x24 or larger", "EXCEPTION"]);
+        assert_contains(&small, &["60x20 or larger shows the panels", "EXCEPTION"]);
     }
 
     #[test]
