@@ -195,6 +195,8 @@ impl HeaderPart {
     }
 }
 
+/// The link name's rank among the header's parts that give way (after the tool's name and the protocol).
+const LINK_RANK: u8 = 2;
 /// The fewest characters a long link name (a `--replay` path) keeps before it is left out altogether.
 const MIN_LINK_NAME: usize = 12;
 
@@ -211,7 +213,7 @@ fn header_line(app: &App, theme: Theme, width: u16) -> Line<'static> {
     let mut parts = vec![
         HeaderPart::new(Span::styled("tracerctl", theme.bold()), Some(0)),
         HeaderPart::new(arming, None),
-        HeaderPart::new(Span::raw(shown.link_name.clone()), Some(2)),
+        HeaderPart::new(Span::raw(shown.link_name.clone()), Some(LINK_RANK)),
         HeaderPart::new(Span::raw(shown.protocol.label()), Some(1)),
     ];
     match shown.system {
@@ -259,14 +261,22 @@ fn fit_header(parts: &mut Vec<HeaderPart>, width: usize) {
     let total = |parts: &[HeaderPart]| {
         parts.iter().map(HeaderPart::width).sum::<usize>() + SEPARATOR * parts.len().saturating_sub(1)
     };
-    if let Some(link) = parts.iter().position(|part| part.drop == Some(2)) {
-        let others = total(parts) - parts[link].width();
-        let room = width.saturating_sub(others).max(MIN_LINK_NAME);
-        if parts[link].width() > room {
-            let name = parts[link].spans[0].content.to_string();
-            parts[link].spans[0].content = middle_ellipsis(&name, room).into();
+    let shorten_link = |parts: &mut Vec<HeaderPart>, floor: usize| {
+        if let Some(link) = parts.iter().position(|part| part.drop == Some(LINK_RANK)) {
+            let others = total(parts) - parts[link].width();
+            let room = width.saturating_sub(others).max(floor);
+            if parts[link].width() > room {
+                let name = parts[link].spans[0].content.to_string();
+                parts[link].spans[0].content = middle_ellipsis(&name, room).into();
+            }
         }
+    };
+    // A path keeps a readable part of its name before the tool's name goes, then shrinks further.
+    shorten_link(parts, 2 * MIN_LINK_NAME);
+    if total(parts) > width {
+        parts.retain(|part| part.drop != Some(0));
     }
+    shorten_link(parts, MIN_LINK_NAME);
     while total(parts) > width {
         let lowest =
             parts.iter().enumerate().filter_map(|(index, part)| part.drop.map(|rank| (rank, index))).min();
@@ -282,7 +292,8 @@ fn middle_ellipsis(text: &str, width: usize) -> String {
         return text.to_string();
     }
     let keep = width.saturating_sub(1);
-    let tail = keep.div_ceil(2);
+    // More of the end: a file's name says more than the start of its directory.
+    let tail = (keep * 2).div_ceil(3);
     let head = keep - tail;
     let mut out: String = text.chars().take(head).collect();
     out.push('…');
@@ -649,7 +660,12 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
     let body_width = width.saturating_sub(SEVERITY_COLUMN + 1).max(1);
     let mut lines = Vec::new();
     let fits_all = faults.len() <= height;
-    let shown_count = if fits_all { faults.len() } else { height.saturating_sub(1) };
+    // One line of room shows the worst fault itself (the title has the count), more keep one for the rest.
+    let shown_count = match (fits_all, height) {
+        (true, _) => faults.len(),
+        (false, 0 | 1) => height,
+        (false, _) => height - 1,
+    };
     for (index, fault) in faults.iter().take(shown_count).enumerate() {
         let name = fault_name(fault);
         let body = format!("{name}: {}", fault.info.action);
@@ -678,7 +694,7 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
             lines.push(Line::from(spans));
         }
     }
-    if !fits_all {
+    if !fits_all && shown_count < height {
         let more = faults.len() - shown_count;
         let worst = faults[shown_count..].iter().map(|f| f.info.severity).max();
         let text = format!(
@@ -849,26 +865,38 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     let c = &shown.counters;
     let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
     let bad = |value: u64| bad_if_any(value, theme);
-    let mut first = vec![Span::raw(format!("rx {fps}/s"))];
+    let mut counters = vec![Span::raw(format!("rx {fps}/s"))];
     // A serial port has no error frames nor socket drops.
     if shown.protocol != Protocol::Serial {
-        first.push(Span::raw(" "));
-        first.push(Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)));
-        first.push(Span::raw(" "));
-        first.push(Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)));
+        counters.push(Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)));
+        counters.push(Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)));
     }
-    first.push(Span::raw(" "));
-    first.push(Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)));
+    counters.push(Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)));
     if shown.protocol == Protocol::Serial {
-        first.push(Span::raw(format!(" skip {}", c.serial_skipped_bytes)));
+        counters.push(Span::raw(format!("skip {}", c.serial_skipped_bytes)));
     }
     if c.send_errors > 0 || c.watchdog_trips > 0 {
-        first.push(Span::styled(format!(" tx err {} wd {}", c.send_errors, c.watchdog_trips), theme.alarm()));
+        counters
+            .push(Span::styled(format!("tx err {} wd {}", c.send_errors, c.watchdog_trips), theme.alarm()));
+    }
+    let width = usize::from(area.width.saturating_sub(2));
+    // Whole counters only: one that does not fit is left out, never cut.
+    let mut first = Vec::new();
+    let mut used = 0usize;
+    for counter in counters {
+        let needed = counter.width() + usize::from(used > 0);
+        if used + needed > width {
+            continue;
+        }
+        if used > 0 {
+            first.push(Span::raw(" "));
+        }
+        used += needed;
+        first.push(counter);
     }
     let mut lines = vec![Line::from(first), stale];
     let mut row: Vec<Span> = Vec::new();
     let mut used = 0usize;
-    let width = usize::from(area.width.saturating_sub(2));
     for id in &shown.ids {
         let label = id.id.to_string().trim_start_matches("0x").to_string();
         let text = format!("{label}:{}", id.fps.map_or_else(|| "-".to_string(), |f| f.to_string()));
@@ -908,8 +936,8 @@ fn render_link_full(frame: &mut Frame, area: Rect, app: &App, theme: Theme, stal
         lines.push(Line::from(vec![
             Span::raw(format!("rx {fps} fps · ")),
             Span::styled(format!("checksum errors {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
-            Span::raw(format!(" · skipped bytes {}", c.serial_skipped_bytes)),
         ]));
+        lines.push(Line::raw(format!("skipped bytes {}", c.serial_skipped_bytes)));
     } else {
         lines.push(Line::from(vec![
             Span::raw(format!("rx {fps} fps · ")),
@@ -1252,7 +1280,8 @@ mod tests {
     use crate::dashboard::app::{Snapshot, TeleopView};
     use crate::protocol::detect::ProtocolDetector;
     use crate::protocol::message::{
-        Lights, MotionCommand, MotionState, MotorHighSpeed, MotorLowSpeed, Odometry, SystemState,
+        Lights, MotionCommand, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry,
+        SystemState,
     };
     use crate::protocol::FrameId;
     use crate::session::RobotStatus;
@@ -1757,6 +1786,265 @@ mod tests {
         }
         let small = screen(&app, 50, 15);
         assert_contains(&small, &["60x20 or larger shows the panels", "EXCEPTION"]);
+    }
+
+    /// Driving as [`driving`] does, with 2 [info] driver bits (standby-like) and one [warning] bit.
+    fn driving_with_info_and_a_warning() -> App {
+        let base = Instant::now();
+        let mut app = App::new("can0", Limits::default(), false);
+        run(&mut app, base, 3, 300, &|status, _| {
+            status.system.as_mut().unwrap().1.fault_code = 0x0200;
+            for motor in status.motor_low.iter_mut() {
+                motor.as_mut().unwrap().driver_state = 0x40;
+            }
+        });
+        app.set_teleop(kitty(0.6, vec![], (0.3, 0.0)));
+        app.set_arming(Arming::Armed);
+        app
+    }
+
+    /// The safety facts every size from the panels' minimum shows: arming, both speeds with units, the faults,
+    /// the battery, how to quit.
+    fn assert_safety_facts(screen: &str, size: (u16, u16)) {
+        let (width, height) = size;
+        let context = format!("{width}x{height}:\n{screen}");
+        assert!(screen.contains("ARMED"), "arming state missing at {context}");
+        assert!(screen.contains("m/s") && screen.contains("rad/s"), "speed units missing at {context}");
+        // The speeds panel's row: what follows the label up to the panel's border.
+        let row = |label: &str| {
+            screen.lines().find_map(|line| {
+                let after = line.split(&format!("│{label} ")).nth(1)?;
+                Some(after.split('│').next().unwrap_or_default().split_whitespace().collect::<Vec<_>>())
+            })
+        };
+        for label in ["sent", "robot"] {
+            let values = row(label).unwrap_or_else(|| panic!("no {label} row at {context}"));
+            assert_eq!(values, ["+0.30", "+0.00"], "{label} at {context}");
+        }
+        assert!(screen.contains("Faults (1)"), "the fault count (info not counted) at {context}");
+        assert!(screen.contains("25.9 V"), "battery missing at {context}");
+        let footer = screen.lines().rev().find(|line| line.contains("quit")).unwrap_or_default();
+        assert!(footer.contains("q quit") && footer.contains("? help"), "keys at {context}");
+        assert!(footer.trim_end().ends_with("q quit"), "the footer ends on a whole entry at {context}");
+    }
+
+    #[test]
+    fn every_size_from_the_minimum_shows_the_safety_facts() {
+        let app = driving_with_info_and_a_warning();
+        let mut sizes = 0;
+        for width in (MIN_PANELS.0..=120).step_by(3).chain([120]) {
+            for height in (MIN_PANELS.1..=40).step_by(2).chain([40]) {
+                assert_safety_facts(&screen(&app, width, height), (width, height));
+                sizes += 1;
+            }
+        }
+        assert!(sizes > 200, "{sizes} sizes");
+    }
+
+    #[test]
+    fn safety_facts_60x20() {
+        let screen = screen(&driving_with_info_and_a_warning(), 60, 20);
+        assert_safety_facts(&screen, (60, 20));
+        assert_contains(
+            &screen,
+            &["robot +0.30  +0.00", "ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s"],
+        );
+        insta::assert_snapshot!(screen);
+    }
+
+    #[test]
+    fn safety_facts_80x24() {
+        let screen = screen(&driving_with_info_and_a_warning(), 80, 24);
+        assert_safety_facts(&screen, (80, 24));
+        assert_contains(&screen, &["robot   +0.30   +0.00", "[info]       M1 driver_disabled"]);
+        insta::assert_snapshot!(screen);
+    }
+
+    #[test]
+    fn safety_facts_100x30() {
+        let screen = screen(&driving_with_info_and_a_warning(), 100, 30);
+        assert_safety_facts(&screen, (100, 30));
+        assert_contains(
+            &screen,
+            &["[warning]    battery_undervoltage_warning", "[info]       M2 driver_disabled"],
+        );
+        insta::assert_snapshot!(screen);
+    }
+
+    /// The footer's entries as drawn at `width`, split on the two spaces between entries.
+    fn footer_at(width: u16, arming: Arming) -> Vec<String> {
+        let line = keys_line(width, Theme { color: false }, arming);
+        let text: String = line.spans.iter().map(|span| span.content.as_ref()).collect();
+        assert!(Line::raw(text.clone()).width() <= usize::from(width).max(6), "{width}: {text:?}");
+        text.split("  ").map(str::to_string).collect()
+    }
+
+    #[test]
+    fn the_footer_drops_whole_entries_and_keeps_help_and_quit_last() {
+        let every: Vec<String> = keys::footer_entries(Arming::Watching)
+            .iter()
+            .flat_map(|entry| [format!("{} {}", entry.0, entry.1), format!("{} {}", entry.0, entry.2)])
+            .collect();
+        for width in 6..=140 {
+            let entries = footer_at(width, Arming::Watching);
+            for entry in &entries {
+                assert!(every.contains(entry), "{width}: {entry:?} is not a whole entry of the table");
+            }
+            assert_eq!(entries.last().map(String::as_str), Some("q quit"), "{width}: {entries:?}");
+            if width >= 14 {
+                assert!(entries.contains(&"? help".to_string()), "{width}: {entries:?}");
+            }
+        }
+        assert_eq!(footer_at(14, Arming::Watching), ["? help", "q quit"]);
+        assert_eq!(footer_at(13, Arming::Watching), ["q quit"]);
+        assert_eq!(footer_at(6, Arming::Watching), ["q quit"]);
+        // The table's own order otherwise, the spare entries gone first.
+        assert_eq!(
+            footer_at(45, Arming::Watching),
+            ["↑↓←→ drive", "Space stop", "a arm", "? help", "q quit"]
+        );
+    }
+
+    #[test]
+    fn a_long_replay_path_loses_its_middle_never_the_status() {
+        let mut app = driving();
+        let path = format!("/home/operator/{}/field-test-2026-11-24/session.log", "logs/".repeat(20));
+        app.shown.link_name.clone_from(&path);
+        for width in [60, 80, 100, 120] {
+            let screen = screen(&app, width, 30);
+            let header = screen.lines().next().unwrap_or_default();
+            assert!(header.ends_with("NORMAL · mode can · status <0.1 s"), "{width}: {header}");
+            assert!(header.contains("ARMED"), "{width}: {header}");
+            if width >= 80 {
+                assert!(header.contains("…") && header.contains("session.log"), "{width}: {header}");
+            }
+        }
+        assert_eq!(middle_ellipsis("/home/operator/session.log", 12), "/ho…sion.log");
+        assert_eq!(middle_ellipsis("can0", 12), "can0");
+        assert_eq!(fit_words("press m to enable it", 15), "press m to…");
+        assert_eq!(fit_words("press m to enable it", 20), "press m to enable it");
+    }
+
+    #[test]
+    fn the_end_of_a_replay_is_info_and_keeps_the_last_values() {
+        let base = Instant::now();
+        let mut app = App::new("session.log", Limits::default(), false);
+        run(&mut app, base, 3, 300, &|_, _| {});
+        let end = base + Duration::from_secs(3);
+        let mut status = v2_status(end, 300, 38);
+        status.link_error = Some("end of the replayed log".to_string());
+        status.link_ended = true;
+        // Ten seconds after the end: nothing turns stale, the rates stay.
+        for tick in 0..=200 {
+            let now = end + Duration::from_millis(50 * tick);
+            app.update(&Snapshot {
+                status: &status,
+                sender: SenderStats::default(),
+                link_name: "session.log",
+                now,
+            });
+        }
+        app.set_teleop(kitty(0.6, vec![], (0.0, 0.0)));
+        let screen = screen(&app, 100, 30);
+        assert_contains(
+            &screen,
+            &[
+                "NORMAL · mode can · replay ended",
+                "[info] replay ended: the log's last values stay on screen; q quits",
+                "robot   +0.30   +0.00",
+                "25.9 V",
+                "stale: none",
+                "0x211 system    50/s",
+            ],
+        );
+        assert!(!screen.contains("[fault]") && !screen.contains("LINK FAILED"), "{screen}");
+        // A link that fails is still a fault.
+        status.link_ended = false;
+        app.update(&Snapshot { status: &status, sender: SenderStats::default(), link_name: "x", now: end });
+        assert!(self::screen(&app, 100, 30).contains("[fault] LINK FAILED: end of the replayed log"));
+    }
+
+    #[test]
+    fn info_lines_are_listed_but_not_counted() {
+        let screen = screen(&driving_with_info_and_a_warning(), 100, 30);
+        assert_contains(
+            &screen,
+            &["Faults (1)", "[info]       M1 driver_disabled", "[info]       M2 driver_disabled"],
+        );
+        let app = driving_with_info_and_a_warning();
+        assert_eq!((app.faults().len(), app.fault_count()), (3, 1));
+        assert_contains(&screen_small(&app), &["faults 1 (worst [warning])"]);
+    }
+
+    /// An RS232 robot: the serial feedback identifiers of the catalog at 50/s, no odometry, no driver state.
+    fn rs232() -> App {
+        let base = Instant::now();
+        let mut app = App::new("/dev/ttyUSB0", Limits::default(), false);
+        let serial: Vec<FrameId> = catalog::CATALOG
+            .iter()
+            .filter(|entry| entry.wire == Wire::Serial && entry.direction == Direction::FromRobot)
+            .map(|entry| entry.id)
+            .collect();
+        for tick in 0..=100u64 {
+            let now = base + Duration::from_millis(50 * tick);
+            let mut status = v2_status(now, 0, 0);
+            let system = status.system.as_mut().unwrap();
+            system.1.control_mode = ControlMode::Serial.code(Wire::Serial);
+            system.2 = Wire::Serial;
+            status.odometry = None;
+            status.motor_low = [None, None];
+            status.motor_high = [None, None];
+            status.motor_driver = [1, 2].map(|motor| {
+                Some(MotorDriverState {
+                    motor,
+                    current_deciamps: 3,
+                    rpm: 0,
+                    driver_temperature: 26,
+                    count: 0,
+                })
+            });
+            status.detector = ProtocolDetector::default();
+            status.id_counts = serial.iter().map(|id| (*id, tick * 5 / 2)).collect();
+            status.frames = serial.len() as u64 * tick * 5 / 2;
+            app.update(&Snapshot {
+                status: &status,
+                sender: SenderStats::default(),
+                link_name: "/dev/ttyUSB0",
+                now,
+            });
+        }
+        app.set_teleop(kitty(0.6, vec![], (0.0, 0.0)));
+        app
+    }
+
+    #[test]
+    fn rs232_link_panel_lists_its_identifiers_and_what_it_does_not_report() {
+        assert_eq!(
+            not_reported(Protocol::Serial),
+            ["odometry", "motor_low_speed", "rc_state", "version_response"]
+        );
+        assert_eq!(not_reported(Protocol::CanV1), not_reported(Protocol::Serial));
+        assert!(not_reported(Protocol::CanV2).is_empty());
+        let app = rs232();
+        let screen = screen(&app, 100, 30);
+        assert_contains(
+            &screen,
+            &[
+                "RS232 · NORMAL · mode serial",
+                "0xAA01 system   50/s  0xAA02 motion   50/s",
+                "rx 250 fps · checksum errors 0",
+                "skipped bytes 0",
+                "RS232 does not report: odometry,",
+                "motor_low_speed, rc_state,",
+                "RS232 reports no odometry",
+                "not on RS232",
+            ],
+        );
+        assert!(!screen.contains("0xAA01system") && !screen.contains("error frames"), "{screen}");
+        insta::assert_snapshot!(screen);
+        let compact = self::screen(&app, 80, 24);
+        assert_contains(&compact, &["rx 250/s cksum 0 skip 0", "AA01:50", "not on RS232"]);
+        assert!(!compact.contains("err 0"), "{compact}");
     }
 
     #[test]
