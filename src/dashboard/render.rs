@@ -3,9 +3,11 @@
 //! Layout, top to bottom: a header line (tool, link, protocol, vehicle state, control mode, age of the last
 //! status), an alert line (the one thing to know now), Battery | Speeds | Odometry & lights, Faults (all the
 //! room left), Motors | Link health, then the key-release mode, the keys, and the one-line message.
-//! Below 100x30 the panels are abbreviated so that everything essential fits 80x24; below 60x20 a short
-//! text view replaces the panels. Severity is always spelled (`[fault]`); colour only repeats it, and with
-//! `color == false` no colour is used at all (bold only).
+//! Below 100x30 the panels are abbreviated so that every safety fact (arming, commanded and measured
+//! speeds, faults, battery, how to quit) fits down to 60x20; below 60x20 a short text view replaces the
+//! panels. What does not fit gives way whole (header parts, footer entries, words), never cut mid-word.
+//! Severity is always spelled (`[fault]`); colour only repeats it, and with `color == false` no colour is
+//! used at all (bold only).
 
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
