@@ -141,7 +141,8 @@ pub fn render(frame: &mut Frame, app: &App) {
         let release_line = fit_words(&release_text(app), usize::from(release.width));
         frame.render_widget(Paragraph::new(Line::styled(release_line, theme.dim())), release);
         frame.render_widget(Paragraph::new(keys_line(keys.width, theme, app.arming)), keys);
-        frame.render_widget(Paragraph::new(message_line(app, theme)), message);
+        let text = message_line(app, theme, Some(usize::from(message.width)));
+        frame.render_widget(Paragraph::new(text), message);
     }
     if app.prompt == Prompt::ConfirmClear {
         render_confirm(frame, area, app, theme);
@@ -304,17 +305,20 @@ fn middle_ellipsis(text: &str, width: usize) -> String {
 }
 
 /// `text` within `width` characters, cut after a whole word with `…` when it is longer (a word longer than
-/// the line is cut).
+/// the line is cut). Words end at a space or at a comma of a list (`overcurrent,overheat`).
 fn fit_words(text: &str, width: usize) -> String {
-    if text.chars().count() <= width {
+    let chars: Vec<char> = text.chars().collect();
+    if chars.len() <= width {
         return text.to_string();
     }
-    let keep: String = text.chars().take(width.saturating_sub(1)).collect();
-    let cut = match keep.rfind(' ') {
-        Some(space) if space > 0 => keep[..space].trim_end(),
-        _ => keep.as_str(),
-    };
-    format!("{cut}…")
+    let keep = width.saturating_sub(1);
+    let separator = |c: char| c == ' ' || c == ',';
+    // The longest start that ends where a word does: the next character separates.
+    let end = (1..=keep).rev().find(|&end| separator(chars[end])).unwrap_or(keep);
+    let mut out: String = chars[..end].iter().collect();
+    out.truncate(out.trim_end_matches(separator).len());
+    out.push('…');
+    out
 }
 
 fn in_command_mode(mode: u8, wire: Wire) -> bool {
@@ -755,28 +759,11 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
     } else {
         ["", "RPM", "current", "drv°C", "mot°C", "driver state"]
     };
-    let widths = if compact {
-        [
-            Constraint::Length(2),
-            Constraint::Length(4),
-            Constraint::Length(4),
-            Constraint::Length(5),
-            Constraint::Length(5),
-            Constraint::Fill(1),
-        ]
-    } else {
-        [
-            Constraint::Length(2),
-            Constraint::Length(4),
-            Constraint::Length(7),
-            Constraint::Length(5),
-            Constraint::Length(5),
-            Constraint::Fill(1),
-        ]
-    };
+    let fixed: [u16; 5] = if compact { [2, 4, 4, 5, 5] } else { [2, 4, 7, 5, 5] };
+    let widths = fixed.map(Constraint::Length).into_iter().chain([Constraint::Fill(1)]);
+    // What the state column has: the panel less its border, the fixed columns and one space between each.
+    let state_width = usize::from(area.width.saturating_sub(2 + fixed.iter().sum::<u16>() + 5));
     let dash = || Span::styled("-", theme.dim());
-    // The driver state comes in low-speed frames, which RS232 and V1 do not have.
-    let lacks_driver_state = not_reported(app.shown.protocol).contains(&MessageKind::MotorLowSpeed.name());
     let rows = app.shown.motors.iter().enumerate().map(|(index, motor)| {
         let rpm = motor.rpm.map_or_else(dash, |rpm| Span::raw(format!("{rpm:+}")));
         let current = motor.current_deciamps.map_or_else(dash, |da| {
@@ -789,23 +776,7 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
             Some(-40) => Span::styled("n/a", theme.dim()),
             other => temperature(other.map(i16::from)),
         };
-        let state = match motor.driver_state {
-            None if lacks_driver_state => {
-                Span::styled(format!("not on {}", app.shown.protocol.label()), theme.dim())
-            }
-            None => dash(),
-            Some(0) => Span::styled("ok", theme.ok()),
-            Some(bits) => {
-                let flags = Flags::new(FlagTable::DriverState, u16::from(bits));
-                let names: Vec<&str> =
-                    flags.iter().map(|info| info.name.strip_prefix("driver_").unwrap_or(info.name)).collect();
-                let worst = flags.iter().map(|info| info.severity).max();
-                Span::styled(
-                    format!("0x{bits:02X} {}", names.join(",")),
-                    worst.map_or_else(Style::new, |s| theme.severity(s)),
-                )
-            }
-        };
+        let state = driver_state_span(motor.driver_state, app.shown.protocol, theme, state_width);
         Row::new(vec![
             Span::styled(format!("M{}", index + 1), theme.bold()),
             rpm,
@@ -819,6 +790,29 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
         .header(Row::new(header.map(|h| Span::styled(h, theme.dim()))))
         .block(block("Motors", theme));
     frame.render_widget(table, area);
+}
+
+/// `0x0C overcurrent,overheat`, within `width` (whole words); `not on RS232` where the wire has no driver
+/// state (it comes in low-speed frames, which RS232 and V1 lack).
+fn driver_state_span(state: Option<u8>, protocol: Protocol, theme: Theme, width: usize) -> Span<'static> {
+    let (text, style) = match state {
+        None if not_reported(protocol).contains(&MessageKind::MotorLowSpeed.name()) => {
+            (format!("not on {}", protocol.label()), theme.dim())
+        }
+        None => ("-".to_string(), theme.dim()),
+        Some(0) => ("ok".to_string(), theme.ok()),
+        Some(bits) => {
+            let flags = Flags::new(FlagTable::DriverState, u16::from(bits));
+            let names: Vec<&str> =
+                flags.iter().map(|info| info.name.strip_prefix("driver_").unwrap_or(info.name)).collect();
+            let worst = flags.iter().map(|info| info.severity).max();
+            (
+                format!("0x{bits:02X} {}", names.join(",")),
+                worst.map_or_else(Style::new, |s| theme.severity(s)),
+            )
+        }
+    };
+    Span::styled(fit_words(&text, width), style)
 }
 
 fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: bool) {
@@ -1116,20 +1110,29 @@ fn footer_action(keys: &str, action: keys::Action) -> bool {
 }
 
 /// The footer: a recording that loses frames (it stays: the exit status will say so too), then the message.
-fn message_line(app: &App, theme: Theme) -> Line<'static> {
+/// Within `width` when given, the texts cut after whole words; `None` where the lines wrap.
+fn message_line(app: &App, theme: Theme, width: Option<usize>) -> Line<'static> {
+    let mut room = width.unwrap_or(usize::MAX);
+    let fit = |text: String, room: &mut usize| {
+        let text = if *room == usize::MAX { text } else { fit_words(&text, *room) };
+        *room = room.saturating_sub(Span::raw(text.as_str()).width());
+        text
+    };
     let mut spans = Vec::new();
     if let Some(loss) = &app.recording_loss {
-        spans.push(Span::styled(
-            format!("[fault] RECORDING LOST {} frames: {}", loss.frames, loss.reason),
-            theme.alarm(),
-        ));
+        let text = fit(format!("[fault] RECORDING LOST {} frames: {}", loss.frames, loss.reason), &mut room);
+        spans.push(Span::styled(text, theme.alarm()));
     }
     if let Some((text, _)) = &app.message {
         if !spans.is_empty() {
             spans.push(separator(theme));
+            room = room.saturating_sub(3);
         }
         spans.push(Span::styled("> ", theme.dim()));
-        spans.push(Span::styled(text.clone(), theme.bold()));
+        room = room.saturating_sub(2);
+        if room > 0 {
+            spans.push(Span::styled(fit(text.clone(), &mut room), theme.bold()));
+        }
     }
     Line::from(spans)
 }
@@ -1166,7 +1169,7 @@ fn render_small(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
         ),
         theme.warning(),
     ));
-    lines.push(message_line(app, theme));
+    lines.push(message_line(app, theme, None));
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
 
@@ -1900,11 +1903,19 @@ mod tests {
         assert_eq!(footer_at(14, Arming::Watching), ["? help", "q quit"]);
         assert_eq!(footer_at(13, Arming::Watching), ["q quit"]);
         assert_eq!(footer_at(6, Arming::Watching), ["q quit"]);
-        // The table's own order otherwise, the spare entries gone first.
-        assert_eq!(
-            footer_at(45, Arming::Watching),
-            ["↑↓←→ drive", "Space stop", "a arm", "? help", "q quit"]
-        );
+        // Whatever rows the table has: the spare entries go first, then the others from the end, in the
+        // table's order otherwise.
+        let kept: Vec<String> = keys::footer_entries(Arming::Watching)
+            .iter()
+            .filter(|entry| entry.3.is_none())
+            .map(|entry| format!("{} {}", entry.0, entry.2))
+            .collect();
+        let width = kept.iter().map(|entry| entry.chars().count()).sum::<usize>() + 2 * (kept.len() - 1);
+        assert_eq!(footer_at(width as u16, Arming::Watching), kept);
+        let mut fewer = kept.clone();
+        fewer.remove(kept.len() - 3);
+        assert_eq!(footer_at(width as u16 - 1, Arming::Watching), fewer, "the last of the others goes first");
+        assert_eq!(kept[..2], ["↑↓←→ drive", "Space stop"]);
     }
 
     #[test]
