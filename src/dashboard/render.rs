@@ -1180,37 +1180,73 @@ fn centered(area: Rect, width: u16, height: u16) -> Rect {
     Rect { x: area.x + (area.width - width) / 2, y: area.y + (area.height - height) / 2, width, height }
 }
 
+/// The help overlay: every row of the key table, wrapped under its keys, then how releases and arming work.
+/// On a short screen the closing notes go first, then each row keeps one line, then the rows in the middle
+/// give way to a count: the row that quits always stays.
 fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
-    let mut lines: Vec<Line> = keys::BINDINGS
+    let width = 70.min(area.width.saturating_sub(4)).max(20);
+    let inner = usize::from(width.saturating_sub(2));
+    let room = usize::from(area.height.saturating_sub(2));
+    let text_width = inner.saturating_sub(keys::KEY_COLUMN).max(1);
+    let rows: Vec<(&str, String, bool)> = keys::BINDINGS
         .iter()
         .map(|row| {
             let mut what = row.help.to_string();
             if row.keys.iter().any(|bind| bind.action == keys::Action::Faster) {
                 what.push_str(&format!(" (now {} %)", scale_percent(app.teleop.scale)));
             }
-            Line::from(vec![
-                Span::styled(format!("{:<width$}", row.shown, width = keys::KEY_COLUMN), theme.key()),
-                Span::raw(what),
-            ])
+            (row.shown, what, row.keys.iter().any(|bind| bind.action == keys::Action::Quit))
         })
         .collect();
-    lines.push(Line::raw(""));
-    lines.push(Line::styled(release_text(app), theme.dim()));
-    lines.push(Line::styled(
-        "Opens WATCHING: nothing is sent until armed. Releasing a key brakes (--decel); an E-stop, a \
-         latched fault or RC override sends zero until a fresh press. Every way out sends zero-velocity \
-         frames first.",
-        theme.dim(),
-    ));
-    let width = 70.min(area.width.saturating_sub(4)).max(20);
+    let row_lines = |shown: &str, what: &str, wrapped: bool| -> Vec<Line<'static>> {
+        let texts = if wrapped { wrap(what, text_width) } else { vec![fit_words(what, text_width)] };
+        texts
+            .into_iter()
+            .enumerate()
+            .map(|(index, text)| {
+                let keys = if index == 0 { shown } else { "" };
+                Line::from(vec![
+                    Span::styled(format!("{keys:<width$}", width = keys::KEY_COLUMN), theme.key()),
+                    Span::raw(text),
+                ])
+            })
+            .collect()
+    };
+    let mut lines: Vec<Line> =
+        rows.iter().flat_map(|(shown, what, _)| row_lines(shown, what, true)).collect();
+    let notes: Vec<Line> = [release_text(app), HELP_NOTE.to_string()]
+        .iter()
+        .flat_map(|text| wrap(text, inner))
+        .map(|text| Line::styled(text, theme.dim()))
+        .collect();
+    if lines.len() + 1 + notes.len() <= room {
+        lines.push(Line::raw(""));
+        lines.extend(notes);
+    } else if lines.len() > room {
+        lines = rows.iter().flat_map(|(shown, what, _)| row_lines(shown, what, false)).collect();
+        if lines.len() > room {
+            // The first rows, a count of the others, and the way out.
+            let keep = room.saturating_sub(2);
+            let quit = rows.iter().position(|row| row.2).unwrap_or(rows.len().saturating_sub(1));
+            let first: Vec<usize> = (0..rows.len()).filter(|&index| index != quit).take(keep).collect();
+            let mut shown: Vec<Line> = first.iter().map(|&index| lines[index].clone()).collect();
+            let more = rows.len() - first.len() - 1;
+            shown.push(Line::styled(format!("... {more} more: a taller terminal shows them"), theme.dim()));
+            shown.extend(lines.get(quit).cloned());
+            lines = shown;
+        }
+    }
     let height = (lines.len() as u16 + 2).min(area.height);
     let popup = centered(area, width, height);
     frame.render_widget(Clear, popup);
-    frame.render_widget(
-        Paragraph::new(lines).wrap(Wrap { trim: false }).block(block("Keys · ? closes", theme)),
-        popup,
-    );
+    frame.render_widget(Paragraph::new(lines).block(block("Keys · ? closes", theme)), popup);
 }
+
+/// The help overlay's closing note.
+const HELP_NOTE: &str =
+    "Opens WATCHING: nothing is sent until armed. Releasing a key brakes (--decel); an E-stop, \
+                         a latched fault or RC override sends zero until a fresh press. Every way out sends \
+                         zero-velocity frames first.";
 
 fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
     let lines = vec![
@@ -1644,6 +1680,35 @@ mod tests {
             ],
         );
         insta::assert_snapshot!(screen);
+    }
+
+    #[test]
+    fn the_help_keeps_the_way_out_on_a_small_screen() {
+        let mut app = driving();
+        app.toggle_help();
+        for (width, height) in [(60, 20), (80, 24), (60, 12)] {
+            let screen = screen(&app, width, height);
+            assert_contains(&screen, &["Keys · ? closes", "stop the robot and quit"]);
+            if height < 20 {
+                continue;
+            }
+            // The box's inside, as one text: every row's help is there whole (wrapped, never cut).
+            let box_width = 70.min(width - 4);
+            let left = usize::from((width - box_width) / 2) + 1;
+            let inside: Vec<String> = screen
+                .lines()
+                .map(|line| line.chars().skip(left).take(usize::from(box_width) - 2).collect())
+                .collect();
+            let flat = inside.join(" ").split_whitespace().collect::<Vec<_>>().join(" ");
+            for row in keys::BINDINGS {
+                assert!(flat.contains(row.help), "{:?} at {width}x{height}:\n{screen}", row.help);
+            }
+        }
+        assert_contains(
+            &screen(&app, 60, 12),
+            &["more: a taller terminal shows them", "q  ^C     stop the robot"],
+        );
+        assert_contains(&screen(&app, 80, 30), &["zero-velocity frames first."]);
     }
 
     #[test]
