@@ -117,7 +117,7 @@ pub fn render(frame: &mut Frame, app: &App) {
         ])
         .areas(area);
         frame.render_widget(Paragraph::new(header_line(app, theme, header.width)), header);
-        let (tone, text) = alert_text(app);
+        let (tone, text) = alert_text(app, usize::from(alert.width));
         let text = fit_words(&text, usize::from(alert.width));
         frame.render_widget(Paragraph::new(Line::styled(text, theme.tone(tone))), alert);
 
@@ -339,7 +339,7 @@ fn age_text(deciseconds: u64) -> String {
 const REPLAY_ENDED: &str = "replay ended";
 
 /// The one thing to know now, worst first.
-fn alert_text(app: &App) -> (Tone, String) {
+fn alert_text(app: &App, width: usize) -> (Tone, String) {
     let shown = &app.shown;
     if shown.link_ended {
         return (Tone::Info, format!("[info] {REPLAY_ENDED}: the log's last values stay on screen; q quits"));
@@ -384,7 +384,7 @@ fn alert_text(app: &App) -> (Tone, String) {
     }
     if !blocking.is_empty() {
         let names: Vec<String> = blocking.iter().map(|f| fault_name(f)).collect();
-        return (Tone::Alarm, format!("[fault] CANNOT DRIVE, see Faults: {}", names.join(", ")));
+        return (Tone::Alarm, names_within("[fault] CANNOT DRIVE, see Faults: ", &names, width));
     }
     if let Some(reason) = state.why_not_drivable(system.wire) {
         return (Tone::Alarm, format!("[fault] CANNOT DRIVE: {reason}"));
@@ -414,6 +414,22 @@ fn alert_text(app: &App) -> (Tone, String) {
         }
         Arming::WatchOnly => (Tone::Ok, "watch only: nothing is sent to the robot".to_string()),
     }
+}
+
+/// `prefix` and as many whole `names` as fit `width`, then `+N`: `... driver_overheat_protection +1`.
+fn names_within(prefix: &str, names: &[String], width: usize) -> String {
+    let Some(first) = names.first() else { return prefix.to_string() };
+    let mut text = format!("{prefix}{first}");
+    for (index, name) in names.iter().enumerate().skip(1) {
+        let next = format!("{text}, {name}");
+        let after = names.len() - index - 1;
+        let suffix = if after > 0 { format!(" +{after}").len() } else { 0 };
+        if next.chars().count() + suffix > width {
+            return format!("{text} +{}", names.len() - index);
+        }
+        text = next;
+    }
+    text
 }
 
 fn fault_name(fault: &FaultLine) -> String {
@@ -1139,7 +1155,7 @@ fn message_line(app: &App, theme: Theme, width: Option<usize>) -> Line<'static> 
 
 /// Under 60x20: the essentials as text.
 fn render_small(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
-    let (tone, alert) = alert_text(app);
+    let (tone, alert) = alert_text(app, usize::MAX);
     let mut lines = vec![header_line(app, theme, area.width), Line::styled(alert, theme.tone(tone))];
     if let Some(system) = app.shown.system {
         let worst = app.faults().iter().map(|f| f.info.severity).filter(|s| s.is_problem()).max();
@@ -2001,6 +2017,10 @@ mod tests {
         assert_eq!(middle_ellipsis("can0", 12), "can0");
         assert_eq!(fit_words("press m to enable it", 15), "press m to…");
         assert_eq!(fit_words("press m to enable it", 20), "press m to enable it");
+        let names = ["a_fault".to_string(), "M2 b_fault".to_string(), "c_fault".to_string()];
+        assert_eq!(names_within("see: ", &names, 80), "see: a_fault, M2 b_fault, c_fault");
+        assert_eq!(names_within("see: ", &names, 26), "see: a_fault +2");
+        assert_eq!(names_within("see: ", &names, 27), "see: a_fault, M2 b_fault +1");
     }
 
     #[test]
