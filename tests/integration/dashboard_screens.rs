@@ -71,8 +71,16 @@ fn sim_at_60x20_and_80x24_shows_the_safety_facts_and_whole_footer_entries() {
         assert!(screen.lines().all(|line| line.chars().count() <= usize::from(width)), "{size}:\n{screen}");
         assert_safety_facts(&screen, arming, &size);
     }
-    // Armed, at the smallest size: the state changes in the header.
+    // The help at the smallest size keeps the way out.
     resize(&session, 60, 20);
+    session.keys(&["?"]);
+    let (help, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Keys · ? closes"));
+    assert!(help, "? opens the help:\n{screen}");
+    assert!(screen.contains("stop the robot and quit"), "the help says how to quit at 60x20:\n{screen}");
+    session.keys(&["?"]);
+    let (closed, screen) = session.wait_for(Duration::from_secs(5), |s| !s.contains("Keys · ? closes"));
+    assert!(closed, "? closes the help:\n{screen}");
+    // Armed, at the smallest size: the state changes in the header.
     session.keys(&["a"]);
     let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Arm driving?"));
     assert!(asked, "a asks before arming:\n{screen}");
