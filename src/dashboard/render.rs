@@ -629,10 +629,11 @@ fn render_odometry(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compa
             }
         }
     }
-    lines.push(Line::from(vec![
-        Span::raw(if compact { "lights " } else { "lights  " }),
-        lights_span(app, theme),
-    ]));
+    let label = if compact { "lights " } else { "lights  " };
+    let mut lights = lights_span(app, theme);
+    let room = usize::from(area.width.saturating_sub(2)).saturating_sub(label.len());
+    lights.content = fit_words(&lights.content, room).into();
+    lines.push(Line::from(vec![Span::raw(label), lights]));
     frame.render_widget(Paragraph::new(lines).block(block("Odometry & lights", theme)), area);
 }
 
@@ -696,7 +697,7 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
         let left_after = shown_count - index - 1;
         let room = height.saturating_sub(lines.len() + left_after);
         let rows: Vec<String> =
-            if wrapped.len() <= room { wrapped } else { vec![truncate(&body, body_width)] };
+            if wrapped.len() <= room { wrapped } else { vec![fit_words(&body, body_width)] };
         let style = theme.severity(fault.info.severity);
         for (row, text) in rows.into_iter().enumerate() {
             let mut spans = Vec::new();
