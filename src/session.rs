@@ -53,6 +53,8 @@ pub struct RobotStatus {
     pub rx: RxStats,
     /// Set when the link failed or ended; the reader has stopped.
     pub link_error: Option<String>,
+    /// The source came to its end (a replayed log's last frame, a stopped simulator): not a failure.
+    pub link_ended: bool,
 }
 
 impl RobotStatus {
@@ -424,6 +426,7 @@ fn read_loop(
             }
             Ok(None) => {}
             Err(error) => {
+                status.link_ended = error.kind() == std::io::ErrorKind::UnexpectedEof;
                 status.link_error = Some(error.to_string());
                 shared.changed.notify_all();
                 break;

@@ -244,6 +244,8 @@ pub struct Shown {
     /// Any frame at all received.
     pub received_any: bool,
     pub link_error: Option<String>,
+    /// The source ended on its own (a replay's last frame): not a failure; the last values stay shown.
+    pub link_ended: bool,
     /// Battery voltage, 0.1 V, oldest first; one sample per second of fresh status.
     pub battery_history: VecDeque<u16>,
     /// Reported by the robot (0x221): mm/s, mrad/s.
@@ -410,6 +412,8 @@ pub struct App {
     battery_sampled: Option<Instant>,
     odometry: DeadReckoning,
     rates: Rates,
+    /// When the source was first seen ended: the robot's values are aged up to then, never beyond.
+    ended_at: Option<Instant>,
 }
 
 impl App {
@@ -427,6 +431,7 @@ impl App {
             battery_sampled: None,
             odometry: DeadReckoning::default(),
             rates: Rates::default(),
+            ended_at: None,
         }
     }
 
@@ -436,7 +441,10 @@ impl App {
     /// expiry of the one-line message.
     pub fn update(&mut self, snapshot: &Snapshot) {
         let status = snapshot.status;
-        let now = snapshot.now;
+        let clock = snapshot.now;
+        // After a replay's end its last values stay as they were: no stale alarms, no rates decaying.
+        let now = if status.link_ended { *self.ended_at.get_or_insert(clock) } else { clock };
+        let snapshot = &Snapshot { status, sender: snapshot.sender, link_name: snapshot.link_name, now };
         self.update_system(snapshot);
         self.sample_battery(status, now);
         let shown = &mut self.shown;
@@ -447,7 +455,7 @@ impl App {
         self.update_motors(status);
         self.update_odometry(status, now);
         self.update_link(snapshot);
-        if self.message.as_ref().is_some_and(|(_, at)| now.saturating_duration_since(*at) >= MESSAGE_TTL) {
+        if self.message.as_ref().is_some_and(|(_, at)| clock.saturating_duration_since(*at) >= MESSAGE_TTL) {
             self.message = None;
         }
     }
@@ -460,6 +468,7 @@ impl App {
         shown.link_name.push_str(snapshot.link_name);
         shown.received_any = status.frames > 0;
         shown.link_error.clone_from(&status.link_error);
+        shown.link_ended = status.link_ended;
         let system_age = status.system.map(|(at, ..)| snapshot.now.saturating_duration_since(at));
         shown.system = status.system.map(|(_, state, wire)| SystemView {
             vehicle_state: state.vehicle_state,
@@ -642,6 +651,12 @@ impl App {
         // `Severity`'s own order, the worst first (stable: bit order within a severity).
         lines.sort_by_key(|line| std::cmp::Reverse(line.info.severity));
         lines
+    }
+
+    /// How many of [`App::faults`] count as faults, the way `doctor` counts them: warnings and worse
+    /// ([`Severity::is_problem`]); info lines (a driver disabled in standby) are states, listed but not counted.
+    pub fn fault_count(&self) -> usize {
+        self.faults().iter().filter(|line| line.info.severity.is_problem()).count()
     }
 
     /// The dead-reckoned pose in m, m, rad (full precision), once odometry has been seen.

@@ -3,9 +3,11 @@
 //! Layout, top to bottom: a header line (tool, link, protocol, vehicle state, control mode, age of the last
 //! status), an alert line (the one thing to know now), Battery | Speeds | Odometry & lights, Faults (all the
 //! room left), Motors | Link health, then the key-release mode, the keys, and the one-line message.
-//! Below 100x30 the panels are abbreviated so that everything essential fits 80x24; below 60x20 a short
-//! text view replaces the panels. Severity is always spelled (`[fault]`); colour only repeats it, and with
-//! `color == false` no colour is used at all (bold only).
+//! Below 100x30 the panels are abbreviated so that every safety fact (arming, commanded and measured
+//! speeds, faults, battery, how to quit) fits down to 60x20; below 60x20 a short text view replaces the
+//! panels. What does not fit gives way whole (header parts, footer entries, words), never cut mid-word.
+//! Severity is always spelled (`[fault]`); colour only repeats it, and with `color == false` no colour is
+//! used at all (bold only).
 
 use ratatui::layout::{Constraint, Layout, Rect};
 use ratatui::style::{Color, Modifier, Style};
@@ -18,17 +20,19 @@ use super::app::{
     BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
-use crate::protocol::catalog;
+use crate::protocol::catalog::{self, Direction};
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
 use crate::protocol::message::{
     light_mode_name, MessageKind, VEHICLE_ESTOP, VEHICLE_EXCEPTION, VEHICLE_NORMAL,
 };
-use crate::protocol::{ControlMode, FlagTable, Flags, FrameId, Severity, Wire};
+use crate::protocol::{ControlMode, FlagTable, Flags, Severity, Wire};
 
 /// Below this the panels do not fit and a short text view is drawn instead.
 const MIN_PANELS: (u16, u16) = (60, 20);
 /// From this size on, the full panels; below, abbreviated ones.
 const FULL: (u16, u16) = (100, 30);
+/// Width of the full link panel: its two columns of identifiers.
+const LINK_FULL_WIDTH: u16 = 44;
 /// Width of the severity column of the faults list: `[protection]`.
 const SEVERITY_COLUMN: usize = 12;
 
@@ -77,6 +81,7 @@ impl Theme {
             Tone::Ok => self.ok(),
             Tone::Warning => self.warning().add_modifier(Modifier::BOLD),
             Tone::Alarm => self.alarm(),
+            Tone::Info => self.paint(Color::Cyan).add_modifier(Modifier::BOLD),
         }
     }
 }
@@ -84,6 +89,8 @@ impl Theme {
 #[derive(Clone, Copy, PartialEq, Eq)]
 enum Tone {
     Ok,
+    /// Neither good nor bad news: a replay that ended.
+    Info,
     Warning,
     Alarm,
 }
@@ -109,8 +116,9 @@ pub fn render(frame: &mut Frame, app: &App) {
             Constraint::Length(1),
         ])
         .areas(area);
-        frame.render_widget(Paragraph::new(header_line(app, theme)), header);
-        let (tone, text) = alert_text(app);
+        frame.render_widget(Paragraph::new(header_line(app, theme, header.width)), header);
+        let (tone, text) = alert_text(app, usize::from(alert.width));
+        let text = fit_words(&text, usize::from(alert.width));
         frame.render_widget(Paragraph::new(Line::styled(text, theme.tone(tone))), alert);
 
         let [battery, speeds, odometry] = Layout::horizontal([
@@ -124,14 +132,17 @@ pub fn render(frame: &mut Frame, app: &App) {
         render_odometry(frame, odometry, app, theme, compact);
         render_faults(frame, faults, app, theme);
         // Full: the link table's two columns of IDs take 44; the motors table the rest.
-        let link_width = if compact { Constraint::Percentage(45) } else { Constraint::Length(44) };
+        let link_width =
+            if compact { Constraint::Percentage(45) } else { Constraint::Length(LINK_FULL_WIDTH) };
         let [motors, link] = Layout::horizontal([Constraint::Fill(1), link_width]).areas(bottom);
         render_motors(frame, motors, app, theme, compact);
         render_link(frame, link, app, theme, compact);
 
-        frame.render_widget(Paragraph::new(Line::styled(release_text(app), theme.dim())), release);
+        let release_line = fit_words(&release_text(app), usize::from(release.width));
+        frame.render_widget(Paragraph::new(Line::styled(release_line, theme.dim())), release);
         frame.render_widget(Paragraph::new(keys_line(keys.width, theme, app.arming)), keys);
-        frame.render_widget(Paragraph::new(message_line(app, theme)), message);
+        let text = message_line(app, theme, Some(usize::from(message.width)));
+        frame.render_widget(Paragraph::new(text), message);
     }
     if app.prompt == Prompt::ConfirmClear {
         render_confirm(frame, area, app, theme);
@@ -146,7 +157,9 @@ pub fn render(frame: &mut Frame, app: &App) {
 /// faults have their lines (the faults come first).
 fn full_bottom_height(app: &App, area: Rect) -> u16 {
     let ids = app.shown.ids.len() as u16;
-    let link_lines = 4 + ids.div_ceil(2).max(1);
+    let inside = usize::from(LINK_FULL_WIDTH - 2);
+    let missing = not_reported_lines(app.shown.protocol, inside, Theme { color: false }).len() as u16;
+    let link_lines = 4 + ids.div_ceil(2).max(1) + missing;
     let wanted = (link_lines + 2).clamp(6, 15);
     let body_width = usize::from(area.width.saturating_sub(2)).saturating_sub(SEVERITY_COLUMN + 1).max(1);
     let fault_lines: usize = app
@@ -168,23 +181,43 @@ fn separator(theme: Theme) -> Span<'static> {
     Span::styled(" · ", theme.dim())
 }
 
-/// `tracerctl · ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s`
-fn header_line(app: &App, theme: Theme) -> Line<'static> {
+/// A piece of the header, and when it gives way to a narrow terminal.
+struct HeaderPart {
+    spans: Vec<Span<'static>>,
+    /// Dropped when the header does not fit, lowest first; `None`: always shown.
+    drop: Option<u8>,
+}
+
+impl HeaderPart {
+    fn new(span: Span<'static>, drop: Option<u8>) -> Self {
+        Self { spans: vec![span], drop }
+    }
+
+    fn width(&self) -> usize {
+        self.spans.iter().map(Span::width).sum()
+    }
+}
+
+/// The link name's rank among the header's parts that give way (after the tool's name and the protocol).
+const LINK_RANK: u8 = 2;
+/// The fewest characters a long link name (a `--replay` path) keeps before it is left out altogether.
+const MIN_LINK_NAME: usize = 12;
+
+/// `tracerctl · ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s`, fitted to `width`: a long link
+/// name (a replayed file's path) loses its middle first, then the tool's name, the protocol, the link and
+/// the mode go; arming, the vehicle state and the status age always stay.
+fn header_line(app: &App, theme: Theme, width: u16) -> Line<'static> {
     let shown = &app.shown;
     let arming = match app.arming {
         Arming::Armed => Span::styled("ARMED", theme.alarm()),
         Arming::Watching => Span::styled("WATCHING", theme.ok().add_modifier(Modifier::BOLD)),
         Arming::WatchOnly => Span::styled("WATCH ONLY", theme.ok().add_modifier(Modifier::BOLD)),
     };
-    let mut spans = vec![
-        Span::styled("tracerctl", theme.bold()),
-        separator(theme),
-        arming,
-        separator(theme),
-        Span::raw(shown.link_name.clone()),
-        separator(theme),
-        Span::raw(shown.protocol.label()),
-        separator(theme),
+    let mut parts = vec![
+        HeaderPart::new(Span::styled("tracerctl", theme.bold()), Some(0)),
+        HeaderPart::new(arming, None),
+        HeaderPart::new(Span::raw(shown.link_name.clone()), Some(LINK_RANK)),
+        HeaderPart::new(Span::raw(shown.protocol.label()), Some(1)),
     ];
     match shown.system {
         Some(system) => {
@@ -194,27 +227,98 @@ fn header_line(app: &App, theme: Theme) -> Line<'static> {
                 VEHICLE_EXCEPTION => ("EXCEPTION".to_string(), theme.alarm()),
                 other => (format!("STATE 0x{other:02X}"), theme.alarm()),
             };
-            spans.push(Span::styled(text, style));
-            spans.push(separator(theme));
+            parts.push(HeaderPart::new(Span::styled(text, style), None));
             let mode = format!("mode {}", ControlMode::describe(system.wire, system.control_mode));
             let style = if in_command_mode(system.control_mode, system.wire) {
                 Style::new()
             } else {
                 theme.warning()
             };
-            spans.push(Span::styled(mode, style));
+            parts.push(HeaderPart::new(Span::styled(mode, style), Some(3)));
         }
-        None => spans.push(Span::styled("state ?", theme.dim())),
+        None => parts.push(HeaderPart::new(Span::styled("state ?", theme.dim()), None)),
     }
-    spans.push(separator(theme));
-    spans.push(match shown.status_age {
+    let age = match shown.status_age {
+        _ if shown.link_ended => Span::styled(REPLAY_ENDED, theme.tone(Tone::Info)),
         StatusAge::Never => Span::styled("no status yet", theme.warning()),
         StatusAge::Fresh => Span::raw("status <0.1 s"),
         StatusAge::Stale { deciseconds } => {
             Span::styled(format!("NO STATUS FOR {}", age_text(deciseconds)), theme.alarm())
         }
-    });
+    };
+    parts.push(HeaderPart::new(age, None));
+    fit_header(&mut parts, usize::from(width));
+    let mut spans = Vec::new();
+    for (index, part) in parts.into_iter().enumerate() {
+        if index > 0 {
+            spans.push(separator(theme));
+        }
+        spans.extend(part.spans);
+    }
     Line::from(spans)
+}
+
+/// Shortens the link name (middle ellipsis), then drops parts by rank, until the header fits `width`.
+fn fit_header(parts: &mut Vec<HeaderPart>, width: usize) {
+    const SEPARATOR: usize = 3;
+    let total = |parts: &[HeaderPart]| {
+        parts.iter().map(HeaderPart::width).sum::<usize>() + SEPARATOR * parts.len().saturating_sub(1)
+    };
+    let shorten_link = |parts: &mut Vec<HeaderPart>, floor: usize| {
+        if let Some(link) = parts.iter().position(|part| part.drop == Some(LINK_RANK)) {
+            let others = total(parts) - parts[link].width();
+            let room = width.saturating_sub(others).max(floor);
+            if parts[link].width() > room {
+                let name = parts[link].spans[0].content.to_string();
+                parts[link].spans[0].content = middle_ellipsis(&name, room).into();
+            }
+        }
+    };
+    // A path keeps a readable part of its name before the tool's name goes, then shrinks further.
+    shorten_link(parts, 2 * MIN_LINK_NAME);
+    if total(parts) > width {
+        parts.retain(|part| part.drop != Some(0));
+    }
+    shorten_link(parts, MIN_LINK_NAME);
+    while total(parts) > width {
+        let lowest =
+            parts.iter().enumerate().filter_map(|(index, part)| part.drop.map(|rank| (rank, index))).min();
+        let Some((_, index)) = lowest else { break };
+        parts.remove(index);
+    }
+}
+
+/// `/home/me/lo…/session.log`: the start and the end of `text` (a path's file name), in `width` characters.
+fn middle_ellipsis(text: &str, width: usize) -> String {
+    let count = text.chars().count();
+    if count <= width {
+        return text.to_string();
+    }
+    let keep = width.saturating_sub(1);
+    // More of the end: a file's name says more than the start of its directory.
+    let tail = (keep * 2).div_ceil(3);
+    let head = keep - tail;
+    let mut out: String = text.chars().take(head).collect();
+    out.push('…');
+    out.extend(text.chars().skip(count - tail));
+    out
+}
+
+/// `text` within `width` characters, cut after a whole word with `…` when it is longer (a word longer than
+/// the line is cut). Words end at a space or at a comma of a list (`overcurrent,overheat`).
+fn fit_words(text: &str, width: usize) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    if chars.len() <= width {
+        return text.to_string();
+    }
+    let keep = width.saturating_sub(1);
+    let separator = |c: char| c == ' ' || c == ',';
+    // The longest start that ends where a word does: the next character separates.
+    let end = (1..=keep).rev().find(|&end| separator(chars[end])).unwrap_or(keep);
+    let mut out: String = chars[..end].iter().collect();
+    out.truncate(out.trim_end_matches(separator).len());
+    out.push('…');
+    out
 }
 
 fn in_command_mode(mode: u8, wire: Wire) -> bool {
@@ -230,9 +334,16 @@ fn age_text(deciseconds: u64) -> String {
     }
 }
 
+/// Said when the source ended on its own. Only a replay stays on screen after its end (the dashboard closes
+/// when any other link ends), so this is always a replay.
+const REPLAY_ENDED: &str = "replay ended";
+
 /// The one thing to know now, worst first.
-fn alert_text(app: &App) -> (Tone, String) {
+fn alert_text(app: &App, width: usize) -> (Tone, String) {
     let shown = &app.shown;
+    if shown.link_ended {
+        return (Tone::Info, format!("[info] {REPLAY_ENDED}: the log's last values stay on screen; q quits"));
+    }
     if let Some(error) = &shown.link_error {
         return (Tone::Alarm, format!("[fault] LINK FAILED: {error}"));
     }
@@ -266,15 +377,14 @@ fn alert_text(app: &App) -> (Tone, String) {
     };
     let state = system.state();
     let faults = app.faults();
-    let blocking: Vec<&FaultLine> =
-        faults.iter().filter(|f| matches!(f.info.severity, Severity::Fault | Severity::Protection)).collect();
+    let blocking: Vec<&FaultLine> = faults.iter().filter(|f| f.info.severity.blocks_driving()).collect();
     if state.is_estop() {
         let reason = state.why_not_drivable(system.wire).unwrap_or_default();
         return (Tone::Alarm, format!("[fault] E-STOP: {reason}"));
     }
     if !blocking.is_empty() {
         let names: Vec<String> = blocking.iter().map(|f| fault_name(f)).collect();
-        return (Tone::Alarm, format!("[fault] CANNOT DRIVE, see Faults: {}", names.join(", ")));
+        return (Tone::Alarm, names_within("[fault] CANNOT DRIVE, see Faults: ", &names, width));
     }
     if let Some(reason) = state.why_not_drivable(system.wire) {
         return (Tone::Alarm, format!("[fault] CANNOT DRIVE: {reason}"));
@@ -291,7 +401,7 @@ fn alert_text(app: &App) -> (Tone, String) {
         return (Tone::Warning, format!("[warning] not in command mode (mode {mode}): press m to enable it"));
     }
     let battery = BatteryZone::of(system.decivolts);
-    if faults.iter().any(|f| f.info.severity > Severity::Info) || battery != BatteryZone::Ok {
+    if faults.iter().any(|f| f.info.severity.is_problem()) || battery != BatteryZone::Ok {
         return (
             Tone::Warning,
             "[warning] ready to drive, with warnings: see Faults and Battery".to_string(),
@@ -304,6 +414,22 @@ fn alert_text(app: &App) -> (Tone, String) {
         }
         Arming::WatchOnly => (Tone::Ok, "watch only: nothing is sent to the robot".to_string()),
     }
+}
+
+/// `prefix` and as many whole `names` as fit `width`, then `+N`: `... driver_overheat_protection +1`.
+fn names_within(prefix: &str, names: &[String], width: usize) -> String {
+    let Some(first) = names.first() else { return prefix.to_string() };
+    let mut text = format!("{prefix}{first}");
+    for (index, name) in names.iter().enumerate().skip(1) {
+        let next = format!("{text}, {name}");
+        let after = names.len() - index - 1;
+        let suffix = if after > 0 { format!(" +{after}").len() } else { 0 };
+        if next.chars().count() + suffix > width {
+            return format!("{text} +{}", names.len() - index);
+        }
+        text = next;
+    }
+    text
 }
 
 fn fault_name(fault: &FaultLine) -> String {
@@ -412,11 +538,17 @@ fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
     // The scale is known once the glue has set the teleop view (it always sets the release mode).
     let title = if teleop.release_mode.is_empty() {
         "Speeds".to_string()
-    } else {
+    } else if area.width >= 23 {
         format!("Speeds · scale {} %", scale_percent(teleop.scale))
+    } else {
+        format!("Speeds · {} %", scale_percent(teleop.scale))
     };
     let block = block(title, theme);
-    let row = |label: &str, linear: String, angular: String| format!("{label:<6}{linear:>7} {angular:>7}");
+    // Narrower columns in a narrow panel (60 columns: 18 inside), so that rad/s stays on screen.
+    let (label_width, value_width) = if area.width >= 23 { (6, 7) } else { (5, 6) };
+    let row = |label: &str, linear: String, angular: String| {
+        format!("{label:<label_width$}{linear:>value_width$} {angular:>value_width$}")
+    };
     let held: String = teleop
         .held
         .iter()
@@ -497,10 +629,11 @@ fn render_odometry(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compa
             }
         }
     }
-    lines.push(Line::from(vec![
-        Span::raw(if compact { "lights " } else { "lights  " }),
-        lights_span(app, theme),
-    ]));
+    let label = if compact { "lights " } else { "lights  " };
+    let mut lights = lights_span(app, theme);
+    let room = usize::from(area.width.saturating_sub(2)).saturating_sub(label.len());
+    lights.content = fit_words(&lights.content, room).into();
+    lines.push(Line::from(vec![Span::raw(label), lights]));
     frame.render_widget(Paragraph::new(lines).block(block("Odometry & lights", theme)), area);
 }
 
@@ -524,7 +657,11 @@ fn lights_span(app: &App, theme: Theme) -> Span<'static> {
 
 fn render_faults(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
     let faults = app.faults();
-    let title = if faults.is_empty() { "Faults".to_string() } else { format!("Faults ({})", faults.len()) };
+    // Counted as doctor counts: info lines (states) are listed, not counted.
+    let title = match app.fault_count() {
+        0 => "Faults".to_string(),
+        count => format!("Faults ({count})"),
+    };
     let block = block(title, theme);
     let inner = block.inner(area);
     frame.render_widget(block, area);
@@ -546,7 +683,12 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
     let body_width = width.saturating_sub(SEVERITY_COLUMN + 1).max(1);
     let mut lines = Vec::new();
     let fits_all = faults.len() <= height;
-    let shown_count = if fits_all { faults.len() } else { height.saturating_sub(1) };
+    // One line of room shows the worst fault itself (the title has the count), more keep one for the rest.
+    let shown_count = match (fits_all, height) {
+        (true, _) => faults.len(),
+        (false, 0 | 1) => height,
+        (false, _) => height - 1,
+    };
     for (index, fault) in faults.iter().take(shown_count).enumerate() {
         let name = fault_name(fault);
         let body = format!("{name}: {}", fault.info.action);
@@ -555,7 +697,7 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
         let left_after = shown_count - index - 1;
         let room = height.saturating_sub(lines.len() + left_after);
         let rows: Vec<String> =
-            if wrapped.len() <= room { wrapped } else { vec![truncate(&body, body_width)] };
+            if wrapped.len() <= room { wrapped } else { vec![fit_words(&body, body_width)] };
         let style = theme.severity(fault.info.severity);
         for (row, text) in rows.into_iter().enumerate() {
             let mut spans = Vec::new();
@@ -575,7 +717,7 @@ fn fault_lines(faults: &[FaultLine], width: usize, height: usize, theme: Theme) 
             lines.push(Line::from(spans));
         }
     }
-    if !fits_all {
+    if !fits_all && shown_count < height {
         let more = faults.len() - shown_count;
         let worst = faults[shown_count..].iter().map(|f| f.info.severity).max();
         let text = format!(
@@ -634,25 +776,10 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
     } else {
         ["", "RPM", "current", "drv°C", "mot°C", "driver state"]
     };
-    let widths = if compact {
-        [
-            Constraint::Length(2),
-            Constraint::Length(4),
-            Constraint::Length(4),
-            Constraint::Length(5),
-            Constraint::Length(5),
-            Constraint::Fill(1),
-        ]
-    } else {
-        [
-            Constraint::Length(2),
-            Constraint::Length(4),
-            Constraint::Length(7),
-            Constraint::Length(5),
-            Constraint::Length(5),
-            Constraint::Fill(1),
-        ]
-    };
+    let fixed: [u16; 5] = if compact { [2, 4, 4, 5, 5] } else { [2, 4, 7, 5, 5] };
+    let widths = fixed.map(Constraint::Length).into_iter().chain([Constraint::Fill(1)]);
+    // What the state column has: the panel less its border, the fixed columns and one space between each.
+    let state_width = usize::from(area.width.saturating_sub(2 + fixed.iter().sum::<u16>() + 5));
     let dash = || Span::styled("-", theme.dim());
     let rows = app.shown.motors.iter().enumerate().map(|(index, motor)| {
         let rpm = motor.rpm.map_or_else(dash, |rpm| Span::raw(format!("{rpm:+}")));
@@ -666,20 +793,7 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
             Some(-40) => Span::styled("n/a", theme.dim()),
             other => temperature(other.map(i16::from)),
         };
-        let state = match motor.driver_state {
-            None => dash(),
-            Some(0) => Span::styled("ok", theme.ok()),
-            Some(bits) => {
-                let flags = Flags::new(FlagTable::DriverState, u16::from(bits));
-                let names: Vec<&str> =
-                    flags.iter().map(|info| info.name.strip_prefix("driver_").unwrap_or(info.name)).collect();
-                let worst = flags.iter().map(|info| info.severity).max();
-                Span::styled(
-                    format!("0x{bits:02X} {}", names.join(",")),
-                    worst.map_or_else(Style::new, |s| theme.severity(s)),
-                )
-            }
-        };
+        let state = driver_state_span(motor.driver_state, app.shown.protocol, theme, state_width);
         Row::new(vec![
             Span::styled(format!("M{}", index + 1), theme.bold()),
             rpm,
@@ -693,6 +807,29 @@ fn render_motors(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact
         .header(Row::new(header.map(|h| Span::styled(h, theme.dim()))))
         .block(block("Motors", theme));
     frame.render_widget(table, area);
+}
+
+/// `0x0C overcurrent,overheat`, within `width` (whole words); `not on RS232` where the wire has no driver
+/// state (it comes in low-speed frames, which RS232 and V1 lack).
+fn driver_state_span(state: Option<u8>, protocol: Protocol, theme: Theme, width: usize) -> Span<'static> {
+    let (text, style) = match state {
+        None if not_reported(protocol).contains(&MessageKind::MotorLowSpeed.name()) => {
+            (format!("not on {}", protocol.label()), theme.dim())
+        }
+        None => ("-".to_string(), theme.dim()),
+        Some(0) => ("ok".to_string(), theme.ok()),
+        Some(bits) => {
+            let flags = Flags::new(FlagTable::DriverState, u16::from(bits));
+            let names: Vec<&str> =
+                flags.iter().map(|info| info.name.strip_prefix("driver_").unwrap_or(info.name)).collect();
+            let worst = flags.iter().map(|info| info.severity).max();
+            (
+                format!("0x{bits:02X} {}", names.join(",")),
+                worst.map_or_else(Style::new, |s| theme.severity(s)),
+            )
+        }
+    };
+    Span::styled(fit_words(&text, width), style)
 }
 
 fn render_link(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: bool) {
@@ -741,26 +878,40 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     let c = &shown.counters;
     let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
     let bad = |value: u64| bad_if_any(value, theme);
-    let mut first = vec![
-        Span::raw(format!("rx {fps}/s ")),
-        Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)),
-        Span::raw(" "),
-        Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)),
-        Span::raw(" "),
-        Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
-    ];
+    let mut counters = vec![Span::raw(format!("rx {fps}/s"))];
+    // A serial port has no error frames nor socket drops.
+    if shown.protocol != Protocol::Serial {
+        counters.push(Span::styled(format!("err {}", c.error_frames), bad(c.error_frames)));
+        counters.push(Span::styled(format!("drop {}", c.socket_drops), bad(c.socket_drops)));
+    }
+    counters.push(Span::styled(format!("cksum {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)));
+    if shown.protocol == Protocol::Serial {
+        counters.push(Span::raw(format!("skip {}", c.serial_skipped_bytes)));
+    }
     if c.send_errors > 0 || c.watchdog_trips > 0 {
-        first.push(Span::styled(format!(" tx err {} wd {}", c.send_errors, c.watchdog_trips), theme.alarm()));
+        counters
+            .push(Span::styled(format!("tx err {} wd {}", c.send_errors, c.watchdog_trips), theme.alarm()));
+    }
+    let width = usize::from(area.width.saturating_sub(2));
+    // Whole counters only: one that does not fit is left out, never cut.
+    let mut first = Vec::new();
+    let mut used = 0usize;
+    for counter in counters {
+        let needed = counter.width() + usize::from(used > 0);
+        if used + needed > width {
+            continue;
+        }
+        if used > 0 {
+            first.push(Span::raw(" "));
+        }
+        used += needed;
+        first.push(counter);
     }
     let mut lines = vec![Line::from(first), stale];
     let mut row: Vec<Span> = Vec::new();
     let mut used = 0usize;
-    let width = usize::from(area.width.saturating_sub(2));
     for id in &shown.ids {
-        let label = match id.id {
-            FrameId::Standard(id) => format!("{id:03X}"),
-            other => other.to_string(),
-        };
+        let label = id.id.to_string().trim_start_matches("0x").to_string();
         let text = format!("{label}:{}", id.fps.map_or_else(|| "-".to_string(), |f| f.to_string()));
         let needed = text.len() + usize::from(used > 0);
         if used + needed > width && used > 0 {
@@ -781,6 +932,8 @@ fn render_link_compact(frame: &mut Frame, area: Rect, app: &App, theme: Theme, s
     if shown.ids.is_empty() {
         lines.push(Line::styled("no frames yet", theme.dim()));
     }
+    let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
+    lines.extend(not_reported_lines(shown.protocol, width, theme).into_iter().take(room));
     frame.render_widget(Paragraph::new(lines).block(block("Link · ID:fps", theme)), area);
 }
 
@@ -790,37 +943,87 @@ fn render_link_full(frame: &mut Frame, area: Rect, app: &App, theme: Theme, stal
     let c = &shown.counters;
     let fps = shown.total_fps.map_or_else(|| "-".to_string(), |fps| fps.to_string());
     let bad = |value: u64| bad_if_any(value, theme);
-    let mut lines = vec![Line::from(vec![
-        Span::raw(format!("rx {fps} fps · ")),
-        Span::styled(format!("error frames {}", c.error_frames), bad(c.error_frames)),
-        Span::raw(" · "),
-        Span::styled(format!("dropped {}", c.socket_drops), bad(c.socket_drops)),
-    ])];
-    let mut checksum = vec![Span::styled(
-        format!("serial checksum errors {}", c.serial_bad_checksum),
-        bad(c.serial_bad_checksum),
-    )];
-    if c.serial_skipped_bytes > 0 {
-        checksum.push(Span::raw(format!(" · skipped bytes {}", c.serial_skipped_bytes)));
+    let mut lines = Vec::new();
+    // What the link can count: error frames and drops on CAN, checksums and skipped bytes on RS232.
+    if shown.protocol == Protocol::Serial {
+        lines.push(Line::from(vec![
+            Span::raw(format!("rx {fps} fps · ")),
+            Span::styled(format!("checksum errors {}", c.serial_bad_checksum), bad(c.serial_bad_checksum)),
+        ]));
+        lines.push(Line::raw(format!("skipped bytes {}", c.serial_skipped_bytes)));
+    } else {
+        lines.push(Line::from(vec![
+            Span::raw(format!("rx {fps} fps · ")),
+            Span::styled(format!("error frames {}", c.error_frames), bad(c.error_frames)),
+            Span::raw(" · "),
+            Span::styled(format!("dropped {}", c.socket_drops), bad(c.socket_drops)),
+        ]));
+        let mut checksum = vec![Span::styled(
+            format!("serial checksum errors {}", c.serial_bad_checksum),
+            bad(c.serial_bad_checksum),
+        )];
+        if c.serial_skipped_bytes > 0 {
+            checksum.push(Span::raw(format!(" · skipped bytes {}", c.serial_skipped_bytes)));
+        }
+        lines.push(Line::from(checksum));
     }
-    lines.push(Line::from(checksum));
     lines.push(Line::from(vec![
         Span::styled(format!("tx send errors {}", c.send_errors), bad(c.send_errors)),
         Span::raw(" · "),
         Span::styled(format!("watchdog trips {}", c.watchdog_trips), bad(c.watchdog_trips)),
     ]));
     lines.push(stale);
+    let width = usize::from(area.width.saturating_sub(2));
     let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
-    lines.extend(id_columns(app, theme, usize::from(area.width.saturating_sub(2)), room));
+    lines.extend(id_columns(app, theme, width, room));
+    // Then, in the room left (the panel's height counts them), what this wire does not report.
+    let room = usize::from(area.height.saturating_sub(2)).saturating_sub(lines.len());
+    lines.extend(not_reported_lines(shown.protocol, width, theme).into_iter().take(room));
     frame.render_widget(Paragraph::new(lines).block(block("Link health", theme)), area);
+}
+
+/// What the robot reports on CAN V2 and not on this protocol's wire, by message name (RS232: odometry,
+/// motor_low_speed, rc_state, version_response): the catalog's robot frames compared, wire by wire.
+fn not_reported(protocol: Protocol) -> Vec<&'static str> {
+    let Some(wire) = protocol.wire() else { return Vec::new() };
+    let sends = |kind: MessageKind, wire: Wire| {
+        catalog::CATALOG
+            .iter()
+            .any(|entry| entry.kind == kind && entry.wire == wire && entry.direction == Direction::FromRobot)
+    };
+    let mut missing = Vec::new();
+    for entry in
+        catalog::CATALOG.iter().filter(|e| e.wire == Wire::CanV2 && e.direction == Direction::FromRobot)
+    {
+        if !sends(entry.kind, wire) && !missing.contains(&entry.kind.name()) {
+            missing.push(entry.kind.name());
+        }
+    }
+    missing
+}
+
+/// `RS232 does not report: odometry, ...`, wrapped to `width`; nothing on CAN V2.
+fn not_reported_lines(protocol: Protocol, width: usize, theme: Theme) -> Vec<Line<'static>> {
+    let missing = not_reported(protocol);
+    if missing.is_empty() {
+        return Vec::new();
+    }
+    let text = format!("{} does not report: {}", protocol.label(), missing.join(", "));
+    wrap(&text, width).into_iter().map(|row| Line::styled(row, theme.dim())).collect()
 }
 
 /// `0x211  system     50/s` per ID, in as many columns as fit `width`, at most `room` rows (the last cell
 /// then says how many more).
 fn id_columns(app: &App, theme: Theme, width: usize, room: usize) -> Vec<Line<'static>> {
-    const CELL: usize = 20;
+    const NAME: usize = 8;
+    const RATE: usize = 5;
     let shown = &app.shown;
-    let columns = ((width + 2) / (CELL + 2)).max(1);
+    // As wide as the identifiers shown (0x211: 5, 0xAA01: 6) and their names, with a space after each.
+    let id_width = shown.ids.iter().map(|id| id.id.to_string().len()).max().unwrap_or(5) + 1;
+    let name_width =
+        shown.ids.iter().map(|id| id_name(id.id).chars().count().min(NAME)).max().unwrap_or(0) + 1;
+    let cell = id_width + name_width + RATE;
+    let columns = ((width + 2) / (cell + 2)).max(1);
     let capacity = room * columns;
     let overflow = shown.ids.len() > capacity;
     let listed = if overflow { capacity.saturating_sub(1) } else { shown.ids.len() };
@@ -832,7 +1035,11 @@ fn id_columns(app: &App, theme: Theme, width: usize, room: usize) -> Vec<Line<'s
                 (None, Some(fps)) => format!("{fps}/s"),
                 (None, None) => "-".to_string(),
             };
-            let text = format!("{:<6}{:<9}{:>5}", id.id.to_string(), truncate(id_name(id.id), 8), rate);
+            let text = format!(
+                "{:<id_width$}{:<name_width$}{rate:>RATE$}",
+                id.id.to_string(),
+                truncate(id_name(id.id), NAME)
+            );
             let style = if id.stale_deciseconds.is_some() { theme.alarm() } else { Style::new() };
             Span::styled(text, style)
         })
@@ -865,87 +1072,121 @@ fn release_text(app: &App) -> String {
     }
 }
 
-/// The key summary from the key table, long or short to fit.
+/// The key summary from the key table, long labels or short ones to fit. Still too wide, whole entries go,
+/// never part of one: the spare ones first (lowest rank first), then the others from the end of the table,
+/// then help; quitting stays.
 fn keys_line(width: u16, theme: Theme, arming: Arming) -> Line<'static> {
+    let width = usize::from(width);
     let entries = keys::footer_entries(arming);
     let length = |keys: &[(&str, &str)]| -> usize {
-        keys.iter().map(|(k, d)| k.chars().count() + 1 + d.len()).sum::<usize>()
+        keys.iter().map(|(k, d)| k.chars().count() + 1 + d.chars().count()).sum::<usize>()
             + 2 * keys.len().saturating_sub(1)
     };
     let long: Vec<(&str, &str)> = entries.iter().map(|entry| (entry.0, entry.1)).collect();
-    let mut keys = if length(&long) <= usize::from(width) {
-        long
-    } else {
-        entries.iter().map(|entry| (entry.0, entry.2)).collect()
-    };
-    // Still too wide: drop the least needed, so stopping, arming, help and quitting always show.
-    let mut spare: Vec<(u8, &str)> =
-        entries.iter().filter_map(|entry| entry.3.map(|rank| (rank, entry.0))).collect();
-    spare.sort_unstable();
-    for (_, least) in spare {
-        if length(&keys) <= usize::from(width) {
+    let labelled: Vec<(&str, &str)> =
+        if length(&long) <= width { long } else { entries.iter().map(|entry| (entry.0, entry.2)).collect() };
+    let mut kept = vec![true; labelled.len()];
+    let mut order: Vec<usize> = (0..entries.len()).collect();
+    order.sort_by_key(|&index| footer_drop_rank(entries[index].0, entries[index].3, index));
+    for index in order {
+        let shown: Vec<(&str, &str)> =
+            labelled.iter().zip(&kept).filter(|(_, keep)| **keep).map(|(entry, _)| *entry).collect();
+        if length(&shown) <= width || footer_action(entries[index].0, keys::Action::Quit) {
             break;
         }
-        keys.retain(|(key, _)| *key != least);
+        kept[index] = false;
     }
     let mut spans = Vec::new();
-    for (index, (key, description)) in keys.iter().enumerate() {
-        if index > 0 {
+    for (key, description) in labelled.iter().zip(&kept).filter(|(_, keep)| **keep).map(|(entry, _)| *entry) {
+        if !spans.is_empty() {
             spans.push(Span::raw("  "));
         }
-        spans.push(Span::styled(*key, theme.key()));
+        spans.push(Span::styled(key, theme.key()));
         spans.push(Span::raw(format!(" {description}")));
     }
     Line::from(spans)
 }
 
+/// The order in which footer entries give way, lowest first: spare entries by rank, then the others from
+/// the end of the table, then help, then quit.
+fn footer_drop_rank(keys: &str, spare: Option<u8>, index: usize) -> (u8, usize) {
+    match spare {
+        Some(rank) => (0, usize::from(rank)),
+        None if footer_action(keys, keys::Action::Quit) => (3, 0),
+        None if footer_action(keys, keys::Action::Help) => (2, 0),
+        None => (1, usize::MAX - index),
+    }
+}
+
+/// Whether the footer entry shown as `keys` belongs to the row of the key table that does `action`.
+fn footer_action(keys: &str, action: keys::Action) -> bool {
+    keys::BINDINGS.iter().any(|row| {
+        row.footer.is_some_and(|footer| footer.keys == keys)
+            && row.keys.iter().any(|bind| bind.action == action)
+    })
+}
+
 /// The footer: a recording that loses frames (it stays: the exit status will say so too), then the message.
-fn message_line(app: &App, theme: Theme) -> Line<'static> {
+/// Within `width` when given, the texts cut after whole words; `None` where the lines wrap.
+fn message_line(app: &App, theme: Theme, width: Option<usize>) -> Line<'static> {
+    let mut room = width.unwrap_or(usize::MAX);
+    let fit = |text: String, room: &mut usize| {
+        let text = if *room == usize::MAX { text } else { fit_words(&text, *room) };
+        *room = room.saturating_sub(Span::raw(text.as_str()).width());
+        text
+    };
     let mut spans = Vec::new();
     if let Some(loss) = &app.recording_loss {
-        spans.push(Span::styled(
-            format!("[fault] RECORDING LOST {} frames: {}", loss.frames, loss.reason),
-            theme.alarm(),
-        ));
+        let text = fit(format!("[fault] RECORDING LOST {} frames: {}", loss.frames, loss.reason), &mut room);
+        spans.push(Span::styled(text, theme.alarm()));
     }
     if let Some((text, _)) = &app.message {
         if !spans.is_empty() {
             spans.push(separator(theme));
+            room = room.saturating_sub(3);
         }
         spans.push(Span::styled("> ", theme.dim()));
-        spans.push(Span::styled(text.clone(), theme.bold()));
+        room = room.saturating_sub(2);
+        if room > 0 {
+            spans.push(Span::styled(fit(text.clone(), &mut room), theme.bold()));
+        }
     }
     Line::from(spans)
 }
 
 /// Under 60x20: the essentials as text.
 fn render_small(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
-    let (tone, alert) = alert_text(app);
-    let mut lines = vec![header_line(app, theme), Line::styled(alert, theme.tone(tone))];
+    let (tone, alert) = alert_text(app, usize::MAX);
+    let mut lines = vec![header_line(app, theme, area.width), Line::styled(alert, theme.tone(tone))];
     if let Some(system) = app.shown.system {
-        let faults = app.faults();
-        let worst = faults.iter().map(|f| f.info.severity).max();
+        let worst = app.faults().iter().map(|f| f.info.severity).filter(|s| s.is_problem()).max();
         lines.push(Line::raw(format!(
             "battery {} · faults {}{}",
             volts(system.decivolts),
-            faults.len(),
+            app.fault_count(),
             worst.map(|s| format!(" (worst {})", severity_tag(s))).unwrap_or_default()
         )));
     }
+    let mm = |value: i16| speed_text(f64::from(value) / 1000.0);
+    let measured =
+        app.shown.measured.map_or_else(|| "-".to_string(), |(l, a)| format!("{} {}", mm(l), mm(a)));
     lines.push(Line::raw(format!(
-        "keys {}/{} · sent {}/{}",
+        "m/s rad/s: keys {} {} · sent {} {} · robot {measured}",
         speed_text(app.teleop.requested.0),
         speed_text(app.teleop.requested.1),
-        speed_text(f64::from(app.shown.sent.0) / 1000.0),
-        speed_text(f64::from(app.shown.sent.1) / 1000.0)
+        mm(app.shown.sent.0),
+        mm(app.shown.sent.1),
     )));
     lines.push(Line::styled(release_text(app), theme.dim()));
     lines.push(keys_line(area.width, theme, app.arming));
     lines.push(Line::styled(
-        format!("terminal {}x{}: 80x24 or larger shows the full dashboard", area.width, area.height),
+        format!(
+            "terminal {}x{}: {}x{} or larger shows the panels",
+            area.width, area.height, MIN_PANELS.0, MIN_PANELS.1
+        ),
         theme.warning(),
     ));
-    lines.push(message_line(app, theme));
+    lines.push(message_line(app, theme, None));
     frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }), area);
 }
 
@@ -956,37 +1197,73 @@ fn centered(area: Rect, width: u16, height: u16) -> Rect {
     Rect { x: area.x + (area.width - width) / 2, y: area.y + (area.height - height) / 2, width, height }
 }
 
+/// The help overlay: every row of the key table, wrapped under its keys, then how releases and arming work.
+/// On a short screen the closing notes go first, then each row keeps one line, then the rows in the middle
+/// give way to a count: the row that quits always stays.
 fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
-    let mut lines: Vec<Line> = keys::BINDINGS
+    let width = 70.min(area.width.saturating_sub(4)).max(20);
+    let inner = usize::from(width.saturating_sub(2));
+    let room = usize::from(area.height.saturating_sub(2));
+    let text_width = inner.saturating_sub(keys::KEY_COLUMN).max(1);
+    let rows: Vec<(&str, String, bool)> = keys::BINDINGS
         .iter()
         .map(|row| {
             let mut what = row.help.to_string();
             if row.keys.iter().any(|bind| bind.action == keys::Action::Faster) {
                 what.push_str(&format!(" (now {} %)", scale_percent(app.teleop.scale)));
             }
-            Line::from(vec![
-                Span::styled(format!("{:<width$}", row.shown, width = keys::KEY_COLUMN), theme.key()),
-                Span::raw(what),
-            ])
+            (row.shown, what, row.keys.iter().any(|bind| bind.action == keys::Action::Quit))
         })
         .collect();
-    lines.push(Line::raw(""));
-    lines.push(Line::styled(release_text(app), theme.dim()));
-    lines.push(Line::styled(
-        "Opens WATCHING: nothing is sent until armed. Releasing a key brakes (--decel); an E-stop, a \
-         latched fault or RC override sends zero until a fresh press. Every way out sends zero-velocity \
-         frames first.",
-        theme.dim(),
-    ));
-    let width = 70.min(area.width.saturating_sub(4)).max(20);
+    let row_lines = |shown: &str, what: &str, wrapped: bool| -> Vec<Line<'static>> {
+        let texts = if wrapped { wrap(what, text_width) } else { vec![fit_words(what, text_width)] };
+        texts
+            .into_iter()
+            .enumerate()
+            .map(|(index, text)| {
+                let keys = if index == 0 { shown } else { "" };
+                Line::from(vec![
+                    Span::styled(format!("{keys:<width$}", width = keys::KEY_COLUMN), theme.key()),
+                    Span::raw(text),
+                ])
+            })
+            .collect()
+    };
+    let mut lines: Vec<Line> =
+        rows.iter().flat_map(|(shown, what, _)| row_lines(shown, what, true)).collect();
+    let notes: Vec<Line> = [release_text(app), HELP_NOTE.to_string()]
+        .iter()
+        .flat_map(|text| wrap(text, inner))
+        .map(|text| Line::styled(text, theme.dim()))
+        .collect();
+    if lines.len() + 1 + notes.len() <= room {
+        lines.push(Line::raw(""));
+        lines.extend(notes);
+    } else if lines.len() > room {
+        lines = rows.iter().flat_map(|(shown, what, _)| row_lines(shown, what, false)).collect();
+        if lines.len() > room {
+            // The first rows, a count of the others, and the way out.
+            let keep = room.saturating_sub(2);
+            let quit = rows.iter().position(|row| row.2).unwrap_or(rows.len().saturating_sub(1));
+            let first: Vec<usize> = (0..rows.len()).filter(|&index| index != quit).take(keep).collect();
+            let mut shown: Vec<Line> = first.iter().map(|&index| lines[index].clone()).collect();
+            let more = rows.len() - first.len() - 1;
+            shown.push(Line::styled(format!("... {more} more: a taller terminal shows them"), theme.dim()));
+            shown.extend(lines.get(quit).cloned());
+            lines = shown;
+        }
+    }
     let height = (lines.len() as u16 + 2).min(area.height);
     let popup = centered(area, width, height);
     frame.render_widget(Clear, popup);
-    frame.render_widget(
-        Paragraph::new(lines).wrap(Wrap { trim: false }).block(block("Keys · ? closes", theme)),
-        popup,
-    );
+    frame.render_widget(Paragraph::new(lines).block(block("Keys · ? closes", theme)), popup);
 }
+
+/// The help overlay's closing note.
+const HELP_NOTE: &str =
+    "Opens WATCHING: nothing is sent until armed. Releasing a key brakes (--decel); an E-stop, \
+                         a latched fault or RC override sends zero until a fresh press. Every way out sends \
+                         zero-velocity frames first.";
 
 fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
     let lines = vec![
@@ -1061,8 +1338,10 @@ mod tests {
     use crate::dashboard::app::{Snapshot, TeleopView};
     use crate::protocol::detect::ProtocolDetector;
     use crate::protocol::message::{
-        Lights, MotionCommand, MotionState, MotorHighSpeed, MotorLowSpeed, Odometry, SystemState,
+        Lights, MotionCommand, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry,
+        SystemState,
     };
+    use crate::protocol::FrameId;
     use crate::session::RobotStatus;
 
     /// The buffer as text, one line per row, trailing spaces trimmed.
@@ -1421,6 +1700,35 @@ mod tests {
     }
 
     #[test]
+    fn the_help_keeps_the_way_out_on_a_small_screen() {
+        let mut app = driving();
+        app.toggle_help();
+        for (width, height) in [(60, 20), (80, 24), (60, 12)] {
+            let screen = screen(&app, width, height);
+            assert_contains(&screen, &["Keys · ? closes", "stop the robot and quit"]);
+            if height < 20 {
+                continue;
+            }
+            // The box's inside, as one text: every row's help is there whole (wrapped, never cut).
+            let box_width = 70.min(width - 4);
+            let left = usize::from((width - box_width) / 2) + 1;
+            let inside: Vec<String> = screen
+                .lines()
+                .map(|line| line.chars().skip(left).take(usize::from(box_width) - 2).collect())
+                .collect();
+            let flat = inside.join(" ").split_whitespace().collect::<Vec<_>>().join(" ");
+            for row in keys::BINDINGS {
+                assert!(flat.contains(row.help), "{:?} at {width}x{height}:\n{screen}", row.help);
+            }
+        }
+        assert_contains(
+            &screen(&app, 60, 12),
+            &["more: a taller terminal shows them", "q  ^C     stop the robot"],
+        );
+        assert_contains(&screen(&app, 80, 30), &["zero-velocity frames first."]);
+    }
+
+    #[test]
     fn clear_confirmation_prompt() {
         let mut app = faulted();
         app.ask_clear_confirmation();
@@ -1554,7 +1862,8 @@ mod tests {
             (250, 80),
         ] {
             let screen = screen(&app, width, height);
-            assert!(width < 20 || screen.contains("tracerctl"), "{width}x{height}:\n{screen}");
+            // The header gives way from its least needed part: the arming state stays.
+            assert!(width < 20 || screen.contains("WATCHING"), "{width}x{height}:\n{screen}");
             app.toggle_help();
             let _ = self::screen(&app, width, height);
             app.toggle_help();
@@ -1563,7 +1872,278 @@ mod tests {
             app.cancel_prompt();
         }
         let small = screen(&app, 50, 15);
-        assert_contains(&small, &["80x24 or larger", "EXCEPTION"]);
+        assert_contains(&small, &["60x20 or larger shows the panels", "EXCEPTION"]);
+    }
+
+    /// Driving as [`driving`] does, with 2 [info] driver bits (standby-like) and one [warning] bit.
+    fn driving_with_info_and_a_warning() -> App {
+        let base = Instant::now();
+        let mut app = App::new("can0", Limits::default(), false);
+        run(&mut app, base, 3, 300, &|status, _| {
+            status.system.as_mut().unwrap().1.fault_code = 0x0200;
+            for motor in status.motor_low.iter_mut() {
+                motor.as_mut().unwrap().driver_state = 0x40;
+            }
+        });
+        app.set_teleop(kitty(0.6, vec![], (0.3, 0.0)));
+        app.set_arming(Arming::Armed);
+        app
+    }
+
+    /// The safety facts every size from the panels' minimum shows: arming, both speeds with units, the faults,
+    /// the battery, how to quit.
+    fn assert_safety_facts(screen: &str, size: (u16, u16)) {
+        let (width, height) = size;
+        let context = format!("{width}x{height}:\n{screen}");
+        assert!(screen.contains("ARMED"), "arming state missing at {context}");
+        assert!(screen.contains("m/s") && screen.contains("rad/s"), "speed units missing at {context}");
+        // The speeds panel's row: what follows the label up to the panel's border.
+        let row = |label: &str| {
+            screen.lines().find_map(|line| {
+                let after = line.split(&format!("│{label} ")).nth(1)?;
+                Some(after.split('│').next().unwrap_or_default().split_whitespace().collect::<Vec<_>>())
+            })
+        };
+        for label in ["sent", "robot"] {
+            let values = row(label).unwrap_or_else(|| panic!("no {label} row at {context}"));
+            assert_eq!(values, ["+0.30", "+0.00"], "{label} at {context}");
+        }
+        assert!(screen.contains("Faults (1)"), "the fault count (info not counted) at {context}");
+        assert!(screen.contains("25.9 V"), "battery missing at {context}");
+        let footer = screen.lines().rev().find(|line| line.contains("quit")).unwrap_or_default();
+        assert!(footer.contains("q quit") && footer.contains("? help"), "keys at {context}");
+        assert!(footer.trim_end().ends_with("q quit"), "the footer ends on a whole entry at {context}");
+    }
+
+    #[test]
+    fn every_size_from_the_minimum_shows_the_safety_facts() {
+        let app = driving_with_info_and_a_warning();
+        let mut sizes = 0;
+        for width in (MIN_PANELS.0..=120).step_by(3).chain([120]) {
+            for height in (MIN_PANELS.1..=40).step_by(2).chain([40]) {
+                assert_safety_facts(&screen(&app, width, height), (width, height));
+                sizes += 1;
+            }
+        }
+        assert!(sizes > 200, "{sizes} sizes");
+    }
+
+    #[test]
+    fn safety_facts_60x20() {
+        let screen = screen(&driving_with_info_and_a_warning(), 60, 20);
+        assert_safety_facts(&screen, (60, 20));
+        assert_contains(
+            &screen,
+            &["robot +0.30  +0.00", "ARMED · can0 · CAN V2 · NORMAL · mode can · status <0.1 s"],
+        );
+        insta::assert_snapshot!(screen);
+    }
+
+    #[test]
+    fn safety_facts_80x24() {
+        let screen = screen(&driving_with_info_and_a_warning(), 80, 24);
+        assert_safety_facts(&screen, (80, 24));
+        assert_contains(&screen, &["robot   +0.30   +0.00", "[info]       M1 driver_disabled"]);
+        insta::assert_snapshot!(screen);
+    }
+
+    #[test]
+    fn safety_facts_100x30() {
+        let screen = screen(&driving_with_info_and_a_warning(), 100, 30);
+        assert_safety_facts(&screen, (100, 30));
+        assert_contains(
+            &screen,
+            &["[warning]    battery_undervoltage_warning", "[info]       M2 driver_disabled"],
+        );
+        insta::assert_snapshot!(screen);
+    }
+
+    /// The footer's entries as drawn at `width`, split on the two spaces between entries.
+    fn footer_at(width: u16, arming: Arming) -> Vec<String> {
+        let line = keys_line(width, Theme { color: false }, arming);
+        let text: String = line.spans.iter().map(|span| span.content.as_ref()).collect();
+        assert!(Line::raw(text.clone()).width() <= usize::from(width).max(6), "{width}: {text:?}");
+        text.split("  ").map(str::to_string).collect()
+    }
+
+    #[test]
+    fn the_footer_drops_whole_entries_and_keeps_help_and_quit_last() {
+        let every: Vec<String> = keys::footer_entries(Arming::Watching)
+            .iter()
+            .flat_map(|entry| [format!("{} {}", entry.0, entry.1), format!("{} {}", entry.0, entry.2)])
+            .collect();
+        for width in 6..=140 {
+            let entries = footer_at(width, Arming::Watching);
+            for entry in &entries {
+                assert!(every.contains(entry), "{width}: {entry:?} is not a whole entry of the table");
+            }
+            assert_eq!(entries.last().map(String::as_str), Some("q quit"), "{width}: {entries:?}");
+            if width >= 14 {
+                assert!(entries.contains(&"? help".to_string()), "{width}: {entries:?}");
+            }
+        }
+        assert_eq!(footer_at(14, Arming::Watching), ["? help", "q quit"]);
+        assert_eq!(footer_at(13, Arming::Watching), ["q quit"]);
+        assert_eq!(footer_at(6, Arming::Watching), ["q quit"]);
+        // Whatever rows the table has: the spare entries go first, then the others from the end, in the
+        // table's order otherwise.
+        let kept: Vec<String> = keys::footer_entries(Arming::Watching)
+            .iter()
+            .filter(|entry| entry.3.is_none())
+            .map(|entry| format!("{} {}", entry.0, entry.2))
+            .collect();
+        let width = kept.iter().map(|entry| entry.chars().count()).sum::<usize>() + 2 * (kept.len() - 1);
+        assert_eq!(footer_at(width as u16, Arming::Watching), kept);
+        let mut fewer = kept.clone();
+        fewer.remove(kept.len() - 3);
+        assert_eq!(footer_at(width as u16 - 1, Arming::Watching), fewer, "the last of the others goes first");
+        assert_eq!(kept[..2], ["↑↓←→ drive", "Space stop"]);
+    }
+
+    #[test]
+    fn a_long_replay_path_loses_its_middle_never_the_status() {
+        let mut app = driving();
+        let path = format!("/home/operator/{}/field-test-2026-11-24/session.log", "logs/".repeat(20));
+        app.shown.link_name.clone_from(&path);
+        for width in [60, 80, 100, 120] {
+            let screen = screen(&app, width, 30);
+            let header = screen.lines().next().unwrap_or_default();
+            assert!(header.ends_with("NORMAL · mode can · status <0.1 s"), "{width}: {header}");
+            assert!(header.contains("ARMED"), "{width}: {header}");
+            if width >= 80 {
+                assert!(header.contains("…") && header.contains("session.log"), "{width}: {header}");
+            }
+        }
+        assert_eq!(middle_ellipsis("/home/operator/session.log", 12), "/ho…sion.log");
+        assert_eq!(middle_ellipsis("can0", 12), "can0");
+        assert_eq!(fit_words("press m to enable it", 15), "press m to…");
+        assert_eq!(fit_words("press m to enable it", 20), "press m to enable it");
+        let names = ["a_fault".to_string(), "M2 b_fault".to_string(), "c_fault".to_string()];
+        assert_eq!(names_within("see: ", &names, 80), "see: a_fault, M2 b_fault, c_fault");
+        assert_eq!(names_within("see: ", &names, 26), "see: a_fault +2");
+        assert_eq!(names_within("see: ", &names, 27), "see: a_fault, M2 b_fault +1");
+    }
+
+    #[test]
+    fn the_end_of_a_replay_is_info_and_keeps_the_last_values() {
+        let base = Instant::now();
+        let mut app = App::new("session.log", Limits::default(), false);
+        run(&mut app, base, 3, 300, &|_, _| {});
+        let end = base + Duration::from_secs(3);
+        let mut status = v2_status(end, 300, 38);
+        status.link_error = Some("end of the replayed log".to_string());
+        status.link_ended = true;
+        // Ten seconds after the end: nothing turns stale, the rates stay.
+        for tick in 0..=200 {
+            let now = end + Duration::from_millis(50 * tick);
+            app.update(&Snapshot {
+                status: &status,
+                sender: SenderStats::default(),
+                link_name: "session.log",
+                now,
+            });
+        }
+        app.set_teleop(kitty(0.6, vec![], (0.0, 0.0)));
+        let screen = screen(&app, 100, 30);
+        assert_contains(
+            &screen,
+            &[
+                "NORMAL · mode can · replay ended",
+                "[info] replay ended: the log's last values stay on screen; q quits",
+                "robot   +0.30   +0.00",
+                "25.9 V",
+                "stale: none",
+                "0x211 system    50/s",
+            ],
+        );
+        assert!(!screen.contains("[fault]") && !screen.contains("LINK FAILED"), "{screen}");
+        // A link that fails is still a fault.
+        status.link_ended = false;
+        app.update(&Snapshot { status: &status, sender: SenderStats::default(), link_name: "x", now: end });
+        assert!(self::screen(&app, 100, 30).contains("[fault] LINK FAILED: end of the replayed log"));
+    }
+
+    #[test]
+    fn info_lines_are_listed_but_not_counted() {
+        let screen = screen(&driving_with_info_and_a_warning(), 100, 30);
+        assert_contains(
+            &screen,
+            &["Faults (1)", "[info]       M1 driver_disabled", "[info]       M2 driver_disabled"],
+        );
+        let app = driving_with_info_and_a_warning();
+        assert_eq!((app.faults().len(), app.fault_count()), (3, 1));
+        assert_contains(&screen_small(&app), &["faults 1 (worst [warning])"]);
+    }
+
+    /// An RS232 robot: the serial feedback identifiers of the catalog at 50/s, no odometry, no driver state.
+    fn rs232() -> App {
+        let base = Instant::now();
+        let mut app = App::new("/dev/ttyUSB0", Limits::default(), false);
+        let serial: Vec<FrameId> = catalog::CATALOG
+            .iter()
+            .filter(|entry| entry.wire == Wire::Serial && entry.direction == Direction::FromRobot)
+            .map(|entry| entry.id)
+            .collect();
+        for tick in 0..=100u64 {
+            let now = base + Duration::from_millis(50 * tick);
+            let mut status = v2_status(now, 0, 0);
+            let system = status.system.as_mut().unwrap();
+            system.1.control_mode = ControlMode::Serial.code(Wire::Serial);
+            system.2 = Wire::Serial;
+            status.odometry = None;
+            status.motor_low = [None, None];
+            status.motor_high = [None, None];
+            status.motor_driver = [1, 2].map(|motor| {
+                Some(MotorDriverState {
+                    motor,
+                    current_deciamps: 3,
+                    rpm: 0,
+                    driver_temperature: 26,
+                    count: 0,
+                })
+            });
+            status.detector = ProtocolDetector::default();
+            status.id_counts = serial.iter().map(|id| (*id, tick * 5 / 2)).collect();
+            status.frames = serial.len() as u64 * tick * 5 / 2;
+            app.update(&Snapshot {
+                status: &status,
+                sender: SenderStats::default(),
+                link_name: "/dev/ttyUSB0",
+                now,
+            });
+        }
+        app.set_teleop(kitty(0.6, vec![], (0.0, 0.0)));
+        app
+    }
+
+    #[test]
+    fn rs232_link_panel_lists_its_identifiers_and_what_it_does_not_report() {
+        assert_eq!(
+            not_reported(Protocol::Serial),
+            ["odometry", "motor_low_speed", "rc_state", "version_response"]
+        );
+        assert_eq!(not_reported(Protocol::CanV1), not_reported(Protocol::Serial));
+        assert!(not_reported(Protocol::CanV2).is_empty());
+        let app = rs232();
+        let screen = screen(&app, 100, 30);
+        assert_contains(
+            &screen,
+            &[
+                "RS232 · NORMAL · mode serial",
+                "0xAA01 system   50/s  0xAA02 motion   50/s",
+                "rx 250 fps · checksum errors 0",
+                "skipped bytes 0",
+                "RS232 does not report: odometry,",
+                "motor_low_speed, rc_state,",
+                "RS232 reports no odometry",
+                "not on RS232",
+            ],
+        );
+        assert!(!screen.contains("0xAA01system") && !screen.contains("error frames"), "{screen}");
+        insta::assert_snapshot!(screen);
+        let compact = self::screen(&app, 80, 24);
+        assert_contains(&compact, &["rx 250/s cksum 0 skip 0", "AA01:50", "not on RS232"]);
+        assert!(!compact.contains("err 0"), "{compact}");
     }
 
     #[test]
