@@ -18,6 +18,7 @@ mod generated;
 mod layers;
 mod long_functions;
 mod monitor;
+mod monitor_modes;
 mod plot;
 mod recording;
 mod robot_commands;
