@@ -208,16 +208,16 @@ pub struct MonitorArgs {
 /// `monitor --timestamp`: candump's `-t` letters, or their names.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub enum TimestampArg {
-    /// a: seconds since the epoch, 6 decimals (9 when the link stamps nanoseconds)
+    /// (a) seconds since the epoch, 6 decimals (9 when the link stamps nanoseconds)
     #[value(alias = "a")]
     Absolute,
-    /// d: seconds since the previous line (000.020000); the first line is 0
+    /// (d) seconds since the previous line shown (000.020000); the first line is 0
     #[value(alias = "d")]
     Delta,
-    /// z: seconds since the first line (000.000000 first)
+    /// (z) seconds since the first line shown (000.000000 first)
     #[value(alias = "z")]
     Zero,
-    /// A: local date and time (2023-11-14 22:13:20.000250)
+    /// (A) local date and time (2023-11-14 22:13:20.000250)
     #[value(alias = "A")]
     Date,
 }

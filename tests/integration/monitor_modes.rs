@@ -170,7 +170,8 @@ fn text_lines_show_the_raw_bytes_in_an_aligned_column() {
         assert_eq!(msg_column(line, msg), msg_column(lines[0], "system_state"), "{line}");
     }
     assert_eq!(lines[6], "1700000001.520000 replay 0x18FF0001 [2] AA BB                    raw len=2");
-    assert!(lines[7].starts_with("1700000002.123456789 replay 0x221      [8] FF 38 FE 0C 00 00 00 00  motion_state"));
+    assert!(lines[7]
+        .starts_with("1700000002.123456789 replay 0x221      [8] FF 38 FE 0C 00 00 00 00  motion_state"));
 }
 
 #[test]
@@ -209,7 +210,11 @@ fn json_ts_ns_is_the_stamp_in_integer_nanoseconds() {
 
     // decode writes the same object: `null` for both without a stamp.
     let decode = tracerctl().args(["decode", "--format", "json", "211#00000103000000B1"]).output().unwrap();
-    assert!(stdout(&decode).starts_with("{\"ts\":null,\"ts_ns\":null,\"iface\":\"-\""), "{}", stdout(&decode));
+    assert!(
+        stdout(&decode).starts_with("{\"ts\":null,\"ts_ns\":null,\"iface\":\"-\""),
+        "{}",
+        stdout(&decode)
+    );
 }
 
 #[test]
