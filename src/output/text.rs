@@ -242,3 +242,55 @@ fn push_flags(out: &mut Vec<u8>, flags: &Flags, color: bool) {
         out.extend_from_slice(RESET);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::serial::{self, SerialFrame};
+    use crate::protocol::{decode, CanFrame, ProtocolHint};
+
+    fn line(frame: FrameRef, columns: &mut Columns) -> String {
+        let decoded = match frame {
+            FrameRef::Can(frame) => decode(frame, ProtocolHint::Auto),
+            FrameRef::Serial(frame) => Ok(serial::decode(frame)),
+        };
+        let event = Event { ts: None, iface: "link", dir: None, frame, decoded };
+        let mut out = Vec::new();
+        write_with(&mut out, &event, false, columns);
+        String::from_utf8(out).unwrap()
+    }
+
+    #[test]
+    fn the_data_column_for_rs232_error_remote_and_fd_frames() {
+        let mut columns = Columns::new(TimeMode::Absolute, true);
+        let motion = SerialFrame { frame_type: 0x55, command: 1, payload: [2, 0, 10, 0, 0, 0], frame_id: 0 };
+        assert_eq!(
+            line(FrameRef::Serial(&motion), &mut columns),
+            "- link 0x5501 [13] 5A A5 0A 55 01 02 00 0A 00 00 00 00 6B  motion_command linear_velocity=0.15m/s \
+             angular_velocity=0rad/s control_mode=serial fault_clear=none\n"
+        );
+        let mut columns = Columns::new(TimeMode::Absolute, true);
+        let remote = CanFrame::new_remote(0x123, false, 5).unwrap();
+        assert_eq!(
+            line(FrameRef::Can(&remote), &mut columns),
+            "- link 0x123 [0]                          remote_request len=5\n"
+        );
+        // An error frame's identifier is 8 digits wide: from then on standard ones are padded to it.
+        let error = CanFrame::new_error(0x40, &[0; 8]).unwrap();
+        assert_eq!(
+            line(FrameRef::Can(&error), &mut columns),
+            "- link 0x20000040 [8] 00 00 00 00 00 00 00 00  error_frame classes=bus_off\n"
+        );
+        let fd = CanFrame::new_fd(0x123, false, 5, &[0xAB; 12]).unwrap();
+        assert_eq!(
+            line(FrameRef::Can(&fd), &mut columns),
+            "- link 0x123      [12] AB AB AB AB AB AB AB AB AB AB AB AB  raw fd_flags=5 len=12\n"
+        );
+        // Without the column: decode's line, data= included.
+        let mut plain = Columns::new(TimeMode::Absolute, false);
+        assert_eq!(
+            line(FrameRef::Can(&error), &mut plain),
+            "- link 0x20000040 error_frame classes=bus_off data=0000000000000000\n"
+        );
+    }
+}
