@@ -34,6 +34,7 @@ pub struct Clock {
 
 impl Clock {
     pub fn new(mode: TimeMode) -> Self {
+        #[cfg(unix)]
         if mode == TimeMode::Date {
             // The local time zone (TZ, /etc/localtime) is read once, before the first line.
             // SAFETY: tzset only reads the environment and the zone files into libc's own state.
@@ -105,6 +106,7 @@ fn push_fraction(out: &mut Vec<u8>, nanos: u32, nine_digits: bool) {
 }
 
 /// `YYYY-MM-DD HH:MM:SS.ffffff` in the local time zone; false when the C library cannot convert the stamp.
+#[cfg(unix)]
 fn push_local_date(out: &mut Vec<u8>, ts: &Timestamp, nine_digits: bool) -> bool {
     let Ok(secs) = libc::time_t::try_from(ts.secs) else { return false };
     // SAFETY: an all-zero `tm` is a valid value (integers and a null zone name pointer).
@@ -128,7 +130,14 @@ fn push_local_date(out: &mut Vec<u8>, ts: &Timestamp, nine_digits: bool) -> bool
     true
 }
 
+/// Without POSIX's localtime_r the seconds are shown instead.
+#[cfg(not(unix))]
+fn push_local_date(_: &mut Vec<u8>, _: &Timestamp, _: bool) -> bool {
+    false
+}
+
 /// A non-negative number with leading zeros to `width` digits (years before 1000 included).
+#[cfg(unix)]
 fn push_padded(out: &mut Vec<u8>, value: i64, width: usize) {
     let mut buffer = itoa::Buffer::new();
     let text = buffer.format(value).as_bytes();
@@ -136,6 +145,7 @@ fn push_padded(out: &mut Vec<u8>, value: i64, width: usize) {
     out.extend_from_slice(text);
 }
 
+#[cfg(unix)]
 extern "C" {
     // POSIX; the libc crate does not declare it on every target.
     fn tzset();
@@ -183,6 +193,7 @@ mod tests {
         assert_eq!(out, b"-");
     }
 
+    #[cfg(unix)]
     #[test]
     fn dates_are_local_and_out_of_range_ones_stay_seconds() {
         // TZ is not set by the tests: the shape is checked, the value in tests/integration/monitor_modes.rs.
