@@ -833,7 +833,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__monitor)
-            opts="-f -h -V --format --raw --id --msg --log --duration --silence --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -867,6 +867,22 @@ _tracerctl() {
                     return 0
                     ;;
                 --silence)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --timestamp)
+                    COMPREPLY=($(compgen -W "absolute delta zero date" -- "${cur}"))
+                    return 0
+                    ;;
+                -t)
+                    COMPREPLY=($(compgen -W "absolute delta zero date" -- "${cur}"))
+                    return 0
+                    ;;
+                --count)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                -n)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

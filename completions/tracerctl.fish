@@ -149,6 +149,11 @@ remote_request\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s; up to 30 days); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long (0 to 1h; 0: never)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s t -l timestamp -d 'Time column of text lines, as candump -t: a, d, z or A (default: absolute)' -r -f -a "absolute\t'(a) seconds since the epoch, 6 decimals (9 when the link stamps nanoseconds)'
+delta\t'(d) seconds since the previous line shown (000.020000); the first line is 0'
+zero\t'(z) seconds since the first line shown (000.000000 first)'
+date\t'(A) local date and time (2023-11-14 22:13:20.000250)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s n -l count -d 'Exit after COUNT frames shown (as candump -n), with the summary; exit status 0' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -178,6 +183,7 @@ swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines, undecoded (so not with --format)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l no-data -d 'Leave the raw bytes out of text lines (the line decode prints, for scripts that parse it)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'

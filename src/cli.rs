@@ -11,6 +11,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use crate::commands::{self, usage, Global};
 use crate::control::{LimitError, LimitName, Limits};
 use crate::link::LinkChoice;
+use crate::output::stamp::TimeMode;
 use crate::output::{ColorChoice, Format};
 use crate::protocol::{ClearTarget, ControlMode, ProtocolHint};
 
@@ -225,11 +226,61 @@ pub struct MonitorArgs {
     /// Warn when the bus is silent this long (0 to 1h; 0: never)
     #[arg(long, value_name = "DURATION", default_value = "500ms", allow_hyphen_values = true, value_parser = duration_in(SILENCE))]
     pub silence: std::time::Duration,
+
+    /// Time column of text lines, as candump -t: a, d, z or A (default: absolute)
+    #[arg(long = "timestamp", short = 't', value_enum, value_name = "MODE")]
+    pub timestamp: Option<TimestampArg>,
+
+    /// Exit after COUNT frames shown (as candump -n), with the summary; exit status 0
+    #[arg(long = "count", short = 'n', value_name = "COUNT", value_parser = clap::value_parser!(u64).range(1..))]
+    pub count: Option<u64>,
+
+    /// Leave the raw bytes out of text lines (the line decode prints, for scripts that parse it)
+    #[arg(long)]
+    pub no_data: bool,
+}
+
+/// `monitor --timestamp`: candump's `-t` letters, or their names.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum TimestampArg {
+    /// (a) seconds since the epoch, 6 decimals (9 when the link stamps nanoseconds)
+    #[value(alias = "a")]
+    Absolute,
+    /// (d) seconds since the previous line shown (000.020000); the first line is 0
+    #[value(alias = "d")]
+    Delta,
+    /// (z) seconds since the first line shown (000.000000 first)
+    #[value(alias = "z")]
+    Zero,
+    /// (A) local date and time (2023-11-14 22:13:20.000250)
+    #[value(alias = "A")]
+    Date,
+}
+
+impl From<TimestampArg> for TimeMode {
+    fn from(value: TimestampArg) -> Self {
+        match value {
+            TimestampArg::Absolute => TimeMode::Absolute,
+            TimestampArg::Delta => TimeMode::Delta,
+            TimestampArg::Zero => TimeMode::Zero,
+            TimestampArg::Date => TimeMode::Date,
+        }
+    }
 }
 
 impl MonitorArgs {
-    fn options(self) -> commands::monitor::Options {
-        commands::monitor::Options {
+    fn options(self) -> anyhow::Result<commands::monitor::Options> {
+        // The text line's columns only: JSON and CSV keep the stamp as received (and JSON the bytes in
+        // `data`), candump -L lines are candump's own format.
+        let text = self.format == FormatArg::Text && !self.raw;
+        let column_options = [(self.timestamp.is_some(), "--timestamp"), (self.no_data, "--no-data")];
+        if let Some((_, option)) = column_options.iter().find(|(given, _)| *given && !text) {
+            return Err(usage(format!(
+                "{option} is for text lines; JSON and CSV keep the stamp as received (`ts`, `ts_ns`) and the \
+                 bytes in `data`, and --raw lines are candump's"
+            )));
+        }
+        Ok(commands::monitor::Options {
             format: self.format.into(),
             raw: self.raw,
             ids: self.ids,
@@ -237,7 +288,10 @@ impl MonitorArgs {
             log: self.log,
             duration: self.duration,
             silence: self.silence,
-        }
+            time_mode: self.timestamp.map_or(TimeMode::Absolute, TimeMode::from),
+            data_column: !self.no_data,
+            count: self.count,
+        })
     }
 }
 
@@ -961,7 +1015,10 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             &offline(),
             &commands::completions::Options { script: completion_script(args.shell) },
         ),
-        Command::Monitor(args) => commands::monitor::run(&global(link.choice()?), &args.options()),
+        Command::Monitor(args) => {
+            let options = args.options()?;
+            commands::monitor::run(&global(link.choice()?), &options)
+        }
         Command::Drive(args) => {
             let options = args.options()?;
             commands::drive::run(&global(link.choice()?), &options)

@@ -1,4 +1,4 @@
-//! The decode hot path allocates nothing per line: decoding 20x more lines costs exactly as many heap
+//! The decode hot path (and monitor's text line) allocates nothing per line: decoding 20x more lines costs exactly as many heap
 //! allocations (all of them set-up). Allocations are counted on the test's own thread only.
 
 use std::alloc::{GlobalAlloc, Layout, System};
@@ -6,6 +6,8 @@ use std::cell::Cell;
 
 use tracerctl::candump::{Line, LineParser, LineReader, LogFormat, RawLine, TextFormat};
 use tracerctl::commands::decode::summary::Summary;
+use tracerctl::output::stamp::TimeMode;
+use tracerctl::output::text::{self, Columns};
 use tracerctl::output::{Event, EventWriter, Format, FrameRef};
 use tracerctl::protocol::{decode, ProtocolHint};
 
@@ -62,6 +64,8 @@ const SAMPLE: &[&str] = &[
 
 enum Sink {
     Writer(EventWriter),
+    /// monitor's text line: a time mode, with or without the data column.
+    Columns(TimeMode, bool),
     Summary,
 }
 
@@ -73,6 +77,10 @@ fn allocations_for(lines: usize, sink: &Sink) -> usize {
     let mut parser = LineParser::new();
     let mut out = Vec::with_capacity(64 * 1024);
     let mut summary = Summary::default();
+    let mut columns = match sink {
+        Sink::Columns(mode, data) => Some(Columns::new(*mode, *data)),
+        _ => None,
+    };
     let mut frames = 0;
     while let Some(raw) = reader.next_line().unwrap() {
         let RawLine::Line { text, .. } = raw else { panic!("no line is too long") };
@@ -88,6 +96,10 @@ fn allocations_for(lines: usize, sink: &Sink) -> usize {
         match sink {
             Sink::Writer(writer) => {
                 writer.write(&mut out, &event);
+                out.clear();
+            }
+            Sink::Columns(..) => {
+                text::write_with(&mut out, &event, true, columns.as_mut().expect("made above"));
                 out.clear();
             }
             Sink::Summary => summary.event(&event),
@@ -106,6 +118,10 @@ fn decoding_allocates_nothing_per_line() {
         ("json", Sink::Writer(EventWriter::new(Format::Json, false))),
         ("text", Sink::Writer(EventWriter::new(Format::Text, true))),
         ("csv", Sink::Writer(EventWriter::new(Format::Csv, false))),
+        ("monitor text, absolute, data", Sink::Columns(TimeMode::Absolute, true)),
+        ("monitor text, delta", Sink::Columns(TimeMode::Delta, true)),
+        ("monitor text, zero, no data", Sink::Columns(TimeMode::Zero, false)),
+        ("monitor text, date", Sink::Columns(TimeMode::Date, true)),
         ("summary", Sink::Summary),
     ] {
         // The sample text itself is built before counting starts, so only decoding is measured.

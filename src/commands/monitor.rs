@@ -1,6 +1,8 @@
 //! `tracerctl monitor`: the live bus, decoded as `decode` prints it (text, JSON, CSV) or as candump -L lines,
 //! with warnings on stderr when an expected periodic frame goes stale or the bus falls silent, an optional
-//! candump -L log of every frame, and per-identifier counts and rates at the end.
+//! candump -L log of every frame, and per-identifier counts and rates at the end. Text lines add what
+//! candump users reach for: the raw bytes after the identifier and candump's `-t` time modes; `count`
+//! ends the run after that many lines, as `candump -n` does.
 //!
 //! Frames are received, stamped and checked on the main thread straight from the link (no session: every
 //! frame matters); what is printed goes through a bounded queue to a writer thread ([`OutputQueue`]), so a
@@ -22,6 +24,8 @@ use crate::exit::{self, DATA_ERROR, FAILURE, SUCCESS};
 use crate::link::{FrameRx, LinkChoice, LinkFrame, LinkKind, Received, RxStats};
 use crate::output::filter::Filter;
 use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
+use crate::output::stamp::TimeMode;
+use crate::output::text::{self, Columns};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::catalog::{Entry, PERIODIC, STALE_PERIODS};
 use crate::protocol::detect::ProtocolDetector;
@@ -66,6 +70,12 @@ pub struct Options {
     pub duration: Option<Duration>,
     /// Warn when the bus is silent this long (zero: never).
     pub silence: Duration,
+    /// The time column of text lines (candump -t).
+    pub time_mode: TimeMode,
+    /// The raw bytes after the identifier in text lines.
+    pub data_column: bool,
+    /// Stop after this many frames shown (candump -n); `None`: no limit.
+    pub count: Option<u64>,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -87,6 +97,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         hint: global.protocol,
         time_scale,
         silence: args.silence,
+        time_mode: args.time_mode,
+        data_column: args.data_column,
     };
     let iface = match link.kind {
         // The path of the log is no interface name (candump lines allow 15 characters).
@@ -103,7 +115,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
 
     let start = Instant::now();
     let deadline = args.duration.map(|duration| start + duration);
-    let end = match receive_until_end(&mut monitor, rx.as_mut(), &flag, deadline, kernel_stamps) {
+    let until = Until { flag: &flag, deadline, count: args.count };
+    let end = match receive_until_end(&mut monitor, rx.as_mut(), &until, kernel_stamps) {
         Ok(end) => end,
         Err(error) => return quiet_if_broken_pipe(&mut monitor, error),
     };
@@ -118,6 +131,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let stats = rx.stats();
     let (mut status, why) = match &end {
         End::Duration => (SUCCESS, "duration reached".to_string()),
+        End::Count => (SUCCESS, "frame count reached".to_string()),
         End::Eof => (SUCCESS, "end of the source".to_string()),
         End::Signal => (flag.exit_status().unwrap_or(exit::SIGNAL_BASE), flag.name().to_string()),
         End::LinkError(error) => {
@@ -142,19 +156,29 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     Ok(status)
 }
 
-/// Receives, prints and checks frames until a signal, the deadline, the end of the source or a link error.
-/// An error is one writing the output or the log.
+/// When the run ends besides the end of the source: a signal, a deadline, a number of frames shown.
+struct Until<'a> {
+    flag: &'a SignalFlag,
+    deadline: Option<Instant>,
+    count: Option<u64>,
+}
+
+/// Receives, prints and checks frames until a signal, the deadline, the frame count, the end of the source
+/// or a link error. An error is one writing the output or the log.
 fn receive_until_end(
     monitor: &mut Monitor<OutputQueue>,
     rx: &mut dyn FrameRx,
-    flag: &SignalFlag,
-    deadline: Option<Instant>,
+    until: &Until,
     kernel_stamps: bool,
 ) -> Result<End> {
+    let Until { flag, deadline, count } = *until;
     let mut next_tick = Instant::now() + TICK;
     loop {
         if flag.received().is_some() {
             return Ok(End::Signal);
+        }
+        if count.is_some_and(|count| monitor.printed >= count) {
+            return Ok(End::Count);
         }
         let now = Instant::now();
         if deadline.is_some_and(|deadline| now >= deadline) {
@@ -222,6 +246,8 @@ fn quiet_if_broken_pipe<W: Output>(monitor: &mut Monitor<W>, error: anyhow::Erro
 
 enum End {
     Duration,
+    /// As many frames shown as asked for.
+    Count,
     Eof,
     Signal,
     LinkError(io::Error),
@@ -241,6 +267,10 @@ pub struct Settings {
     pub time_scale: Option<f64>,
     /// Warn when nothing arrives for this long (zero: never).
     pub silence: Duration,
+    /// The time column of text lines.
+    pub time_mode: TimeMode,
+    /// The raw bytes after the identifier in text lines.
+    pub data_column: bool,
 }
 
 /// Frames and the time span they were seen over, for one identifier.
@@ -412,6 +442,8 @@ pub struct Monitor<W: Output> {
     iface: String,
     options: Settings,
     writer: EventWriter,
+    /// Text lines' time and data columns (and what they remember: the first and previous stamps).
+    columns: Columns,
     out: W,
     buffer: Vec<u8>,
     /// Lines in `buffer`.
@@ -461,6 +493,7 @@ impl<W: Output> Monitor<W> {
         Self {
             name: name.to_string(),
             iface: iface.to_string(),
+            columns: Columns::new(options.time_mode, options.data_column),
             options,
             writer,
             out,
@@ -539,6 +572,8 @@ impl<W: Output> Monitor<W> {
             }
             if self.options.raw {
                 push_raw_line(&mut self.buffer, received, &self.iface);
+            } else if self.options.format == Format::Text {
+                text::write_with(&mut self.buffer, &event, self.options.color, &mut self.columns);
             } else {
                 self.writer.write(&mut self.buffer, &event);
             }
@@ -834,6 +869,8 @@ mod tests {
             hint: ProtocolHint::Auto,
             time_scale: Some(1.0),
             silence: Duration::from_millis(500),
+            time_mode: TimeMode::Absolute,
+            data_column: false,
         }
     }
 

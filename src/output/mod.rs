@@ -8,6 +8,7 @@ pub mod filter;
 pub mod json;
 pub mod number;
 pub mod queue;
+pub mod stamp;
 pub mod text;
 
 use crate::candump::{Direction, Timestamp};

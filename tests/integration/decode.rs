@@ -49,7 +49,7 @@ fn json_output_matches_the_documented_schema() {
     assert_eq!(objects.len(), 15);
     assert_eq!(
         objects[0],
-        json!({"ts": 1700000000.0, "iface": "can0", "id": "0x211", "data": "00000103000000B1",
+        json!({"ts": 1700000000.0, "ts_ns": 1_700_000_000_000_000_000u64, "iface": "can0", "id": "0x211", "data": "00000103000000B1",
                "msg": "system_state", "wire": "can-v2", "dir": null,
                "fields": {"vehicle_state": "normal", "control_mode": "standby", "battery_voltage": 25.9,
                           "fault_code": 0, "faults": [], "count": 177}})

@@ -21,6 +21,7 @@ mod help_layout;
 mod layers;
 mod long_functions;
 mod monitor;
+mod monitor_modes;
 mod plot;
 mod recording;
 mod robot_commands;
