@@ -145,8 +145,13 @@ fn write_generated(root: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Held while the generated files are written or read: with TRACERCTL_BLESS the writer would otherwise race
+/// the tests that read the committed files.
+pub static GENERATED_FILES: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 #[test]
 fn completions_and_man_pages_are_fresh() {
+    let _files = GENERATED_FILES.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     if std::env::var_os("TRACERCTL_BLESS").is_some() {
         write_generated(root).unwrap();
@@ -175,6 +180,7 @@ fn completions_and_man_pages_are_fresh() {
 
 #[test]
 fn completions_subcommand_prints_the_committed_script() {
+    let _files = GENERATED_FILES.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     for (shell, file) in [("bash", "tracerctl.bash"), ("zsh", "_tracerctl"), ("fish", "tracerctl.fish")] {
         let output = tracerctl().args(["completions", shell]).output().unwrap();

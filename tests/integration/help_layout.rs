@@ -147,6 +147,7 @@ fn top_level_examples_show_the_main_tasks() {
 }
 
 fn man_page(name: &str) -> String {
+    let _files = crate::generated::GENERATED_FILES.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/man").join(name)).unwrap()
 }
 

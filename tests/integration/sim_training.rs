@@ -171,6 +171,7 @@ fn sim_help_documents_every_fault_and_the_run_time_language() {
     }
     assert!(help.contains("type one NAME per line on standard input: it acts at once"), "{help}");
     assert!(help.contains("tracerctl --sim --fault estop@0s doctor"), "{help}");
+    let _files = crate::generated::GENERATED_FILES.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let man = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/man/tracerctl-sim.1"),
     )
@@ -180,6 +181,7 @@ fn sim_help_documents_every_fault_and_the_run_time_language() {
 
 #[test]
 fn the_bash_completion_offers_the_fault_names() {
+    let _files = crate::generated::GENERATED_FILES.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
     let script = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("completions/tracerctl.bash"),
     )
