@@ -94,7 +94,7 @@ impl Outcome {
 impl Drive {
     /// `tracerctl --serial PTY drive ARGS`, stderr collected.
     fn spawn(robot: &FaultyRobot, args: &[&str]) -> Self {
-        let (mut drive, mut pipe) = Self::spawn_with_stderr(robot, args);
+        let (mut drive, mut pipe) = Self::spawn_with_output(robot, args);
         drive.stderr = Some(std::thread::spawn(move || {
             let mut text = String::new();
             let _ = pipe.read_to_string(&mut text);
@@ -105,7 +105,7 @@ impl Drive {
 
     /// The same, the caller reading (or closing) stdout and stderr: one pipe, in the order they were written
     /// (the status and report go to stdout, diagnostics to stderr).
-    fn spawn_with_stderr(robot: &FaultyRobot, args: &[&str]) -> (Self, std::fs::File) {
+    fn spawn_with_output(robot: &FaultyRobot, args: &[&str]) -> (Self, std::fs::File) {
         let mut fds = [0; 2];
         // SAFETY: pipe2 fills the two descriptors, owned from here on (close-on-exec: no other child
         // spawned meanwhile keeps the write end open).
@@ -873,20 +873,21 @@ fn estop_mid_drive() {
 // ---------------------------------------------------------------------------------------------------------
 // A misbehaving host.
 
-/// The reader of drive's stderr goes away (a closed pipe, a dead `| head -1`), in two cases: right after the
+/// The reader of drive's output (stdout and stderr, one pipe) goes away (a closed pipe, a dead `| head -1`),
+/// in two cases: right after the
 /// first line (the robot has not moved yet), and after the first line once the robot is at full speed (the
 /// pipe's buffer takes the status lines written meanwhile). Its next line cannot be written. Contract: the
 /// robot is stopped (zeros last), no panic (not 101), exit 1. At full speed the zeros must come within 2.5 s
 /// of the close (the test's allowance: status lines go to a pipe once a second; the contract gives no
 /// figure). Today a broken pipe is treated as a quiet success: exit 0.
 #[test]
-fn stderr_reader_goes_away() {
-    let mut verdict = Verdict::new("stderr_reader_goes_away");
+fn output_reader_goes_away() {
+    let mut verdict = Verdict::new("output_reader_goes_away");
     for full_speed in [false, true] {
         let name = if full_speed { "closed at full speed" } else { "closed after the first line" };
         verdict.case(name, |verdict| {
             let robot = FaultyRobot::start(healthy());
-            let (mut drive, pipe) = Drive::spawn_with_stderr(&robot, &["--linear", "0.3"]);
+            let (mut drive, pipe) = Drive::spawn_with_output(&robot, &["--linear", "0.3"]);
             let mut reader = BufReader::new(pipe);
             let mut first = String::new();
             let _ = reader.read_line(&mut first);
@@ -911,7 +912,7 @@ fn stderr_reader_goes_away() {
             if full_speed {
                 verdict.zero_within(&motion, closed_at, Duration::from_millis(2500), "the close");
             }
-            verdict.evidence(&motion, drive.spawned, &[("stderr reader gone", closed_at)], &outcome);
+            verdict.evidence(&motion, drive.spawned, &[("output reader gone", closed_at)], &outcome);
         });
     }
     verdict.conclude();
