@@ -112,7 +112,8 @@ pub struct Binding {
     /// The keys as the help shows them.
     pub shown: &'static str,
     pub keys: &'static [Bind],
-    /// What they do, as the help says it.
+    /// What they do, as the help says it. It may open with more keys of the row, capitalised and ending in
+    /// ": ", when they do not fit the help's key column ([`KEY_COLUMN`]).
     pub help: &'static str,
     pub footer: Option<Footer>,
     pub watching: Watching,
@@ -430,8 +431,22 @@ pub fn help_text() -> String {
 pub fn markdown_table() -> String {
     let mut table = String::from("| key | does |\n|---|---|\n");
     for row in BINDINGS {
-        let keys: Vec<String> = row.shown.split_whitespace().map(|key| format!("`{key}`")).collect();
-        let _ = writeln!(table, "| {} | {} |", keys.join(" "), row.help);
+        // Keys that did not fit the help's key column open the help text ("End PgDn: ..."): a table has room.
+        let (more, help) = match row.help.split_once(": ") {
+            Some((more, help))
+                if more.split(' ').all(|key| key.starts_with(|c: char| c.is_ascii_uppercase())) =>
+            {
+                (more, help)
+            }
+            _ => ("", row.help),
+        };
+        let keys: Vec<String> = row
+            .shown
+            .split_whitespace()
+            .chain(more.split_whitespace())
+            .map(|key| format!("`{key}`"))
+            .collect();
+        let _ = writeln!(table, "| {} | {help} |", keys.join(" "));
     }
     table
 }
@@ -699,6 +714,11 @@ mod tests {
         let table = markdown_table();
         assert!(table.starts_with("| key | does |\n|---|---|\n"), "{table}");
         assert!(table.contains("| `u` `o` `m` `.` | arcs: forward left / right, backward left / right |\n"));
+        assert!(
+            table.contains("| `Home` `PgUp` `End` `PgDn` | the same arcs (keypad 7 9 1 3) |\n"),
+            "{table}"
+        );
+        assert!(table.contains("| `↑←` `↑→` `...` | held together: arcs, in terminals with key releases |\n"));
         assert_eq!(table.lines().count(), BINDINGS.len() + 2);
     }
 

@@ -3,6 +3,7 @@
 #![allow(clippy::disallowed_macros)]
 
 mod dashboard;
+mod dashboard_keys;
 mod decode;
 mod decode_losses;
 mod docs;
