@@ -437,7 +437,7 @@ fn ctrl_z_sends_zero_then_suspends_and_gives_the_terminal_back() {
 
 /// The dashboard on a 100x30 pseudo-terminal this test owns; with `kitty`, it answers the keyboard-protocol
 /// query as kitty, foot or WezTerm would, so the dashboard gets key release events.
-struct PtyDashboard {
+pub(crate) struct PtyDashboard {
     child: std::process::Child,
     keys: serialport::TTYPort,
     shown: std::sync::Arc<std::sync::Mutex<String>>,
@@ -445,7 +445,7 @@ struct PtyDashboard {
 }
 
 impl PtyDashboard {
-    fn start(robot_path: &str, kitty: bool) -> Self {
+    pub(crate) fn start(robot_path: &str, kitty: bool) -> Self {
         use serialport::SerialPort;
         use std::io::{Read, Write};
         use std::sync::atomic::{AtomicBool, Ordering};
@@ -492,7 +492,7 @@ impl PtyDashboard {
     }
 
     /// Waits until `needle` was drawn (since the last `forget`).
-    fn wait_for(&self, needle: &str) {
+    pub(crate) fn wait_for(&self, needle: &str) {
         let deadline = Instant::now() + Duration::from_secs(10);
         while !self.shown.lock().unwrap().contains(needle) {
             assert!(Instant::now() < deadline, "{needle:?} never shown");
@@ -504,18 +504,18 @@ impl PtyDashboard {
         self.shown.lock().unwrap().clear();
     }
 
-    fn type_keys(&mut self, bytes: &[u8]) {
+    pub(crate) fn type_keys(&mut self, bytes: &[u8]) {
         std::io::Write::write_all(&mut self.keys, bytes).unwrap();
     }
 
-    fn arm(&mut self) {
+    pub(crate) fn arm(&mut self) {
         self.type_keys(b"a");
         self.wait_for("Arm driving?");
         self.type_keys(b"y");
         self.wait_for("ARMED");
     }
 
-    fn quit(mut self) {
+    pub(crate) fn quit(mut self) {
         self.type_keys(b"q");
         let _ = self.child.wait();
         self.done.store(true, std::sync::atomic::Ordering::SeqCst);

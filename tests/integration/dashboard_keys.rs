@@ -182,3 +182,53 @@ fn measure_jittery_link() {
     measure("");
     measure("--key-timeout 103ms");
 }
+
+/// With release events (a pseudo-terminal answering the kitty keyboard query): Up held, then Left held too.
+/// The terminal repeats only Left from then on; Up, neither repeated nor released, stays held: an arc for the
+/// whole time both are down (before: Up expired 0.5 s after its last repeat and the arc became a spin).
+#[test]
+fn with_release_events_up_and_left_held_together_drive_an_arc() {
+    use crate::dashboard::PtyDashboard;
+    use crate::serial_peer::{healthy, FakeRobot};
+    let robot = FakeRobot::start(healthy());
+    let mut dash = PtyDashboard::start(&robot.path, true);
+    dash.wait_for("kitty protocol");
+    dash.arm();
+    std::thread::sleep(Duration::from_millis(200));
+    let repeat = |dash: &mut PtyDashboard, bytes: &[u8], how_long: Duration| {
+        let until = Instant::now() + how_long;
+        while Instant::now() < until {
+            std::thread::sleep(Duration::from_millis(33));
+            dash.type_keys(bytes);
+        }
+    };
+    dash.type_keys(b"\x1b[1;1:1A");
+    repeat(&mut dash, b"\x1b[1;1:2A", Duration::from_millis(600));
+    dash.type_keys(b"\x1b[1;1:1D");
+    let both = Instant::now();
+    std::thread::sleep(Duration::from_millis(500));
+    repeat(&mut dash, b"\x1b[1;1:2D", Duration::from_millis(1500));
+    let up_released = Instant::now();
+    dash.type_keys(b"\x1b[1;1:3A");
+    repeat(&mut dash, b"\x1b[1;1:2D", Duration::from_millis(300));
+    dash.type_keys(b"\x1b[1;1:3D");
+    std::thread::sleep(Duration::from_millis(500));
+    dash.quit();
+    // (arrival, linear %, angular %) of the RS232 motion frames.
+    let frames: Vec<(Instant, i8, i8)> = robot
+        .frames()
+        .iter()
+        .filter(|(_, f)| f.frame_type == 0x55 && f.command == 0x01)
+        .map(|(at, f)| (*at, f.payload[2] as i8, f.payload[3] as i8))
+        .collect();
+    // Ramped up within 0.3 s of Left's press; from then until Up's release, both axes all along.
+    let arc: Vec<(i8, i8)> = frames
+        .iter()
+        .filter(|(at, ..)| *at > both + Duration::from_millis(300) && *at < up_released)
+        .map(|(_, linear, angular)| (*linear, *angular))
+        .collect();
+    assert!(arc.len() > 50, "{arc:?}");
+    assert!(arc.iter().all(|(linear, angular)| *linear > 0 && *angular > 0), "an arc all along: {arc:?}");
+    let end = frames.last().map(|(_, linear, angular)| (*linear, *angular));
+    assert_eq!(end, Some((0, 0)), "stopped after both releases");
+}
