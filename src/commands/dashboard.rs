@@ -395,6 +395,9 @@ struct Loop<'a> {
     last_drive_key: Instant,
     /// A fresh press of a drive key in this tick's input.
     fresh_press: bool,
+    /// The drive key that closed a dialog, and its last byte: it does not drive until let go (its auto-repeats
+    /// look like presses on a terminal without releases).
+    swallowed: Option<(Key, Instant)>,
 }
 
 impl<'a> Loop<'a> {
@@ -414,6 +417,7 @@ impl<'a> Loop<'a> {
             // No drive key yet: the keyboard has been quiet "forever".
             last_drive_key: Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now),
             fresh_press: false,
+            swallowed: None,
         }
     }
 
@@ -519,7 +523,13 @@ impl<'a> Loop<'a> {
         let now = self.epoch.elapsed();
         let context =
             Context { prompt: self.app.prompt(), help: self.app.help_shown(), armed: self.driving.armed() };
-        match keys::dispatch(key, context) {
+        let effect = keys::dispatch(key, context);
+        if let (Effect::Close, Some((_, bind))) = (effect, keys::lookup(key)) {
+            if let keys::Action::Drive(closing) = bind.action {
+                self.swallowed = Some((closing, Instant::now()));
+            }
+        }
+        match effect {
             Effect::Quit => return Some(End::Quit),
             Effect::Suspend => self.on_suspend(),
             Effect::Drive(key, action) => self.on_arrow(now, key, action),
@@ -533,6 +543,14 @@ impl<'a> Loop<'a> {
     /// An arrow while armed with nothing on top: the teleop takes it. A press after a quiet keyboard, and
     /// not while a gap's backlog settles, is fresh: it may end a hold.
     fn on_arrow(&mut self, now: Duration, key: Key, action: KeyAction) {
+        if let Some((closing, last)) = self.swallowed {
+            // Bytes of the key that closed a dialog, each within a first deadline of the one before: still held.
+            if closing == key && action != KeyAction::Release && last.elapsed() <= self.teleop.deadlines().0 {
+                self.swallowed = Some((closing, Instant::now()));
+                return;
+            }
+            self.swallowed = None;
+        }
         let was_held = !self.teleop.held(now).is_empty();
         // A press right after a quiet keyboard is fresh; check the quiet before this key.
         let quiet = self.last_drive_key.elapsed();

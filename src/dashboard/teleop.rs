@@ -62,17 +62,17 @@
 //!
 //! # Jittery links
 //! Over a congested SSH link the repeats of a held key arrive late, then in a burst: a steady 33 ms stream
-//! with a 150 ms pause every 0.8 s has a 183 ms gap in it. A 102.5 ms deadline lets the key expire in every
-//! pause: the sender brakes, then speeds up again on the burst (a stutter, the worse the stronger the
-//! braking). So the learner also keeps the latest [`GAP_SAMPLES`] gaps of the repeat streams (intervals and
-//! late repeats: a gap up to 250 ms after which the stream goes on at its interval; bunched bytes under
-//! 10 ms carry no timing), and the repeat deadline is at least the longest of them + [`LATE_MARGIN`]. The
-//! first pause still stutters (nothing is learned before it); later ones do not. The price is release
-//! latency: after the last key the robot is driven for the longest recent gap + 10 ms (193 ms here instead
-//! of 102.5 ms), then brakes (0.1 s from 0.15 m/s at the default 1.5 m/s²): zero about 0.29 s after the
-//! last key. The margin is small because every ms of it is paid on every release; the window forgets a
-//! pause after ~2 s of smooth repeats. The test `jittery_link_neither_stutters_nor_releases_late` measures
-//! both with the sender's ramp.
+//! with a 150 ms pause every 0.8 s has gaps of up to 183 ms in it. A 102.5 ms deadline lets the key expire in
+//! every pause: the sender brakes, then speeds up again on the burst (a stutter, the worse the stronger the
+//! braking). So the learner also keeps the latest 64 gaps of the repeat streams (intervals and
+//! late repeats: a gap up to 250 ms after which the stream goes on at its interval; bunched bytes under 10 ms
+//! carry no timing), and the repeat deadline is at least the longest of them + [`LATE_MARGIN`]. The first
+//! pause still stutters (nothing is learned before it); later ones do not. The price is release latency:
+//! after the last key the robot is driven for the longest recent gap + 10 ms (192 ms in the bench instead of
+//! 102.5 ms), then brakes (0.1 s from 0.15 m/s at the default 1.5 m/s²): zero about 0.29 s after the last
+//! key. The margin is small because every ms of it is paid on every release; the window forgets a pause after
+//! ~2 s of smooth repeats. The test `jittery_link_neither_stutters_nor_releases_late` measures both with the
+//! sender's ramp.
 //!
 //! Trade-offs that follow from having no release events:
 //! - *A tap is a pulse*: a single press with no repeat is held for the whole first deadline (700 ms before

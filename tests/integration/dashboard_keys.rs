@@ -125,7 +125,8 @@ fn dialogs_own_the_keyboard_esc_closes_the_help_and_a_drive_key_closes_the_clear
     let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Clear faults?"));
     assert!(asked, "{screen}");
     let pressed = wall_clock();
-    session.keys(&["Up"]);
+    // Held: the first byte closes the dialog, and the auto-repeats of the same key do not drive either.
+    hold(&session, "Up", Duration::from_millis(1000));
     let (gone, screen) = session.wait_for(Duration::from_secs(5), |s| !s.contains("Clear faults?"));
     assert!(gone, "a drive key closes the dialog:\n{screen}");
     assert!(
@@ -139,6 +140,14 @@ fn dialogs_own_the_keyboard_esc_closes_the_help_and_a_drive_key_closes_the_clear
     assert!(after.iter().all(|command| *command == (0.0, 0.0)), "Up did not drive: {after:?}");
     assert!(!sent_ids(&log).iter().any(|frame| frame.starts_with("441#")), "no clear was sent");
     assert!(session.screen().contains("· ARMED ·"));
+    // Let go, press again: it drives.
+    let again = wall_clock();
+    hold(&session, "Up", Duration::from_millis(800));
+    std::thread::sleep(Duration::from_millis(100));
+    assert!(
+        commands(&log).iter().any(|(at, linear, _)| *at >= again && *linear > 0.0),
+        "a fresh press after the dialog drives"
+    );
 }
 
 /// The jittery-link measurement through tmux (not run by default: wall-clock figures on a shared machine).
