@@ -1012,6 +1012,37 @@ mod tests {
     }
 
     #[test]
+    fn a_late_repeat_counts_only_when_the_stream_goes_on_after_it() {
+        // Repeating at 33 ms; a 230 ms gap, then the terminal's 500 ms delay: a release and a new press, not
+        // a late repeat. The deadline stays the steady one.
+        let mut teleop = Teleop::new(ReleaseMode::Deadline);
+        let mut events = legacy_hold(Key::Up, 0, 500, 33, 1500);
+        let last = last_time(&events);
+        events.extend(legacy_hold(Key::Up, last + 230, 500, 33, 3000));
+        trace(&mut teleop, &events, 3000);
+        assert_eq!(teleop.deadlines().1, Duration::from_micros(102_500));
+        // A 230 ms gap after which the repeats go on at 33 ms: a late repeat, learned (230 + 10 ms).
+        let mut events = legacy_hold(Key::Up, 4000, 500, 33, 5000);
+        let last = last_time(&events);
+        events.extend(legacy_hold(Key::Up, last + 230, 33, 33, 6000));
+        trace_span(&mut teleop, &events, 4000, 6000);
+        assert_eq!(teleop.deadlines().1, ms(240));
+        // Bunched bytes (under 10 ms apart) after the gap do not hide it; a gap over 250 ms is a stall.
+        let mut events = vec![];
+        events.extend(legacy_hold(Key::Down, 8000, 500, 33, 8600));
+        events.extend([(8835, Key::Down, Press), (8836, Key::Down, Press), (8869, Key::Down, Press)]);
+        events.extend(legacy_hold(Key::Down, 9000, 33, 33, 9300));
+        let mut fresh = Teleop::new(ReleaseMode::Deadline);
+        trace_span(&mut fresh, &events, 8000, 9300);
+        assert_eq!(fresh.deadlines().1, ms(246), "the 236 ms gap before the burst + 10 ms");
+        let mut stalled = Teleop::new(ReleaseMode::Deadline);
+        let mut events = legacy_hold(Key::Down, 0, 500, 33, 600);
+        events.extend(legacy_hold(Key::Down, 900, 33, 33, 1300));
+        trace(&mut stalled, &events, 1300);
+        assert_eq!(stalled.deadlines().1, Duration::from_micros(102_500), "a 306 ms stall is not learned");
+    }
+
+    #[test]
     fn key_timeout_overrides_the_learned_deadline() {
         let mut teleop = Teleop::new(ReleaseMode::Deadline).with_key_timeout(Some(ms(300)));
         let events = legacy_hold(Key::Up, 0, 250, 90, 1000);

@@ -153,9 +153,18 @@ fn dialogs_own_the_keyboard_esc_closes_the_help_and_a_drive_key_closes_the_clear
 /// The jittery-link measurement through tmux (not run by default: wall-clock figures on a shared machine).
 /// Holds Up for 5 s with key delivery pausing 150 ms every 0.8 s, with `extra` options, and prints the
 /// dips below cruise speed while held and the time from the last key to the first zero command.
-/// `cargo test --test integration measure_jittery_link -- --ignored --nocapture`
+/// `cargo test --test integration measure_jittery_link -- --ignored --nocapture`; `TRACERCTL_MEASURE_BIN`
+/// measures another build (an older one, for before/after figures).
 fn measure(extra: &str) {
-    let (session, _dir, log) = sim_dashboard("tracerctl-jitter", extra);
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("session.log");
+    let binary = std::env::var_os("TRACERCTL_MEASURE_BIN")
+        .map_or_else(|| assert_cmd::cargo::cargo_bin("tracerctl"), std::path::PathBuf::from);
+    let command =
+        format!("{} --sim dashboard {extra} --record {}; sleep 30", binary.display(), log.display());
+    let session = Session::start(&format!("tracerctl-jitter-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up, "{screen}");
     arm(&session);
     let start = Instant::now();
     let first = wall_clock();
@@ -189,7 +198,9 @@ fn measure(extra: &str) {
 #[ignore = "a measurement: prints wall-clock figures"]
 fn measure_jittery_link() {
     measure("");
-    measure("--key-timeout 103ms");
+    if std::env::var_os("TRACERCTL_MEASURE_BIN").is_none() {
+        measure("--key-timeout 103ms");
+    }
 }
 
 /// With release events (a pseudo-terminal answering the kitty keyboard query): Up held, then Left held too.
