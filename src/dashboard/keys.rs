@@ -406,10 +406,10 @@ A key counts as held until the terminal reports its release (kitty keyboard prot
 WezTerm, alacritty, Ghostty, iTerm2) or, in other terminals and in tmux, until no auto-repeat arrives
 before a deadline learned from the key stream (longer over a link that delivers repeats late;
 --key-timeout sets it); releasing brakes at --decel. Those terminals repeat only the last key pressed:
-drive arcs with one diagonal key. While the robot reports an
-E-stop, a latched fault or RC override, zero is sent and keys are ignored until a fresh press once it is
-clear; the same after the process was suspended. If input or drawing stalls, the robot is commanded to
-zero within 250 ms; every exit sends zero-velocity frames.";
+drive arcs with one diagonal key. While the robot reports an E-stop, a latched fault or RC override,
+zero is sent and keys are ignored until a fresh press once it is clear; the same after the process was
+suspended. If input or drawing stalls, the robot is commanded to zero within 250 ms; every exit sends
+zero-velocity frames.";
 
 /// The help's key column width, in characters.
 pub const KEY_COLUMN: usize = 10;
@@ -738,6 +738,8 @@ mod tests {
         }
         assert!(text.contains("  q  ^C     stop the robot and quit\n"), "{text}");
         assert!(text.starts_with("The dashboard opens WATCHING"));
-        assert!(text.ends_with("every exit sends zero-velocity frames."));
+        let words = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(words.ends_with("every exit sends zero-velocity frames."), "{text}");
+        assert!(words.contains("--key-timeout sets it"), "{text}");
     }
 }
