@@ -112,8 +112,7 @@ pub struct Binding {
     /// The keys as the help shows them.
     pub shown: &'static str,
     pub keys: &'static [Bind],
-    /// What they do, as the help says it. It may open with more keys of the row, capitalised and ending in
-    /// ": ", when they do not fit the help's key column ([`KEY_COLUMN`]).
+    /// What they do, as the help says it.
     pub help: &'static str,
     pub footer: Option<Footer>,
     pub watching: Watching,
@@ -163,34 +162,26 @@ pub const BINDINGS: &[Binding] = &[
             drive(KeyCode::Char('o'), Key::ForwardRight),
             drive(KeyCode::Char('m'), Key::BackLeft),
             drive(KeyCode::Char('.'), Key::BackRight),
-        ],
-        help: "arcs: forward left / right, backward left / right",
-        footer: Some(footer("uom.", "arcs", "arcs", Some(4))),
-        watching: Watching::AsksToArm,
-    },
-    Binding {
-        shown: "Home PgUp",
-        keys: &[
             drive(KeyCode::Home, Key::ForwardLeft),
             drive(KeyCode::PageUp, Key::ForwardRight),
             drive(KeyCode::End, Key::BackLeft),
             drive(KeyCode::PageDown, Key::BackRight),
         ],
-        help: "End PgDn: the same arcs (keypad 7 9 1 3)",
-        footer: None,
+        help: "arcs ↖ ↗ ↙ ↘, also Home PgUp End PgDn",
+        footer: Some(footer("uom.", "arcs", "arcs", Some(4))),
         watching: Watching::AsksToArm,
     },
     Binding {
         shown: "↑← ↑→ ...",
         keys: &[UP, DOWN, LEFT, RIGHT],
-        help: "held together: arcs, in terminals with key releases",
+        help: "held together: arcs (kitty protocol only)",
         footer: None,
         watching: Watching::AsksToArm,
     },
     Binding {
         shown: "Space  k",
         keys: &[plain(' ', Action::Stop, InDialog::Works), plain('k', Action::Stop, InDialog::Works)],
-        help: "zero at once, no ramp; press a key again to drive",
+        help: "zero at once, no ramp; press again to drive",
         footer: Some(footer("Space", "stop", "stop", None)),
         watching: Watching::Works,
     },
@@ -204,7 +195,7 @@ pub const BINDINGS: &[Binding] = &[
     Binding {
         shown: "y",
         keys: &[plain('y', Action::Yes, InDialog::Answers), plain('Y', Action::Yes, InDialog::Answers)],
-        help: "yes to the prompt on screen: arm, or send the fault clear",
+        help: "yes to the prompt: arm, send the fault clear",
         footer: None,
         watching: Watching::Works,
     },
@@ -254,7 +245,7 @@ pub const BINDINGS: &[Binding] = &[
     Binding {
         shown: "^Z",
         keys: &[bind(Chord::Ctrl('z'), Action::Suspend, InDialog::Works)],
-        help: "zero, then suspend (after fg: press again to drive)",
+        help: "zero, then suspend (after fg: press again)",
         footer: None,
         watching: Watching::Works,
     },
@@ -397,8 +388,8 @@ pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'stat
 const HELP_BEFORE: &str = "\
 The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
 is not disturbed). The first drive key, e, c or l asks \"Arm driving?\"; y arms ({MODE_COMMAND} command mode, then
-motion commands at 50 Hz), a disarms at once. --watch forbids arming. The state, ARMED or WATCHING, is on
-screen.";
+motion commands at 50 Hz), a disarms at once. --watch forbids arming. The header says ARMED or
+WATCHING.";
 
 /// The paragraph of `tracerctl dashboard --help` after the keys.
 const HELP_AFTER: &str = "\
@@ -431,22 +422,8 @@ pub fn help_text() -> String {
 pub fn markdown_table() -> String {
     let mut table = String::from("| key | does |\n|---|---|\n");
     for row in BINDINGS {
-        // Keys that did not fit the help's key column open the help text ("End PgDn: ..."): a table has room.
-        let (more, help) = match row.help.split_once(": ") {
-            Some((more, help))
-                if more.split(' ').all(|key| key.starts_with(|c: char| c.is_ascii_uppercase())) =>
-            {
-                (more, help)
-            }
-            _ => ("", row.help),
-        };
-        let keys: Vec<String> = row
-            .shown
-            .split_whitespace()
-            .chain(more.split_whitespace())
-            .map(|key| format!("`{key}`"))
-            .collect();
-        let _ = writeln!(table, "| {} | {help} |", keys.join(" "));
+        let keys: Vec<String> = row.shown.split_whitespace().map(|key| format!("`{key}`")).collect();
+        let _ = writeln!(table, "| {} | {} |", keys.join(" "), row.help);
     }
     table
 }
@@ -713,12 +690,8 @@ mod tests {
         assert_eq!(key_name(Action::Stop), "Space");
         let table = markdown_table();
         assert!(table.starts_with("| key | does |\n|---|---|\n"), "{table}");
-        assert!(table.contains("| `u` `o` `m` `.` | arcs: forward left / right, backward left / right |\n"));
-        assert!(
-            table.contains("| `Home` `PgUp` `End` `PgDn` | the same arcs (keypad 7 9 1 3) |\n"),
-            "{table}"
-        );
-        assert!(table.contains("| `↑←` `↑→` `...` | held together: arcs, in terminals with key releases |\n"));
+        assert!(table.contains("| `u` `o` `m` `.` | arcs ↖ ↗ ↙ ↘, also Home PgUp End PgDn |\n"), "{table}");
+        assert!(table.contains("| `↑←` `↑→` `...` | held together: arcs (kitty protocol only) |\n"));
         assert_eq!(table.lines().count(), BINDINGS.len() + 2);
     }
 

@@ -52,8 +52,7 @@ fn key_timeout_is_checked_at_the_boundary() {
     let help = tracerctl().args(["dashboard", "--help"]).output().unwrap();
     let help = String::from_utf8_lossy(&help.stdout);
     assert!(help.contains("--key-timeout <DURATION>"), "{help}");
-    assert!(help.contains("u o m .   arcs: forward left / right"), "{help}");
-    assert!(help.contains("Home PgUp End PgDn: the same arcs"), "{help}");
+    assert!(help.contains("u o m .   arcs ↖ ↗ ↙ ↘, also Home PgUp End PgDn"), "{help}");
 }
 
 /// (timestamp, linear m/s, angular rad/s) of every 0x111 the dashboard sent.
