@@ -240,7 +240,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__dashboard)
-            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -271,6 +271,10 @@ _tracerctl() {
                     return 0
                     ;;
                 --record)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --key-timeout)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;

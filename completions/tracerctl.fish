@@ -453,6 +453,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angula
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l key-timeout -d 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -492,6 +493,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-acc
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l key-timeout -d 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"

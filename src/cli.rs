@@ -635,7 +635,17 @@ pub struct DashboardArgs {
     /// Write a candump log of the session (frames received and sent) to FILE
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
+
+    /// Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner
+    #[arg(long, value_name = "DURATION", value_parser = duration_in(KEY_TIMEOUT))]
+    pub key_timeout: Option<Duration>,
 }
+
+/// `dashboard --key-timeout`: from the teleop's shortest to its longest hold after a key's last byte.
+pub const KEY_TIMEOUT: DurationRange = DurationRange {
+    min: crate::dashboard::teleop::KEY_TIMEOUT_MIN,
+    max: crate::dashboard::teleop::FIRST_DEADLINE_MAX,
+};
 
 impl DashboardArgs {
     fn options(self) -> anyhow::Result<commands::dashboard::Options> {
@@ -643,6 +653,7 @@ impl DashboardArgs {
             limits: self.limits.limits()?,
             watch: self.watch,
             record: self.record,
+            key_timeout: self.key_timeout,
         })
     }
 }

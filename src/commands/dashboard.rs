@@ -61,6 +61,9 @@ pub struct Options {
     pub watch: bool,
     /// Write a candump log of the session to this file.
     pub record: Option<std::path::PathBuf>,
+    /// Without key-release events: a repeating key counts as released after this, instead of the learned
+    /// deadline.
+    pub key_timeout: Option<Duration>,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -73,14 +76,13 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         }
         .into());
     }
-    let limits = args.limits;
     let session =
         Session::open_recording(&global.link, global.protocol, global.sim_config(), args.record.as_deref())?;
     let color = global.color.enabled(true);
 
     let (end, stopped) = {
         let screen = Screen::enter()?;
-        let result = drive_loop(screen, &session, limits, color, args.watch);
+        let result = drive_loop(screen, &session, args, color);
         // `screen` was dropped inside: the terminal is back before anything is printed.
         result?
     };
@@ -326,20 +328,15 @@ impl<'a> Driving<'a> {
     }
 }
 
-fn drive_loop(
-    mut screen: Screen,
-    session: &Session,
-    limits: Limits,
-    color: bool,
-    watch: bool,
-) -> Result<(End, Stopped)> {
-    let watch_only = match (session.kind == LinkKind::Replay, watch) {
+fn drive_loop(mut screen: Screen, session: &Session, args: &Options, color: bool) -> Result<(End, Stopped)> {
+    let limits = args.limits;
+    let watch_only = match (session.kind == LinkKind::Replay, args.watch) {
         (true, _) => Some("--replay is read-only"),
         (false, true) => Some("--watch"),
         (false, false) => None,
     };
     let mode = if screen.key_release { ReleaseMode::Events } else { ReleaseMode::Deadline };
-    let teleop = Teleop::new(mode);
+    let teleop = Teleop::new(mode).with_key_timeout(args.key_timeout);
     let slot: Arc<Mutex<Option<Stopper>>> = Arc::default();
     let signal = listen_for_signals(&slot)?;
     let driving = Driving::new(session, limits, slot, watch_only);
@@ -399,6 +396,9 @@ struct Loop<'a> {
     last_drive_key: Instant,
     /// A fresh press of a drive key in this tick's input.
     fresh_press: bool,
+    /// The drive key that closed a dialog, and its last byte: it does not drive until let go (its auto-repeats
+    /// look like presses on a terminal without releases).
+    swallowed: Option<(Key, Instant)>,
 }
 
 impl<'a> Loop<'a> {
@@ -418,6 +418,7 @@ impl<'a> Loop<'a> {
             // No drive key yet: the keyboard has been quiet "forever".
             last_drive_key: Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now),
             fresh_press: false,
+            swallowed: None,
         }
     }
 
@@ -487,7 +488,11 @@ impl<'a> Loop<'a> {
     /// Waits for input until the next tick, so a key acts at once, then takes everything queued.
     fn read_input(&mut self, input: &Receiver<Input>) -> Option<End> {
         self.fresh_press = false;
-        let wait = self.next_tick.saturating_duration_since(Instant::now());
+        // Wake up for a key's deadline too: a release is commanded when it expires, not up to a tick later.
+        let now = self.epoch.elapsed();
+        let expiry = self.teleop.next_expiry(now).map(|at| Instant::now() + (at - now));
+        let wake = expiry.map_or(self.next_tick, |at| at.min(self.next_tick));
+        let wait = wake.saturating_duration_since(Instant::now());
         let mut first = match input.recv_timeout(wait) {
             Ok(input) => Some(input),
             Err(RecvTimeoutError::Timeout) => None,
@@ -519,7 +524,13 @@ impl<'a> Loop<'a> {
         let now = self.epoch.elapsed();
         let context =
             Context { prompt: self.app.prompt(), help: self.app.help_shown(), armed: self.driving.armed() };
-        match keys::dispatch(key, context) {
+        let effect = keys::dispatch(key, context);
+        if let (Effect::Close, Some((_, bind))) = (effect, keys::lookup(key)) {
+            if let keys::Action::Drive(closing) = bind.action {
+                self.swallowed = Some((closing, Instant::now()));
+            }
+        }
+        match effect {
             Effect::Quit => return Some(End::Quit),
             Effect::Suspend => self.on_suspend(),
             Effect::Drive(key, action) => self.on_arrow(now, key, action),
@@ -533,6 +544,14 @@ impl<'a> Loop<'a> {
     /// An arrow while armed with nothing on top: the teleop takes it. A press after a quiet keyboard, and
     /// not while a gap's backlog settles, is fresh: it may end a hold.
     fn on_arrow(&mut self, now: Duration, key: Key, action: KeyAction) {
+        if let Some((closing, last)) = self.swallowed {
+            // Bytes of the key that closed a dialog, each within a first deadline of the one before: still held.
+            if closing == key && action != KeyAction::Release && last.elapsed() <= self.teleop.deadlines().0 {
+                self.swallowed = Some((closing, Instant::now()));
+                return;
+            }
+            self.swallowed = None;
+        }
         let was_held = !self.teleop.held(now).is_empty();
         // A press right after a quiet keyboard is fresh; check the quiet before this key.
         let quiet = self.last_drive_key.elapsed();
@@ -625,7 +644,11 @@ fn handle(
         Effect::Slower => {
             teleop.slower();
         }
-        Effect::Help => app.toggle_help(),
+        Effect::Help => {
+            // Keys act on the help while it is open: none stays held under it.
+            teleop.release_all();
+            app.toggle_help();
+        }
         Effect::Close => {
             app.cancel_prompt();
             app.hide_help();
@@ -636,7 +659,11 @@ fn handle(
         },
         Effect::Arm => on_arm(app, driving, teleop, now),
         Effect::Disarm => on_disarm(app, driving, teleop, now),
-        Effect::AskClear => app.ask_clear_confirmation(),
+        Effect::AskClear => {
+            // The dialog owns the keyboard: nothing drives while it is open.
+            teleop.release_all();
+            app.ask_clear_confirmation();
+        }
         Effect::Clear => {
             app.cancel_prompt();
             let frames = driving.session.codec().clear_faults(ClearTarget::All);
@@ -722,8 +749,11 @@ fn release_mode_text(teleop: &Teleop, watch_only: Option<&str>) -> String {
                 }
             };
             let (delay, interval) = teleop.learned();
+            let (_, timeout) = teleop.deadlines();
+            let source = if teleop.key_timeout().is_some() { "--key-timeout" } else { "timeout" };
+            let timeout = format!("{source} {} ms", timeout.as_millis());
             format!(
-                "key release: auto-repeat timeout (repeat delay {}, interval {})",
+                "key release: auto-repeat timeout (repeat delay {}, interval {}, {timeout})",
                 learned(delay),
                 learned(interval)
             )
@@ -789,5 +819,9 @@ fn key_name(key: Key) -> &'static str {
         Key::Down => "down",
         Key::Left => "left",
         Key::Right => "right",
+        Key::ForwardLeft => "↖",
+        Key::ForwardRight => "↗",
+        Key::BackLeft => "↙",
+        Key::BackRight => "↘",
     }
 }

@@ -15,7 +15,7 @@ use crate::protocol::{can, FrameId};
 /// What a key asks for, before what is on screen decides what happens (see [`dispatch`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Action {
-    /// An arrow: held, it drives (see `teleop`).
+    /// A drive key (an arrow or a diagonal): held, it drives (see `teleop`).
     Drive(Key),
     /// Zero at once, no ramp.
     Stop,
@@ -71,9 +71,7 @@ pub enum InDialog {
     WorksOverHelp,
     /// Answers the prompt; closes the help.
     Answers,
-    /// A press asks to arm, as when watching; it never drives (the arrows).
-    AsksToArm,
-    /// Closes the dialog and does nothing else.
+    /// Closes the dialog and does nothing else (a drive key does not drive; its release still counts).
     Closes,
 }
 
@@ -128,14 +126,14 @@ const fn plain(letter: char, action: Action, in_dialog: InDialog) -> Bind {
     bind(Chord::Plain(KeyCode::Char(letter)), action, in_dialog)
 }
 
-const fn arrow(code: KeyCode, key: Key) -> Bind {
-    bind(Chord::Plain(code), Action::Drive(key), InDialog::AsksToArm)
+const fn drive(code: KeyCode, key: Key) -> Bind {
+    bind(Chord::Plain(code), Action::Drive(key), InDialog::Closes)
 }
 
-const UP: Bind = arrow(KeyCode::Up, Key::Up);
-const DOWN: Bind = arrow(KeyCode::Down, Key::Down);
-const LEFT: Bind = arrow(KeyCode::Left, Key::Left);
-const RIGHT: Bind = arrow(KeyCode::Right, Key::Right);
+const UP: Bind = drive(KeyCode::Up, Key::Up);
+const DOWN: Bind = drive(KeyCode::Down, Key::Down);
+const LEFT: Bind = drive(KeyCode::Left, Key::Left);
+const RIGHT: Bind = drive(KeyCode::Right, Key::Right);
 
 const fn footer(keys: &'static str, label: &'static str, short: &'static str, spare: Option<u8>) -> Footer {
     Footer { keys, label, short, armed: None, spare }
@@ -158,16 +156,32 @@ pub const BINDINGS: &[Binding] = &[
         watching: Watching::AsksToArm,
     },
     Binding {
+        shown: "u o m .",
+        keys: &[
+            drive(KeyCode::Char('u'), Key::ForwardLeft),
+            drive(KeyCode::Char('o'), Key::ForwardRight),
+            drive(KeyCode::Char('m'), Key::BackLeft),
+            drive(KeyCode::Char('.'), Key::BackRight),
+            drive(KeyCode::Home, Key::ForwardLeft),
+            drive(KeyCode::PageUp, Key::ForwardRight),
+            drive(KeyCode::End, Key::BackLeft),
+            drive(KeyCode::PageDown, Key::BackRight),
+        ],
+        help: "arcs ↖ ↗ ↙ ↘, also Home PgUp End PgDn",
+        footer: Some(footer("uom.", "arcs", "arcs", Some(4))),
+        watching: Watching::AsksToArm,
+    },
+    Binding {
         shown: "↑← ↑→ ...",
         keys: &[UP, DOWN, LEFT, RIGHT],
-        help: "combined: drive and turn at once",
+        help: "held together: arcs (kitty protocol only)",
         footer: None,
         watching: Watching::AsksToArm,
     },
     Binding {
-        shown: "Space",
-        keys: &[plain(' ', Action::Stop, InDialog::Works)],
-        help: "zero at once, no ramp; press a key again to drive",
+        shown: "Space  k",
+        keys: &[plain(' ', Action::Stop, InDialog::Works), plain('k', Action::Stop, InDialog::Works)],
+        help: "zero at once, no ramp; press again to drive",
         footer: Some(footer("Space", "stop", "stop", None)),
         watching: Watching::Works,
     },
@@ -181,7 +195,7 @@ pub const BINDINGS: &[Binding] = &[
     Binding {
         shown: "y",
         keys: &[plain('y', Action::Yes, InDialog::Answers), plain('Y', Action::Yes, InDialog::Answers)],
-        help: "yes to the prompt on screen: arm, or send the fault clear",
+        help: "yes to the prompt: arm, send the fault clear",
         footer: None,
         watching: Watching::Works,
     },
@@ -212,10 +226,10 @@ pub const BINDINGS: &[Binding] = &[
         watching: Watching::AsksToArm,
     },
     Binding {
-        shown: "m",
-        keys: &[plain('m', Action::CommandMode, InDialog::Closes)],
-        help: "enable command mode",
-        footer: Some(footer("m", "command mode", "mode", Some(0))),
+        shown: "e",
+        keys: &[plain('e', Action::CommandMode, InDialog::Closes)],
+        help: "enable command mode (m drives an arc)",
+        footer: Some(footer("e", "command mode", "mode", Some(0))),
         watching: Watching::AsksToArm,
     },
     Binding {
@@ -231,7 +245,7 @@ pub const BINDINGS: &[Binding] = &[
     Binding {
         shown: "^Z",
         keys: &[bind(Chord::Ctrl('z'), Action::Suspend, InDialog::Works)],
-        help: "zero, then suspend (after fg: press again to drive)",
+        help: "zero, then suspend (after fg: press again)",
         footer: None,
         watching: Watching::Works,
     },
@@ -295,17 +309,20 @@ pub enum Effect {
     None,
 }
 
-/// The dispatcher: what a key event does, from [`BINDINGS`]. Only presses act, except the arrows while
+/// The dispatcher: what a key event does, from [`BINDINGS`]. Only presses act, except the drive keys while
 /// armed (their repeats and releases drive too). A prompt or the help owns the keyboard: a key acts as its
-/// row's [`InDialog`] says, and a key that is not in the table closes it. Watching, a key whose row
-/// [`Watching::AsksToArm`] asks to arm instead. Esc closes and never quits.
+/// row's [`InDialog`] says (a drive key closes it and does not drive), and a key that is not in the table
+/// closes it; only a drive key's release still reaches the teleop, so no key stays held under a dialog.
+/// Watching, a key whose row [`Watching::AsksToArm`] asks to arm instead. Esc closes and never quits.
 pub fn dispatch(key: &KeyEvent, context: Context) -> Effect {
     let kind = key_action(key.kind);
     let Some((row, bind)) = lookup(key) else {
         return if kind == KeyAction::Press && context.dialog() { Effect::Close } else { Effect::None };
     };
-    if let (Action::Drive(arrow), false, true) = (bind.action, context.dialog(), context.armed) {
-        return Effect::Drive(arrow, kind);
+    if let (Action::Drive(arrow), true) = (bind.action, context.armed) {
+        if !context.dialog() || kind == KeyAction::Release {
+            return Effect::Drive(arrow, kind);
+        }
     }
     if kind != KeyAction::Press {
         return Effect::None;
@@ -315,7 +332,6 @@ pub fn dispatch(key: &KeyEvent, context: Context) -> Effect {
             (InDialog::Works, _) | (InDialog::WorksOverHelp, Prompt::None) => {}
             (InDialog::Answers, Prompt::ConfirmArm) => return Effect::Arm,
             (InDialog::Answers, Prompt::ConfirmClear) => return Effect::Clear,
-            (InDialog::AsksToArm, _) => return Effect::AskArm,
             _ => return Effect::Close,
         }
     }
@@ -371,7 +387,7 @@ pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'stat
 /// The paragraphs of `tracerctl dashboard --help` before the keys.
 const HELP_BEFORE: &str = "\
 The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
-is not disturbed). The first arrow key, m, c or l asks \"Arm driving?\"; y arms ({MODE_COMMAND} command mode, then
+is not disturbed). The first drive key, e, c or l asks \"Arm driving?\"; y arms ({MODE_COMMAND} command mode, then
 motion commands at 50 Hz), a disarms at once. --watch forbids arming. The header says ARMED or
 WATCHING.";
 
@@ -379,10 +395,12 @@ WATCHING.";
 const HELP_AFTER: &str = "\
 A key counts as held until the terminal reports its release (kitty keyboard protocol: kitty, foot,
 WezTerm, alacritty, Ghostty, iTerm2) or, in other terminals and in tmux, until no auto-repeat arrives
-before a deadline learned from the key stream; releasing brakes at --decel. While the robot reports an
-E-stop, a latched fault or RC override, zero is sent and keys are ignored until a fresh press once it is
-clear; the same after the process was suspended. If input or drawing stalls, the robot is commanded to
-zero within 250 ms; every exit sends zero-velocity frames.";
+before a deadline learned from the key stream (longer over a link that delivers repeats late;
+--key-timeout sets it); releasing brakes at --decel. Those terminals repeat only the last key pressed:
+drive arcs with one diagonal key. While the robot reports an E-stop, a latched fault or RC override,
+zero is sent and keys are ignored until a fresh press once it is clear; the same after the process was
+suspended. If input or drawing stalls, the robot is commanded to zero within 250 ms; every exit sends
+zero-velocity frames.";
 
 /// The help's key column width, in characters.
 pub const KEY_COLUMN: usize = 10;
@@ -398,6 +416,26 @@ pub fn help_text() -> String {
     text.push('\n');
     text.push_str(HELP_AFTER);
     text
+}
+
+/// The keys as a Markdown table (README.md's key table is this, between marker comments; a test keeps it so).
+pub fn markdown_table() -> String {
+    let mut table = String::from("| key | does |\n|---|---|\n");
+    for row in BINDINGS {
+        let keys: Vec<String> = row.shown.split_whitespace().map(|key| format!("`{key}`")).collect();
+        let _ = writeln!(table, "| {} | {} |", keys.join(" "), row.help);
+    }
+    table
+}
+
+/// How a prompt names a key: the first key of the table's row for `action`, as the help shows it (`y`,
+/// `Space`).
+pub fn key_name(action: Action) -> &'static str {
+    BINDINGS
+        .iter()
+        .find(|row| row.keys.iter().any(|bind| bind.action == action))
+        .and_then(|row| row.shown.split_whitespace().next())
+        .unwrap_or("?")
 }
 
 #[cfg(test)]
@@ -459,7 +497,7 @@ mod tests {
         // Every action the footer names is reachable from a row the help lists too.
         let footer = footer_entries(Arming::Armed);
         let keys: Vec<&str> = footer.iter().map(|entry| entry.0).collect();
-        assert_eq!(keys, ["↑↓←→", "Space", "a", "+/-", "l", "c", "m", "?", "q"]);
+        assert_eq!(keys, ["↑↓←→", "uom.", "Space", "a", "+/-", "l", "c", "e", "?", "q"]);
         assert!(footer.iter().all(|entry| !entry.1.is_empty() && !entry.2.is_empty()));
     }
 
@@ -542,9 +580,15 @@ mod tests {
     #[test]
     fn watching_every_key_that_sends_asks_to_arm_first() {
         let watching = |code| dispatch(&press(code), on(Prompt::None, false, false));
-        for code in
-            [KeyCode::Char('a'), KeyCode::Char('c'), KeyCode::Char('m'), KeyCode::Char('l'), KeyCode::Up]
-        {
+        for code in [
+            KeyCode::Char('a'),
+            KeyCode::Char('c'),
+            KeyCode::Char('e'),
+            KeyCode::Char('l'),
+            KeyCode::Up,
+            KeyCode::Char('m'),
+            KeyCode::Home,
+        ] {
             assert_eq!(watching(code), Effect::AskArm, "{code:?}");
         }
         assert_eq!(watching(KeyCode::Char('+')), Effect::Faster, "the scale sends nothing");
@@ -567,20 +611,88 @@ mod tests {
         );
         let ctrl_up = KeyEvent::new(KeyCode::Up, KeyModifiers::CONTROL);
         assert_eq!(dispatch(&ctrl_up, armed), Effect::Drive(Key::Up, KeyAction::Press));
-        // A dialog owns the keyboard, and watching nothing drives: a press asks to arm, the rest is ignored.
+        // Watching nothing drives: a press asks to arm, the rest is ignored.
+        let watching = on(Prompt::None, false, false);
+        assert_eq!(dispatch(&event(KeyEventKind::Press), watching), Effect::AskArm);
+        assert_eq!(dispatch(&event(KeyEventKind::Repeat), watching), Effect::None);
+        assert_eq!(dispatch(&event(KeyEventKind::Release), watching), Effect::None);
+        // A dialog owns the keyboard: a press closes it and does not drive, a repeat does nothing, and only
+        // a release still reaches the teleop (so nothing stays held under the dialog).
         for context in [
-            on(Prompt::None, false, false),
             on(Prompt::None, true, true),
             on(Prompt::ConfirmClear, false, true),
+            on(Prompt::ConfirmArm, false, false),
+            on(Prompt::None, true, false),
         ] {
-            assert_eq!(dispatch(&event(KeyEventKind::Press), context), Effect::AskArm, "{context:?}");
+            assert_eq!(dispatch(&event(KeyEventKind::Press), context), Effect::Close, "{context:?}");
             assert_eq!(dispatch(&event(KeyEventKind::Repeat), context), Effect::None, "{context:?}");
-            assert_eq!(dispatch(&event(KeyEventKind::Release), context), Effect::None, "{context:?}");
+            let release =
+                if context.armed { Effect::Drive(Key::Up, KeyAction::Release) } else { Effect::None };
+            assert_eq!(dispatch(&event(KeyEventKind::Release), context), release, "{context:?}");
         }
         // Only presses act for the other keys (a kitty terminal also reports their releases).
         let q_release =
             KeyEvent::new_with_kind(KeyCode::Char('q'), KeyModifiers::NONE, KeyEventKind::Release);
         assert_eq!(dispatch(&q_release, armed), Effect::None);
+    }
+
+    #[test]
+    fn diagonal_keys_drive_arcs_and_close_dialogs() {
+        let armed = on(Prompt::None, false, true);
+        let cases = [
+            (KeyCode::Char('u'), Key::ForwardLeft),
+            (KeyCode::Char('o'), Key::ForwardRight),
+            (KeyCode::Char('m'), Key::BackLeft),
+            (KeyCode::Char('.'), Key::BackRight),
+            (KeyCode::Home, Key::ForwardLeft),
+            (KeyCode::PageUp, Key::ForwardRight),
+            (KeyCode::End, Key::BackLeft),
+            (KeyCode::PageDown, Key::BackRight),
+        ];
+        for (code, key) in cases {
+            assert_eq!(dispatch(&press(code), armed), Effect::Drive(key, KeyAction::Press), "{code:?}");
+            assert_eq!(dispatch(&press(code), on(Prompt::ConfirmClear, false, true)), Effect::Close);
+            assert_eq!(dispatch(&press(code), on(Prompt::None, false, false)), Effect::AskArm);
+        }
+        assert_eq!(dispatch(&press(KeyCode::Char('e')), armed), Effect::CommandMode);
+        assert_eq!(dispatch(&press(KeyCode::Char('k')), armed), Effect::Stop);
+        // Every letter drives one thing only: no letter key is in two rows with different actions.
+        let mut letters: Vec<char> = BINDINGS
+            .iter()
+            .flat_map(|row| row.keys)
+            .filter_map(|bind| match bind.chord {
+                Chord::Plain(KeyCode::Char(letter)) => Some(letter),
+                _ => None,
+            })
+            .collect();
+        let before = letters.len();
+        letters.sort_unstable();
+        letters.dedup();
+        assert_eq!(letters.len(), before, "{letters:?}");
+    }
+
+    #[test]
+    fn esc_closes_every_dialog_and_never_quits() {
+        for context in [
+            on(Prompt::None, true, true),
+            on(Prompt::None, true, false),
+            on(Prompt::ConfirmClear, false, true),
+            on(Prompt::ConfirmArm, false, false),
+            on(Prompt::None, false, true),
+        ] {
+            assert_eq!(dispatch(&press(KeyCode::Esc), context), Effect::Close, "{context:?}");
+        }
+    }
+
+    #[test]
+    fn prompts_and_markdown_name_the_tables_keys() {
+        assert_eq!(key_name(Action::Yes), "y");
+        assert_eq!(key_name(Action::Stop), "Space");
+        let table = markdown_table();
+        assert!(table.starts_with("| key | does |\n|---|---|\n"), "{table}");
+        assert!(table.contains("| `u` `o` `m` `.` | arcs ↖ ↗ ↙ ↘, also Home PgUp End PgDn |\n"), "{table}");
+        assert!(table.contains("| `↑←` `↑→` `...` | held together: arcs (kitty protocol only) |\n"));
+        assert_eq!(table.lines().count(), BINDINGS.len() + 2);
     }
 
     #[test]
@@ -599,6 +711,8 @@ mod tests {
         }
         assert!(text.contains("  q  ^C     stop the robot and quit\n"), "{text}");
         assert!(text.starts_with("The dashboard opens WATCHING"));
-        assert!(text.ends_with("every exit sends zero-velocity frames."));
+        let words = text.split_whitespace().collect::<Vec<_>>().join(" ");
+        assert!(words.ends_with("every exit sends zero-velocity frames."), "{text}");
+        assert!(words.contains("--key-timeout sets it"), "{text}");
     }
 }

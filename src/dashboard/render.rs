@@ -1272,7 +1272,7 @@ fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
         Line::raw("or an RC transmitter. Until then nothing is sent."),
         Line::raw(""),
         Line::from(vec![
-            Span::styled("y", theme.key()),
+            Span::styled(keys::key_name(keys::Action::Yes), theme.key()),
             Span::raw(" arm   "),
             Span::styled("any other key", theme.key()),
             Span::raw(" keep watching"),
@@ -1315,9 +1315,9 @@ fn render_confirm(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
     }
     lines.push(Line::raw(""));
     lines.push(Line::from(vec![
-        Span::styled("y", theme.key()),
+        Span::styled(keys::key_name(keys::Action::Yes), theme.key()),
         Span::raw(" send the clear   "),
-        Span::styled("Space", theme.key()),
+        Span::styled(keys::key_name(keys::Action::Stop), theme.key()),
         Span::raw(" stop   "),
         Span::styled("any other key", theme.key()),
         Span::raw(" cancel"),
@@ -1687,8 +1687,9 @@ mod tests {
                 "Keys · ? closes",
                 "drive forward / backward (linear speed)",
                 "turn left / right (angular speed)",
-                "combined: drive and turn at once",
-                "Space     zero at once, no ramp",
+                "held together: arcs (kitty protocol only)",
+                "arcs ↖ ↗ ↙ ↘, also Home PgUp End PgDn",
+                "Space  k  zero at once, no ramp",
                 "speed scale up / down (now 60 %)",
                 "cycle the lights",
                 "clear faults (asks first)",

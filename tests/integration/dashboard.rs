@@ -80,7 +80,7 @@ fn commanded(log: &Path) -> Vec<i16> {
 }
 
 /// Seconds since the epoch, as the record's timestamps.
-fn wall_clock() -> f64 {
+pub(crate) fn wall_clock() -> f64 {
     std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).unwrap().as_secs_f64()
 }
 
@@ -165,7 +165,7 @@ fn arrows_drive_the_simulator_release_stops_it_and_q_restores_the_terminal() {
 
 /// Starts `tracerctl --sim dashboard EXTRA --record LOG` in tmux and waits for it to draw; the temporary
 /// directory holding the log lives as long as the returned handle.
-fn sim_dashboard(name: &str, extra: &str) -> (Session, tempfile::TempDir, std::path::PathBuf) {
+pub(crate) fn sim_dashboard(name: &str, extra: &str) -> (Session, tempfile::TempDir, std::path::PathBuf) {
     let dir = tempfile::tempdir().unwrap();
     let log = dir.path().join("session.log");
     let binary = assert_cmd::cargo::cargo_bin("tracerctl");
@@ -178,7 +178,7 @@ fn sim_dashboard(name: &str, extra: &str) -> (Session, tempfile::TempDir, std::p
 }
 
 /// Arms driving: `a`, the prompt, `y`; the header says ARMED.
-fn arm(session: &Session) {
+pub(crate) fn arm(session: &Session) {
     session.keys(&["a"]);
     let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Arm driving?"));
     assert!(asked, "a asks before arming:\n{screen}");
@@ -189,7 +189,7 @@ fn arm(session: &Session) {
 
 /// Every 0x111 and 0x421 the dashboard sent, from its `--record` log (lines marked as sent by tracerctl
 /// are the ones with these identifiers: the simulator never sends them).
-fn sent_ids(log: &Path) -> Vec<String> {
+pub(crate) fn sent_ids(log: &Path) -> Vec<String> {
     std::fs::read_to_string(log)
         .unwrap_or_default()
         .lines()
@@ -437,7 +437,7 @@ fn ctrl_z_sends_zero_then_suspends_and_gives_the_terminal_back() {
 
 /// The dashboard on a 100x30 pseudo-terminal this test owns; with `kitty`, it answers the keyboard-protocol
 /// query as kitty, foot or WezTerm would, so the dashboard gets key release events.
-struct PtyDashboard {
+pub(crate) struct PtyDashboard {
     child: std::process::Child,
     keys: serialport::TTYPort,
     shown: std::sync::Arc<std::sync::Mutex<String>>,
@@ -445,7 +445,7 @@ struct PtyDashboard {
 }
 
 impl PtyDashboard {
-    fn start(robot_path: &str, kitty: bool) -> Self {
+    pub(crate) fn start(robot_path: &str, kitty: bool) -> Self {
         use serialport::SerialPort;
         use std::io::{Read, Write};
         use std::sync::atomic::{AtomicBool, Ordering};
@@ -492,7 +492,7 @@ impl PtyDashboard {
     }
 
     /// Waits until `needle` was drawn (since the last `forget`).
-    fn wait_for(&self, needle: &str) {
+    pub(crate) fn wait_for(&self, needle: &str) {
         let deadline = Instant::now() + Duration::from_secs(10);
         while !self.shown.lock().unwrap().contains(needle) {
             assert!(Instant::now() < deadline, "{needle:?} never shown");
@@ -504,18 +504,18 @@ impl PtyDashboard {
         self.shown.lock().unwrap().clear();
     }
 
-    fn type_keys(&mut self, bytes: &[u8]) {
+    pub(crate) fn type_keys(&mut self, bytes: &[u8]) {
         std::io::Write::write_all(&mut self.keys, bytes).unwrap();
     }
 
-    fn arm(&mut self) {
+    pub(crate) fn arm(&mut self) {
         self.type_keys(b"a");
         self.wait_for("Arm driving?");
         self.type_keys(b"y");
         self.wait_for("ARMED");
     }
 
-    fn quit(mut self) {
+    pub(crate) fn quit(mut self) {
         self.type_keys(b"q");
         let _ = self.child.wait();
         self.done.store(true, std::sync::atomic::Ordering::SeqCst);

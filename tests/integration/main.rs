@@ -3,6 +3,7 @@
 #![allow(clippy::disallowed_macros)]
 
 mod dashboard;
+mod dashboard_keys;
 mod dashboard_screens;
 mod decode;
 mod decode_losses;
