@@ -216,16 +216,18 @@ def judge(args):
 
     vm_note = " ".join((vm_file("ser.vm") or "").split("\n")).strip()
     rc = (vm_file("ser.rc") or "").strip()
-    err = vm_file("ser.err")
+    # drive's report is on its stdout, its diagnostics on stderr: read both.
+    outputs = [text for text in (vm_file("ser.out"), vm_file("ser.err")) if text is not None]
+    output = "\n".join(outputs) if outputs else None
     report = ""
     held = discarded = 0
-    if err is not None:
-        for line in err.splitlines():
+    if output is not None:
+        for line in output.splitlines():
             if line.startswith("stopped after") or "motion frames sent" in line:
                 report = line.strip()
-        m = re.search(r"(\d+) held back while the link's output was not draining", err)
+        m = re.search(r"(\d+) held back while the link's output was not draining", output)
         held = int(m.group(1)) if m else 0
-        m = re.search(r"(\d+) stale frames discarded before the stop frames", err)
+        m = re.search(r"(\d+) stale frames discarded before the stop frames", output)
         discarded = int(m.group(1)) if m else 0
 
     before = [(o, f) for o, f in motion if rx_at_stall is None or o < rx_at_stall]
