@@ -37,7 +37,7 @@ use crate::protocol::{self, CanFrame, ProtocolHint};
 
 /// Input bytes per chunk by default: large enough that the per-chunk work (a channel hop, one write) vanishes,
 /// small enough that the pool stays a few megabytes.
-pub const CHUNK_BYTES: usize = 1024 * 1024;
+pub const CHUNK_BYTES: usize = 256 * 1024;
 
 impl Decoder {
     /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
