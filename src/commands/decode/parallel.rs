@@ -38,6 +38,9 @@ use crate::protocol::{self, CanFrame, ProtocolHint};
 /// Input bytes per chunk by default: large enough that the per-chunk work (a channel hop, one write) vanishes,
 /// small enough that the pool stays a few megabytes.
 pub const CHUNK_BYTES: usize = 256 * 1024;
+/// More workers than this gain nothing (the reader and the writer are one thread each), and a `-j` of
+/// thousands would only fail to spawn.
+const MAX_THREADS: usize = 64;
 
 impl Decoder {
     /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
@@ -141,7 +144,7 @@ pub(super) fn decode(
         writer: *writer,
         strict: decoder.strict,
     };
-    let (threads, chunk_bytes) = (decoder.threads, decoder.chunk_bytes.max(1));
+    let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), decoder.chunk_bytes.max(1));
     let before = (decoder.stats.decoded_lines, decoder.stats.rejected_lines, decoder.stats.skipped);
     let guess = Mutex::new(Start::default());
     let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
