@@ -121,6 +121,30 @@ fn the_protocol_verdict_crosses_chunk_boundaries() {
     }
 }
 
+/// A compressed file is read through its decompressor and chunked like a plain one; a truncated one writes
+/// the same lines before the same error.
+#[test]
+fn compressed_files_decode_the_same_with_threads() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let log = awkward_log();
+    let gz = dir.path().join("awkward.log.gz");
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    encoder.write_all(log.as_bytes()).unwrap();
+    let gzipped = encoder.finish().unwrap();
+    std::fs::write(&gz, &gzipped).unwrap();
+    let zst = dir.path().join("awkward.log.zst");
+    std::fs::write(&zst, zstd::encode_all(log.as_bytes(), 3).unwrap()).unwrap();
+    let truncated = dir.path().join("truncated.log.gz");
+    std::fs::write(&truncated, &gzipped[..gzipped.len() / 2]).unwrap();
+    for path in [&gz, &zst, &truncated] {
+        assert_parallel_same(path, &[1, 97, 4096]);
+    }
+    let cut = decode(&truncated, 2, Some(97), &[]);
+    assert_eq!(cut.status.code(), Some(1));
+    assert!(stderr(&cut).contains("truncated gzip data"), "{}", stderr(&cut));
+}
+
 #[test]
 fn strict_stops_at_the_same_line_with_the_same_message() {
     let path = data("decode/bad_line15.log");

@@ -12,8 +12,8 @@
 //! published; a chunk decoded from a wrong guess is decoded again here, from the true state (rare: the
 //! verdict settles within the first frames). What cannot be checked this way stays on the single-thread
 //! path ([`Decoder::parallel_fits`]): `-t d` sums (`--delta-stamps`), ASC and trc files (header state),
-//! `--summary` and `--plot`, standard input, pipes and compressed input (read as a stream, written as
-//! it comes).
+//! `--summary` and `--plot`, standard input and pipes (a live stream is written line by line as it comes).
+//! A compressed file is read through its decompressor like a plain one.
 
 use std::collections::BTreeMap;
 use std::io::{self, Read};
@@ -50,7 +50,6 @@ impl Decoder {
             && self.plot.is_none()
             && !self.delta_stamps
             && format.text == TextFormat::Candump
-            && format.compression.is_none()
     }
 }
 
@@ -123,7 +122,8 @@ struct Settings {
     strict: bool,
 }
 
-/// Decodes `reader` (the text of a regular file, after [`candump::open_log`]) with the decoder's threads.
+/// Decodes `reader` (the text of a regular file, decompressed, after [`candump::open_log`]) with the
+/// decoder's threads.
 pub(super) fn decode(
     decoder: &mut Decoder,
     name: &str,
