@@ -157,6 +157,14 @@ pub struct DecodeArgs {
     /// Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
+
+    /// Threads for a plain log file (default: all cores; 1: one thread)
+    #[arg(long, short = 'j', value_name = "N", value_hint = clap::ValueHint::Other, value_parser = clap::value_parser!(u16).range(1..))]
+    pub threads: Option<u16>,
+
+    /// Bytes of input per parallel chunk (for tests: tiny chunks put boundaries everywhere)
+    #[arg(long, hide = true, value_name = "BYTES", value_hint = clap::ValueHint::Other, value_parser = clap::value_parser!(u32).range(1..))]
+    pub chunk_bytes: Option<u32>,
 }
 
 impl DecodeArgs {
@@ -172,6 +180,11 @@ impl DecodeArgs {
             delta_stamps: self.delta_stamps,
             no_progress: self.no_progress,
             plot: self.plot,
+            threads: match self.threads {
+                Some(threads) => usize::from(threads),
+                None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
+            },
+            chunk_bytes: self.chunk_bytes.map(|bytes| bytes as usize),
         }
     }
 }

@@ -765,6 +765,27 @@ fn parse_dropcount(text: &[u8], start: usize) -> Result<Line<'static>, PosError>
     Ok(Line::DropCount { dropped })
 }
 
+/// What one candump line leaves for the next: the interface a Pengutronix header named and whether an error
+/// frame came last. A log decoded in chunks starts each chunk from a guess of it and checks the guess.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct CarriedState {
+    pub iface: Vec<u8>,
+    pub after_error_frame: bool,
+}
+
+impl LineParser {
+    /// The state the last line left (candump text; `-t d` sums are not included).
+    pub fn carried(&self) -> CarriedState {
+        CarriedState { iface: self.iface.clone(), after_error_frame: self.after_error_frame }
+    }
+
+    /// Continues as if the lines that left `state` had just been parsed.
+    pub fn carry_on_from(&mut self, state: &CarriedState) {
+        self.iface.clone_from(&state.iface);
+        self.after_error_frame = state.after_error_frame;
+    }
+}
+
 #[cfg(test)]
 pub(crate) fn parse_log_fast_for_tests(line: &[u8]) -> Option<Record<'_>> {
     parse_log_fast(line)

@@ -23,6 +23,7 @@ mod layers;
 mod long_functions;
 mod monitor;
 mod monitor_modes;
+mod parallel_decode;
 mod plot;
 mod recording;
 mod robot_commands;

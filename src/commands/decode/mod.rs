@@ -3,6 +3,7 @@
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
 mod interrupt;
+mod parallel;
 mod plot;
 mod serial_input;
 pub mod summary;
@@ -31,6 +32,8 @@ use summary::Summary;
 
 /// Output is written in blocks of about this size.
 const FLUSH_AT: usize = 64 * 1024;
+/// What `--strict` says of a CAN XL frame, after the place.
+const CAN_XL_NOT_SUPPORTED: &str = "CAN XL frame: not supported";
 /// Files at least this large get a progress bar (on a terminal).
 const PROGRESS_MIN_BYTES: u64 = 8 * 1024 * 1024;
 
@@ -56,6 +59,10 @@ pub struct Options {
     pub no_progress: bool,
     /// Also draw the plot into this SVG file.
     pub plot: Option<PathBuf>,
+    /// Threads decoding a plain log file (1: the single-thread path; see parallel.rs for what stays on it).
+    pub threads: usize,
+    /// Input bytes per parallel chunk (default [`parallel::CHUNK_BYTES`]; tests make it tiny).
+    pub chunk_bytes: Option<usize>,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -86,6 +93,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         progress: !args.no_progress && io::stderr().is_terminal(),
         plot: args.plot.as_ref().map(|_| Box::default()),
         signals,
+        threads: args.threads,
+        chunk_bytes: args.chunk_bytes.unwrap_or(parallel::CHUNK_BYTES),
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
@@ -155,6 +164,20 @@ impl Output {
             result?;
         }
         self.out.flush()
+    }
+
+    /// Writes what is buffered, then `bytes` straight through (a decoded chunk: no copy into the buffer).
+    fn write_through(&mut self, bytes: &[u8]) -> io::Result<()> {
+        if !self.buffer.is_empty() {
+            let result = self.out.write_all(&self.buffer);
+            self.buffer.clear();
+            result?;
+        }
+        self.out.write_all(bytes)?;
+        if self.line_buffered {
+            self.out.flush()?;
+        }
+        Ok(())
     }
 }
 
@@ -312,6 +335,8 @@ pub struct Decoder {
     /// `--plot`: fed every event that passes the filter, written at the end.
     plot: Option<Box<plot::Plot>>,
     signals: SignalFlag,
+    threads: usize,
+    chunk_bytes: usize,
 }
 
 impl Decoder {
@@ -354,10 +379,15 @@ impl Decoder {
         let path = Path::new(input);
         if path.exists() {
             let file = File::open(path).with_context(|| format!("cannot open {input}"))?;
-            let size = file.metadata().map(|m| m.len()).ok();
+            let metadata = file.metadata().ok();
+            let size = metadata.as_ref().map(|m| m.len());
+            let regular = metadata.is_some_and(|m| m.is_file());
             let (reader, format) = candump::open_log(file, input).map_err(Failure::from)?;
             // The progress bar counts text bytes: unknown for a compressed file.
             let size = size.filter(|_| format.compression.is_none());
+            if regular && self.parallel_fits(format) {
+                return parallel::decode(self, input, reader, size);
+            }
             return self.candump(input, reader, size, format);
         }
         if input.contains('#') {
@@ -441,7 +471,7 @@ impl Decoder {
             Line::CanXl => {
                 self.stats.skipped.can_xl += 1;
                 if self.strict {
-                    return Err(Failure::data(format!("{name}:{number}: CAN XL frame: not supported")).into());
+                    return Err(Failure::data(format!("{name}:{number}: {CAN_XL_NOT_SUPPORTED}")).into());
                 }
             }
         }

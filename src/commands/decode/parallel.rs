@@ -1,0 +1,676 @@
+//! `decode -j N`: a plain candump log file decoded by N threads, written byte for byte as one thread would.
+//!
+//! A reader thread cuts the text into chunks that end after a `\n`; worker threads decode each chunk into its
+//! own output buffer with the line counts, rejections and stop (`--strict`) it found, numbered within the
+//! chunk; this thread takes the chunks back in input order, writes their output, and replays their counts
+//! and messages with the chunk's first line number, which is known only then. Chunks travel in a fixed pool,
+//! so memory is bounded by the pool (threads x chunk size), whatever the size of the input.
+//!
+//! State one line leaves for the next is guessed at a chunk's start and checked in order: the protocol
+//! detector's verdict (which decodes the shared identifiers), the interface a Pengutronix header named and
+//! whether an error frame came last ([`CarriedState`]). A worker starts from the state this thread last
+//! published; a chunk decoded from a wrong guess is decoded again here, from the true state (rare: the
+//! verdict settles within the first frames). What cannot be checked this way stays on the single-thread
+//! path ([`Decoder::parallel_fits`]): `-t d` sums (`--delta-stamps`), ASC and trc files (header state),
+//! `--summary` and `--plot`, standard input and pipes (a live stream is written line by line as it comes).
+//! A compressed file is read through its decompressor like a plain one.
+
+use std::collections::BTreeMap;
+use std::io::{self, Read};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+
+use anyhow::Result;
+use memchr::{memchr, memrchr};
+use parking_lot::Mutex;
+
+use super::{read_error, Decoder, Interrupted, Sink, Skipped};
+use crate::candump::{
+    self, CarriedState, Line, LineParser, LogFormat, Reason, Rejected, Rejection, TextFormat,
+    DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
+};
+use crate::exit::Failure;
+use crate::output::filter::Filter;
+use crate::output::{Event, EventWriter, FrameRef};
+use crate::protocol::detect::ProtocolDetector;
+use crate::protocol::{self, CanFrame, ProtocolHint};
+
+/// Input bytes per chunk by default: large enough that the per-chunk work (a channel hop, one write) vanishes,
+/// small enough that the pool stays a few megabytes.
+pub const CHUNK_BYTES: usize = 256 * 1024;
+/// More workers than this gain nothing (the reader and the writer are one thread each), and a `-j` of
+/// thousands would only fail to spawn.
+const MAX_THREADS: usize = 64;
+
+impl Decoder {
+    /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
+    pub(super) fn parallel_fits(&self, format: LogFormat) -> bool {
+        self.threads > 1
+            && matches!(self.sink, Sink::Lines { .. })
+            && self.plot.is_none()
+            && !self.delta_stamps
+            && format.text == TextFormat::Candump
+    }
+}
+
+/// The state a chunk's first line is decoded from.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+struct Start {
+    carried: CarriedState,
+    /// The detector's verdict: V1-only and V2-only identifiers seen before.
+    v1_seen: bool,
+    v2_seen: bool,
+}
+
+/// A chunk travelling from the reader to a worker and back; its buffers are reused.
+#[derive(Default)]
+struct Chunk {
+    index: u64,
+    input: Vec<u8>,
+    /// Lines the reader cut short because they exceeded the line limit: (offset in `input`, true length).
+    long_lines: Vec<(usize, usize)>,
+    /// Bytes of the input this chunk holds (for the progress bar).
+    bytes: u64,
+    /// Reading failed after `input`.
+    read_error: Option<io::Error>,
+    output: Vec<u8>,
+    outcome: Outcome,
+}
+
+/// What decoding a chunk found besides its output; line numbers count from 1 within the chunk.
+#[derive(Default)]
+struct Outcome {
+    start: Start,
+    end: CarriedState,
+    v1_frames: u64,
+    v2_frames: u64,
+    lines: u64,
+    frames: u64,
+    decoded_lines: u64,
+    rejected_lines: u64,
+    skipped: Skipped,
+    candump_dropped: u64,
+    invalid_frames: u64,
+    /// The first rejections, each possibly shown (at most [`MAX_SHOWN_REJECTS`] + 1 in a run are).
+    shown: Vec<Reject>,
+    /// The chunk's further rejections, only counted: per reason, in order of first occurrence.
+    counted: Vec<Reject>,
+    /// `--strict`: the line that ended decoding, with the message.
+    stop: Option<Stop>,
+}
+
+struct Reject {
+    line: u64,
+    message: String,
+    reason: &'static str,
+    length: Option<u64>,
+    count: u64,
+}
+
+struct Stop {
+    /// The line the message is located at (`name:line: `); `None` for messages said without a place.
+    line: Option<u64>,
+    message: String,
+}
+
+/// What every worker decodes with.
+#[derive(Clone)]
+struct Settings {
+    protocol: ProtocolHint,
+    filter: Filter,
+    writer: EventWriter,
+    strict: bool,
+}
+
+/// Decodes `reader` (the text of a regular file, decompressed, after [`candump::open_log`]) with the
+/// decoder's threads.
+pub(super) fn decode(
+    decoder: &mut Decoder,
+    name: &str,
+    reader: impl Read + Send,
+    size: Option<u64>,
+) -> Result<()> {
+    let Sink::Lines { writer, .. } = &decoder.sink else {
+        return decoder.candump(
+            name,
+            reader,
+            size,
+            LogFormat { text: TextFormat::Candump, compression: None },
+        );
+    };
+    let settings = Settings {
+        protocol: decoder.protocol,
+        filter: decoder.filter.clone(),
+        writer: *writer,
+        strict: decoder.strict,
+    };
+    let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), decoder.chunk_bytes.max(1));
+    let before = (decoder.stats.decoded_lines, decoder.stats.rejected_lines, decoder.stats.skipped);
+    let guess = Mutex::new(Start::default());
+    let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
+    let (work_tx, work_rx) = mpsc::channel::<Chunk>();
+    let (done_tx, done_rx) = mpsc::channel::<Chunk>();
+    let work_rx = Mutex::new(work_rx);
+    // Set when this thread stops taking chunks (the end, an error, --strict): the others stop too.
+    let finished = AtomicBool::new(false);
+    for _ in 0..threads * 2 + 2 {
+        let _ = pool_tx.send(Chunk::default());
+    }
+    let result = std::thread::scope(|scope| {
+        let finished_ref = &finished;
+        scope.spawn(move || split(reader, chunk_bytes, pool_rx, work_tx, finished_ref));
+        for _ in 0..threads {
+            let done_tx = done_tx.clone();
+            let (work_rx, guess, settings, finished) = (&work_rx, &guess, &settings, &finished);
+            scope.spawn(move || loop {
+                let Ok(mut chunk) = work_rx.lock().recv() else { return };
+                if finished.load(Ordering::Relaxed) {
+                    return;
+                }
+                let start = guess.lock().clone();
+                decode_chunk(settings, &start, &mut chunk);
+                if done_tx.send(chunk).is_err() {
+                    return;
+                }
+            });
+        }
+        drop(done_tx);
+        let result = Merger { decoder: &mut *decoder, name, settings: &settings, guess: &guess, size }
+            .run(&done_rx, &pool_tx);
+        // The reader stops at the flag or the closed pool, the workers at the flag or the closed queue.
+        finished.store(true, Ordering::Relaxed);
+        drop(pool_tx);
+        drop(done_rx);
+        result
+    });
+    if result.is_ok() {
+        decoder.note_no_frames(name, before);
+    }
+    result
+}
+
+/// This thread's side: chunks back in order, merged into the decoder.
+struct Merger<'a> {
+    decoder: &'a mut Decoder,
+    name: &'a str,
+    settings: &'a Settings,
+    guess: &'a Mutex<Start>,
+    size: Option<u64>,
+}
+
+impl Merger<'_> {
+    fn run(mut self, done: &mpsc::Receiver<Chunk>, pool: &mpsc::Sender<Chunk>) -> Result<()> {
+        let bar = self.decoder.progress_bar(self.size);
+        let mut waiting = BTreeMap::new();
+        let (mut next, mut consumed, mut carried) = (0u64, 0u64, CarriedState::default());
+        for chunk in done {
+            waiting.insert(chunk.index, chunk);
+            while let Some(mut chunk) = waiting.remove(&next) {
+                if self.decoder.signals.received().is_some() {
+                    return Err(io::Error::other(Interrupted).into());
+                }
+                self.merge(&mut chunk, &mut carried)?;
+                consumed += chunk.bytes;
+                if let Some(bar) = &bar {
+                    bar.set_position(consumed);
+                }
+                next += 1;
+                let _ = pool.send(chunk);
+            }
+        }
+        if let Some(bar) = bar {
+            bar.finish_and_clear();
+        }
+        Ok(())
+    }
+
+    /// One chunk, in order: decoded again if its start was guessed wrong, then written and counted.
+    fn merge(&mut self, chunk: &mut Chunk, carried: &mut CarriedState) -> Result<()> {
+        let detector = &self.decoder.detector;
+        let truth = Start {
+            carried: carried.clone(),
+            v1_seen: detector.v1_frames > 0,
+            v2_seen: detector.v2_frames > 0,
+        };
+        settle(self.settings, chunk, &truth);
+        let decoder = &mut *self.decoder;
+        if let Sink::Lines { output, .. } = &decoder.sink {
+            output.borrow_mut().write_through(&chunk.output)?;
+        }
+        let base = decoder.stats.lines;
+        let outcome = &chunk.outcome;
+        let stats = &mut decoder.stats;
+        stats.lines += outcome.lines;
+        stats.frames += outcome.frames;
+        stats.decoded_lines += outcome.decoded_lines;
+        stats.rejected_lines += outcome.rejected_lines;
+        stats.invalid_frames += outcome.invalid_frames;
+        stats.candump_dropped = stats.candump_dropped.saturating_add(outcome.candump_dropped);
+        let (skipped, more) = (&mut stats.skipped, &outcome.skipped);
+        skipped.blank += more.blank;
+        skipped.comment += more.comment;
+        skipped.error_text += more.error_text;
+        skipped.can_xl += more.can_xl;
+        skipped.dropcount += more.dropcount;
+        decoder.detector.v1_frames += outcome.v1_frames;
+        decoder.detector.v2_frames += outcome.v2_frames;
+        self.tally(base, outcome);
+        *carried = outcome.end.clone();
+        // The next chunks' guess: the settled verdict and interface; an error frame rarely ends a chunk.
+        let detector = &self.decoder.detector;
+        *self.guess.lock() = Start {
+            carried: CarriedState { iface: carried.iface.clone(), after_error_frame: false },
+            v1_seen: detector.v1_frames > 0,
+            v2_seen: detector.v2_frames > 0,
+        };
+        if let Some(stop) = &outcome.stop {
+            let message = match stop.line {
+                Some(line) => format!("{}:{}: {}", self.name, base + line, stop.message),
+                None => stop.message.clone(),
+            };
+            return Err(Failure::data(message).into());
+        }
+        match chunk.read_error.take() {
+            Some(error) => Err(read_error(error, self.name)),
+            None => Ok(()),
+        }
+    }
+
+    /// The chunk's rejections, said and counted as if they had come one by one.
+    fn tally(&mut self, base: u64, outcome: &Outcome) {
+        let tally = &mut self.decoder.stats.rejected;
+        for reject in &outcome.shown {
+            let location = format!("{}:{}", self.name, base + reject.line);
+            let (message, reason, length) = (reject.message.as_str(), reject.reason, reject.length);
+            if let Some(note) =
+                tally.reject(Rejected { location: &location, message, reason, length, in_lines: true })
+            {
+                crate::say!("tracerctl: {note}");
+            }
+        }
+        // Past the shown ones nothing more is said: only the counts, longest lines and first places.
+        for reject in &outcome.counted {
+            match tally.rejected.iter_mut().find(|known| known.reason == reject.reason) {
+                Some(known) => {
+                    known.count += reject.count;
+                    known.longest = known.longest.max(reject.length);
+                }
+                None => tally.rejected.push(Rejection {
+                    reason: reject.reason.to_string(),
+                    count: reject.count,
+                    first_at: format!("{}:{}", self.name, base + reject.line),
+                    longest: reject.length,
+                    in_lines: true,
+                }),
+            }
+        }
+    }
+}
+
+/// Decodes the chunk again from `truth` when it was decoded from another start. Returns whether it did.
+fn settle(settings: &Settings, chunk: &mut Chunk, truth: &Start) -> bool {
+    if chunk.outcome.start == *truth {
+        return false;
+    }
+    decode_chunk(settings, truth, chunk);
+    true
+}
+
+/// The reader: chunks of about `chunk_bytes` ending after a `\n` (or at the end), numbered in order. A line
+/// longer than the line limit is kept only up to one byte past it, with its true length beside.
+fn split(
+    mut reader: impl Read,
+    chunk_bytes: usize,
+    pool: mpsc::Receiver<Chunk>,
+    work: mpsc::Sender<Chunk>,
+    finished: &AtomicBool,
+) {
+    // The unfinished last line of the previous read, and its true length when it was cut short.
+    let mut carry: Vec<u8> = Vec::new();
+    let mut carry_long: Option<usize> = None;
+    let keep = DEFAULT_MAX_LINE_LEN + 1;
+    for index in 0.. {
+        let Ok(mut chunk) = pool.recv() else { return };
+        if finished.load(Ordering::Relaxed) {
+            return;
+        }
+        chunk.index = index;
+        chunk.input.clear();
+        chunk.long_lines.clear();
+        chunk.input.extend_from_slice(&carry);
+        let mut long = carry_long.take();
+        let (last_newline, eof) = fill(&mut reader, &mut chunk, chunk_bytes, &mut long);
+        carry.clear();
+        if eof {
+            if let Some(length) = long.take() {
+                chunk.long_lines.push((last_newline.map_or(0, |at| at + 1), length));
+            }
+        } else if let Some(at) = last_newline {
+            carry.extend_from_slice(&chunk.input[at + 1..]);
+            chunk.input.truncate(at + 1);
+            carry_long = long.take();
+        }
+        chunk.bytes = chunk.input.len() as u64
+            + chunk.long_lines.iter().map(|&(_, length)| (length - keep) as u64).sum::<u64>();
+        let nothing = chunk.input.is_empty() && chunk.read_error.is_none();
+        if (!nothing && work.send(chunk).is_err()) || eof {
+            return;
+        }
+    }
+}
+
+/// Reads into `chunk.input` until it holds `chunk_bytes` and a `\n`, or the end. `long` is the true length
+/// of the open line when it was cut short. Returns the last `\n`'s offset and whether the input ended.
+fn fill(
+    reader: &mut impl Read,
+    chunk: &mut Chunk,
+    chunk_bytes: usize,
+    long: &mut Option<usize>,
+) -> (Option<usize>, bool) {
+    let keep = DEFAULT_MAX_LINE_LEN + 1;
+    let mut last_newline: Option<usize> = None;
+    let mut eof = false;
+    while !(last_newline.is_some() && chunk.input.len() >= chunk_bytes) {
+        let old = chunk.input.len();
+        chunk.input.resize(old + chunk_bytes, 0);
+        let read = match reader.read(&mut chunk.input[old..]) {
+            Ok(read) => read,
+            Err(error) if error.kind() == io::ErrorKind::Interrupted => {
+                chunk.input.truncate(old);
+                continue;
+            }
+            Err(error) => {
+                // As the line reader: the lines read before the error count, the unfinished one does not.
+                chunk.input.truncate(last_newline.map_or(0, |at| at + 1));
+                chunk.read_error = Some(error);
+                *long = None;
+                eof = true;
+                break;
+            }
+        };
+        chunk.input.truncate(old + read);
+        if read == 0 {
+            eof = true;
+            break;
+        }
+        let open = last_newline.map_or(0, |at| at + 1);
+        if let Some(length) = long.as_mut() {
+            // The open line is cut short: its further bytes are only counted, up to its newline.
+            let cut = open + keep;
+            match memchr(b'\n', &chunk.input[old..]) {
+                Some(at) => {
+                    *length += at;
+                    chunk.input.drain(cut..old + at);
+                    chunk.long_lines.push((open, *length));
+                    *long = None;
+                }
+                None => {
+                    *length += read;
+                    chunk.input.truncate(cut);
+                    continue;
+                }
+            }
+        }
+        let searched_from = old.min(chunk.input.len());
+        if let Some(at) = memrchr(b'\n', &chunk.input[searched_from..]) {
+            last_newline = Some(searched_from + at);
+        }
+        let open = last_newline.map_or(0, |at| at + 1);
+        if chunk.input.len() - open > keep {
+            *long = Some(chunk.input.len() - open);
+            chunk.input.truncate(open + keep);
+        }
+    }
+    (last_newline, eof)
+}
+
+/// Decodes one chunk from `start` into its output, as [`Decoder::candump`] decodes lines.
+fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
+    chunk.output.clear();
+    let mut lines = ChunkLines {
+        settings,
+        detector: ProtocolDetector { v1_frames: start.v1_seen.into(), v2_frames: start.v2_seen.into() },
+        output: &mut chunk.output,
+        outcome: Outcome { start: start.clone(), ..Outcome::default() },
+    };
+    let mut parser = LineParser::new();
+    parser.carry_on_from(&start.carried);
+    let input = &chunk.input;
+    let mut long_lines = chunk.long_lines.iter().peekable();
+    let mut at = 0;
+    while at < input.len() {
+        let end = memchr(b'\n', &input[at..]).map_or(input.len(), |offset| at + offset);
+        let text = &input[at..end];
+        let line_start = at;
+        at = end + 1;
+        lines.outcome.lines += 1;
+        let number = lines.outcome.lines;
+        let too_long = match long_lines.next_if(|&&(offset, _)| offset == line_start) {
+            Some(&(_, length)) => Some(length),
+            None => (text.len() > DEFAULT_MAX_LINE_LEN).then_some(text.len()),
+        };
+        if let Some(length) = too_long {
+            let message = candump::line_too_long(length);
+            lines.rejected(number, message, Reason::LineTooLong.as_str(), Some(length as u64));
+        } else {
+            match parser.parse(text) {
+                Ok(Line::Frame(record)) => {
+                    lines.outcome.decoded_lines += 1;
+                    if let Some(message) = lines.frame(record.ts, record.iface, record.dir, &record.frame) {
+                        lines.outcome.stop = Some(Stop { line: Some(number), message });
+                    }
+                }
+                Ok(other) => lines.skipped(number, other),
+                Err(error) => lines.unparsed(number, text, error),
+            }
+        }
+        if lines.outcome.stop.is_some() {
+            break;
+        }
+    }
+    let mut outcome = lines.outcome;
+    outcome.v1_frames = lines.detector.v1_frames - u64::from(start.v1_seen);
+    outcome.v2_frames = lines.detector.v2_frames - u64::from(start.v2_seen);
+    outcome.end = parser.carried();
+    chunk.outcome = outcome;
+}
+
+/// A worker's decoder of lines: [`Decoder`]'s line handling, with counts and messages kept for the merge.
+struct ChunkLines<'a> {
+    settings: &'a Settings,
+    detector: ProtocolDetector,
+    output: &'a mut Vec<u8>,
+    outcome: Outcome,
+}
+
+impl ChunkLines<'_> {
+    /// As [`Decoder::frame`] and [`Decoder::event`]; returns the `--strict` message of an invalid frame.
+    #[inline]
+    fn frame(
+        &mut self,
+        ts: Option<candump::Timestamp>,
+        iface: &str,
+        dir: Option<candump::Direction>,
+        frame: &CanFrame,
+    ) -> Option<String> {
+        self.outcome.frames += 1;
+        self.detector.observe(frame);
+        let hint = match self.settings.protocol {
+            ProtocolHint::Auto => self.detector.hint(),
+            forced => forced,
+        };
+        let decoded = protocol::decode(frame, hint);
+        let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
+        if let Err(error) = event.decoded {
+            self.outcome.invalid_frames += 1;
+            if self.settings.strict {
+                return Some(format!("invalid frame: {error}"));
+            }
+        }
+        if self.settings.filter.passes(&event) {
+            self.settings.writer.write(self.output, &event);
+        }
+        None
+    }
+
+    /// As [`Decoder::skipped_line`].
+    #[inline(never)]
+    fn skipped(&mut self, number: u64, line: Line<'_>) {
+        let skipped = &mut self.outcome.skipped;
+        match line {
+            Line::Frame(_) => {}
+            Line::Blank => skipped.blank += 1,
+            Line::Comment => skipped.comment += 1,
+            Line::DropCount { dropped } => {
+                skipped.dropcount += 1;
+                self.outcome.candump_dropped = self.outcome.candump_dropped.saturating_add(dropped);
+            }
+            Line::ErrorText => skipped.error_text += 1,
+            Line::CanXl => {
+                skipped.can_xl += 1;
+                if self.settings.strict {
+                    let message = super::CAN_XL_NOT_SUPPORTED.to_string();
+                    self.outcome.stop = Some(Stop { line: Some(number), message });
+                }
+            }
+        }
+    }
+
+    /// As [`Decoder::unparsed_line`].
+    #[inline(never)]
+    fn unparsed(&mut self, number: u64, text: &[u8], error: candump::LineError) {
+        let bare = text.trim_ascii();
+        let looks_bare = bare.contains(&b'#') && !bare.iter().any(u8::is_ascii_whitespace);
+        match candump::parse_cansend(bare) {
+            Ok(frame) => {
+                self.outcome.decoded_lines += 1;
+                if let Some(message) = self.frame(None, "-", None, &frame) {
+                    // The single thread says this one without the place, too.
+                    self.outcome.stop = Some(Stop { line: None, message });
+                }
+            }
+            Err(frame_error) if looks_bare => {
+                let message = format!("bare frame: {frame_error}");
+                self.rejected(number, message, frame_error.reason.as_str(), None);
+            }
+            Err(_) => self.rejected(number, error.to_string(), error.reason.as_str(), None),
+        }
+    }
+
+    /// As [`Decoder::rejected_line`]: kept to be said in order, or the stop with `--strict`.
+    fn rejected(&mut self, line: u64, message: String, reason: &'static str, length: Option<u64>) {
+        let outcome = &mut self.outcome;
+        outcome.rejected_lines += 1;
+        if self.settings.strict {
+            outcome.stop = Some(Stop { line: Some(line), message });
+            return;
+        }
+        if outcome.shown.len() <= MAX_SHOWN_REJECTS {
+            outcome.shown.push(Reject { line, message, reason, length, count: 1 });
+            return;
+        }
+        match outcome.counted.iter_mut().find(|known| known.reason == reason) {
+            Some(known) => {
+                known.count += 1;
+                known.length = known.length.max(length);
+            }
+            None => outcome.counted.push(Reject { line, message: String::new(), reason, length, count: 1 }),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::Format;
+
+    fn settings() -> Settings {
+        Settings {
+            protocol: ProtocolHint::Auto,
+            filter: Filter::default(),
+            writer: EventWriter::new(Format::Json, false),
+            strict: false,
+        }
+    }
+
+    fn chunk(text: &[u8]) -> Chunk {
+        Chunk { input: text.to_vec(), ..Chunk::default() }
+    }
+
+    /// 0x151 decodes by the verdict on the traffic before it: a chunk decoded from a wrong guess differs,
+    /// and is decoded again from the true start.
+    #[test]
+    fn a_wrong_guess_of_the_protocol_is_decoded_again() {
+        // A V1 system state whose checksum byte is wrong: V2 unless the bus is known to be V1.
+        let line = b"(1.000000) can0 151#0000000000000000\n";
+        let (settings, v1) = (settings(), Start { v1_seen: true, ..Start::default() });
+        let mut guessed = chunk(line);
+        decode_chunk(&settings, &Start::default(), &mut guessed);
+        let mut exact = chunk(line);
+        decode_chunk(&settings, &v1, &mut exact);
+        assert_ne!(guessed.output, exact.output, "the hint must matter for this line");
+        assert!(settle(&settings, &mut guessed, &v1));
+        assert_eq!(guessed.output, exact.output);
+        assert!(!settle(&settings, &mut guessed, &v1), "a right guess is kept");
+    }
+
+    /// An error frame's continuation text is text only after the error frame.
+    #[test]
+    fn a_chunk_after_an_error_frame_is_decoded_again() {
+        let text = b"\tcontroller-problem{rx-error-warning}\n";
+        let settings = settings();
+        let mut guessed = chunk(text);
+        decode_chunk(&settings, &Start::default(), &mut guessed);
+        assert_eq!(guessed.outcome.rejected_lines, 1);
+        let truth = Start {
+            carried: CarriedState { after_error_frame: true, ..CarriedState::default() },
+            ..Start::default()
+        };
+        assert!(settle(&settings, &mut guessed, &truth));
+        assert_eq!((guessed.outcome.rejected_lines, guessed.outcome.skipped.error_text), (0, 1));
+    }
+
+    fn split_all(text: &[u8], chunk_bytes: usize) -> Vec<Chunk> {
+        let (pool_tx, pool_rx) = mpsc::channel();
+        let (work_tx, work_rx) = mpsc::channel();
+        for _ in 0..10_000 {
+            pool_tx.send(Chunk::default()).unwrap();
+        }
+        split(text, chunk_bytes, pool_rx, work_tx, &AtomicBool::new(false));
+        work_rx.iter().collect()
+    }
+
+    #[test]
+    fn chunks_end_after_a_newline_and_hold_every_byte() {
+        let text = b"a\r\nbb\n\nccc\nlast";
+        for chunk_bytes in 1..20 {
+            let chunks = split_all(text, chunk_bytes);
+            let joined: Vec<u8> = chunks.iter().flat_map(|chunk| chunk.input.clone()).collect();
+            assert_eq!(joined, text, "chunk size {chunk_bytes}");
+            for chunk in &chunks[..chunks.len() - 1] {
+                assert_eq!(chunk.input.last(), Some(&b'\n'), "chunk size {chunk_bytes}");
+            }
+            assert_eq!(chunks.iter().map(|c| c.bytes).sum::<u64>(), text.len() as u64);
+        }
+        assert!(split_all(b"", 4).is_empty());
+    }
+
+    #[test]
+    fn an_overlong_line_is_cut_short_with_its_length() {
+        let long = DEFAULT_MAX_LINE_LEN * 3 + 5;
+        let mut text = b"ok\n".to_vec();
+        text.extend(std::iter::repeat_n(b'x', long));
+        text.extend_from_slice(b"\nfine\n");
+        text.extend(std::iter::repeat_n(b'y', long));
+        for chunk_bytes in [1000, 70_000, 1 << 20] {
+            let chunks = split_all(&text, chunk_bytes);
+            let longs: Vec<usize> =
+                chunks.iter().flat_map(|c| c.long_lines.iter().map(|&(_, len)| len)).collect();
+            // Only the line still open when a read ends is cut; one read of all holds the first whole.
+            let expected = if chunk_bytes > text.len() { vec![long] } else { vec![long, long] };
+            assert_eq!(longs, expected, "chunk size {chunk_bytes}");
+            assert!(chunks.iter().all(|c| c.input.len() <= chunk_bytes.max(DEFAULT_MAX_LINE_LEN) * 3));
+            assert_eq!(chunks.iter().map(|c| c.bytes).sum::<u64>(), text.len() as u64);
+        }
+    }
+}

@@ -1,0 +1,164 @@
+//! `decode -j N`: the parallel path writes exactly what one thread writes (stdout, stderr, exit status) on
+//! every fixture and on logs whose chunk boundaries are forced everywhere (the hidden `--chunk-bytes`).
+
+use std::path::{Path, PathBuf};
+use std::process::Output;
+
+use crate::util::{data, stderr, stdout, tracerctl};
+
+/// Runs `decode` with `threads` (and tiny chunks when given) on `path`.
+fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str]) -> Output {
+    let mut command = tracerctl();
+    command.arg("decode").arg(format!("-j{threads}")).args(extra).arg(path);
+    if let Some(bytes) = chunk_bytes {
+        command.arg("--chunk-bytes").arg(bytes.to_string());
+    }
+    command.output().unwrap()
+}
+
+fn assert_same(single: &Output, parallel: &Output, what: &str) {
+    assert_eq!(stdout(parallel), stdout(single), "stdout of {what}");
+    assert_eq!(stderr(parallel), stderr(single), "stderr of {what}");
+    assert_eq!(parallel.status.code(), single.status.code(), "exit status of {what}");
+}
+
+/// Compares `-j1` with several threads and chunk sizes, in every output format, with and without --strict.
+fn assert_parallel_same(path: &Path, chunk_sizes: &[usize]) {
+    for extra in [&["-f", "text"][..], &["-f", "json"], &["-f", "csv"], &["-f", "json", "--strict"]] {
+        let single = decode(path, 1, None, extra);
+        for &bytes in chunk_sizes {
+            for threads in [2, 3] {
+                let parallel = decode(path, threads, Some(bytes), extra);
+                let what = format!("{} {extra:?} -j{threads} --chunk-bytes {bytes}", path.display());
+                assert_same(&single, &parallel, &what);
+            }
+        }
+        let default = decode(path, 2, None, extra);
+        assert_same(&single, &default, &format!("{} {extra:?} -j2", path.display()));
+    }
+}
+
+fn files_under(dir: &Path, found: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files_under(&path, found);
+        } else {
+            found.push(path);
+        }
+    }
+}
+
+#[test]
+fn every_fixture_decodes_the_same_with_threads() {
+    let mut files = Vec::new();
+    files_under(&data(""), &mut files);
+    files.sort();
+    assert!(files.len() > 40, "fixtures found: {}", files.len());
+    for path in files {
+        assert_parallel_same(&path, &[1, 29, 200]);
+    }
+}
+
+/// Every awkward line kind, with chunk boundaries falling before, inside and after each: CRLF endings,
+/// bad lines, an error frame's continuation text, a count-byte wrap of 0x211, DROPCOUNT, a Pengutronix
+/// header, an over-long line, blank lines, and a last line without a newline.
+fn awkward_log() -> String {
+    let mut log = String::new();
+    for count in 250..=262u32 {
+        let count = count % 256;
+        log.push_str(&format!("(1700000000.{count:06}) can0 211#00000103000000{count:02X}\n"));
+        match count % 6 {
+            0 => log.push_str("(1700000000.500000) can0 221#0096000000000000\r\n"),
+            1 => log.push_str("this line is not candump\n\n   \n"),
+            2 => log.push_str(
+                " (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME\n\
+                 \tcontroller-problem{}\n\tbus-off\n",
+            ),
+            3 => {
+                log.push_str("DROPCOUNT: dropped 3 CAN frames on 'can0' socket (total drops 3)\n# comment\n")
+            }
+            4 => log.push_str(
+                "interface = can1, family = 29, type = 3, proto = 1\n<0x211> [8] 00 00 01 03 00 00 00 b1 \n",
+            ),
+            _ => log.push_str("(1700000000.1) can0 211#ZZ\r\n211#00000103000000B1\n\tstray text\n"),
+        }
+    }
+    log.push_str(&"x".repeat(70_000));
+    log.push('\n');
+    log.push_str("(1700000000.999999) can0 311#0000000A00000014");
+    log
+}
+
+#[test]
+fn chunk_boundaries_anywhere_change_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("awkward.log");
+    std::fs::write(&path, awkward_log()).unwrap();
+    let sizes: Vec<usize> = (1..=200).step_by(7).chain([64 * 1024, 70_001]).collect();
+    assert_parallel_same(&path, &sizes);
+}
+
+/// 0x151 is decoded by what the traffic before it says: after a V1-only frame, as V1, so a checksum that does
+/// not match makes it invalid (with no traffic seen it would be a V2 system state). Chunks of one line each
+/// are decoded from a guess of the traffic before; without the check of that guess some would say V2.
+#[test]
+fn the_protocol_verdict_crosses_chunk_boundaries() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("v1.log");
+    let mut log = String::from("(1700000000.000000) can0 131#0000000000000000\n");
+    for n in 1..300 {
+        log.push_str(&format!("(1700000000.{n:06}) can0 151#0000000000000000\n"));
+    }
+    std::fs::write(&path, log).unwrap();
+    let single = decode(&path, 1, None, &["-f", "json"]);
+    let lines = crate::util::json_lines(&single);
+    assert_eq!(lines.len(), 300);
+    assert!(lines[1..].iter().all(|line| line["msg"] == "invalid"), "{}", lines[1]);
+    for bytes in [1, 45, 46, 47, 100] {
+        let parallel = decode(&path, 4, Some(bytes), &["-f", "json"]);
+        assert_same(&single, &parallel, &format!("--chunk-bytes {bytes}"));
+    }
+}
+
+/// A compressed file is read through its decompressor and chunked like a plain one; a truncated one writes
+/// the same lines before the same error.
+#[test]
+fn compressed_files_decode_the_same_with_threads() {
+    use std::io::Write;
+    let dir = tempfile::tempdir().unwrap();
+    let log = awkward_log();
+    let gz = dir.path().join("awkward.log.gz");
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    encoder.write_all(log.as_bytes()).unwrap();
+    let gzipped = encoder.finish().unwrap();
+    std::fs::write(&gz, &gzipped).unwrap();
+    let zst = dir.path().join("awkward.log.zst");
+    std::fs::write(&zst, zstd::encode_all(log.as_bytes(), 3).unwrap()).unwrap();
+    let truncated = dir.path().join("truncated.log.gz");
+    std::fs::write(&truncated, &gzipped[..gzipped.len() / 2]).unwrap();
+    for path in [&gz, &zst, &truncated] {
+        assert_parallel_same(path, &[1, 97, 4096]);
+    }
+    let cut = decode(&truncated, 2, Some(97), &[]);
+    assert_eq!(cut.status.code(), Some(1));
+    assert!(stderr(&cut).contains("truncated gzip data"), "{}", stderr(&cut));
+}
+
+#[test]
+fn strict_stops_at_the_same_line_with_the_same_message() {
+    let path = data("decode/bad_line15.log");
+    for bytes in [1, 10, 100, 1000] {
+        let parallel = decode(&path, 2, Some(bytes), &["--strict"]);
+        assert_eq!(parallel.status.code(), Some(3));
+        assert!(stderr(&parallel).contains("bad_line15.log:15: "), "{}", stderr(&parallel));
+        assert_eq!(stdout(&parallel).lines().count(), 14, "the 14 lines before it are written");
+        assert_same(&decode(&path, 1, None, &["--strict"]), &parallel, "--strict");
+    }
+}
+
+#[test]
+fn zero_threads_is_a_usage_error() {
+    let output = tracerctl().args(["decode", "-j0"]).arg(data("decode/good14.log")).output().unwrap();
+    assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+}

@@ -1,0 +1,79 @@
+//! Property: `decode -j N` with any chunk size writes what `-j1` writes (stdout, stderr, exit status), on
+//! random logs of valid, bad, blank and awkward lines.
+// Test diagnostics may print; the closed-stream rule (clippy.toml) is for the tool itself.
+#![allow(clippy::disallowed_macros)]
+
+use std::path::Path;
+use std::process::Output;
+
+use assert_cmd::Command;
+use proptest::prelude::*;
+
+/// Lines whose meaning depends on the lines before them are here on purpose (error-frame text, 0x151 after
+/// V1 or V2 traffic, a Pengutronix header before `<0x...>` frames).
+const LINES: &[&str] = &[
+    "(1700000000.000000) can0 211#00000103000000B1",
+    "(1700000000.020000) can0 211#00000103000000FF",
+    "(1700000000.040000) can0 211#0000010300000000",
+    "(1700000000.060000) can0 221#0096000000000000\r",
+    "(1700000000.080000) can0 151#0000000000000000",
+    "(1700000000.100000) can0 131#0000000000000000",
+    "(1700000000.120000) can0 311#0000000A000000",
+    "(1700000000.140000) can0 1234567#00",
+    "211#00000103000000B1",
+    "211#0011",
+    "211#XY",
+    "",
+    "   ",
+    "\r",
+    "# a comment",
+    "this line is not candump",
+    "(1700000000.1) can0 211#ZZ",
+    " (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME",
+    "\tcontroller-problem{}",
+    "\tbus-off",
+    "DROPCOUNT: dropped 3 CAN frames on 'can0' socket (total drops 3)",
+    "interface = can1, family = 29, type = 3, proto = 1",
+    "<0x211> [8] 00 00 01 03 00 00 00 b1 ",
+    "  can0  221   [8]  00 00 00 00 00 00 00 01",
+];
+
+fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str]) -> Output {
+    let mut command = Command::cargo_bin("tracerctl").unwrap();
+    command.env_remove("NO_COLOR").arg("decode").arg(format!("-j{threads}")).args(extra).arg(path);
+    if let Some(bytes) = chunk_bytes {
+        command.arg("--chunk-bytes").arg(bytes.to_string());
+    }
+    command.output().unwrap()
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+
+    #[test]
+    fn any_chunking_writes_what_one_thread_writes(
+        picks in prop::collection::vec(0..LINES.len(), 0..120),
+        final_newline in any::<bool>(),
+        chunk_bytes in 1usize..200,
+        threads in 2u16..5,
+        format in prop::sample::select(vec!["text", "json", "csv"]),
+        strict in any::<bool>(),
+    ) {
+        let mut log = picks.iter().map(|&i| LINES[i]).collect::<Vec<_>>().join("\n");
+        if final_newline {
+            log.push('\n');
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("random.log");
+        std::fs::write(&path, &log).unwrap();
+        let mut extra = vec!["-f", format];
+        if strict {
+            extra.push("--strict");
+        }
+        let single = decode(&path, 1, None, &extra);
+        let parallel = decode(&path, threads, Some(chunk_bytes), &extra);
+        prop_assert_eq!(String::from_utf8_lossy(&parallel.stdout), String::from_utf8_lossy(&single.stdout));
+        prop_assert_eq!(String::from_utf8_lossy(&parallel.stderr), String::from_utf8_lossy(&single.stderr));
+        prop_assert_eq!(parallel.status.code(), single.status.code());
+    }
+}
