@@ -57,7 +57,6 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--plot', '--plot', [CompletionResultType]::ParameterName, 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file')
             [CompletionResult]::new('-j', '-j', [CompletionResultType]::ParameterName, 'Threads for a plain log file (default: all cores; 1: one thread)')
             [CompletionResult]::new('--threads', '--threads', [CompletionResultType]::ParameterName, 'Threads for a plain log file (default: all cores; 1: one thread)')
-            [CompletionResult]::new('--chunk-bytes', '--chunk-bytes', [CompletionResultType]::ParameterName, 'Bytes of input per parallel chunk (for tests: tiny chunks put boundaries everywhere)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')

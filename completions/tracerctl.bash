@@ -318,7 +318,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -s -j -h -V --format --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --chunk-bytes --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -s -j -h -V --format --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -355,13 +355,6 @@ _tracerctl() {
                     return 0
                     ;;
                 -j)
-                    COMPREPLY=("${cur}")
-                    if [[ "${BASH_VERSINFO[0]}" -ge 4 ]]; then
-                        compopt -o nospace
-                    fi
-                    return 0
-                    ;;
-                --chunk-bytes)
                     COMPREPLY=("${cur}")
                     if [[ "${BASH_VERSINFO[0]}" -ge 4 ]]; then
                         compopt -o nospace

@@ -53,7 +53,6 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --plot 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file'
             cand -j 'Threads for a plain log file (default: all cores; 1: one thread)'
             cand --threads 'Threads for a plain log file (default: all cores; 1: one thread)'
-            cand --chunk-bytes 'Bytes of input per parallel chunk (for tests: tiny chunks put boundaries everywhere)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'

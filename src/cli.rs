@@ -161,10 +161,12 @@ pub struct DecodeArgs {
     /// Threads for a plain log file (default: all cores; 1: one thread)
     #[arg(long, short = 'j', value_name = "N", value_hint = clap::ValueHint::Other, value_parser = clap::value_parser!(u16).range(1..))]
     pub threads: Option<u16>,
+}
 
-    /// Bytes of input per parallel chunk (for tests: tiny chunks put boundaries everywhere)
-    #[arg(long, hide = true, value_name = "BYTES", value_hint = clap::ValueHint::Other, value_parser = clap::value_parser!(u32).range(1..))]
-    pub chunk_bytes: Option<u32>,
+/// Bytes of input per parallel chunk from `TRACERCTL_CHUNK_BYTES`, for tests: tiny chunks put boundaries
+/// everywhere. An environment variable rather than a hidden option, so completions never offer it.
+fn chunk_bytes_from_env() -> Option<usize> {
+    std::env::var("TRACERCTL_CHUNK_BYTES").ok()?.parse().ok().filter(|&bytes: &usize| bytes > 0)
 }
 
 impl DecodeArgs {
@@ -184,7 +186,7 @@ impl DecodeArgs {
                 Some(threads) => usize::from(threads),
                 None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
             },
-            chunk_bytes: self.chunk_bytes.map(|bytes| bytes as usize),
+            chunk_bytes: chunk_bytes_from_env(),
         }
     }
 }

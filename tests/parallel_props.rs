@@ -42,7 +42,7 @@ fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str])
     let mut command = Command::cargo_bin("tracerctl").unwrap();
     command.env_remove("NO_COLOR").arg("decode").arg(format!("-j{threads}")).args(extra).arg(path);
     if let Some(bytes) = chunk_bytes {
-        command.arg("--chunk-bytes").arg(bytes.to_string());
+        command.env("TRACERCTL_CHUNK_BYTES", bytes.to_string());
     }
     command.output().unwrap()
 }

@@ -1,5 +1,5 @@
 //! `decode -j N`: the parallel path writes exactly what one thread writes (stdout, stderr, exit status) on
-//! every fixture and on logs whose chunk boundaries are forced everywhere (the hidden `--chunk-bytes`).
+//! every fixture and on logs whose chunk boundaries are forced everywhere (`TRACERCTL_CHUNK_BYTES`).
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -11,7 +11,7 @@ fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str])
     let mut command = tracerctl();
     command.arg("decode").arg(format!("-j{threads}")).args(extra).arg(path);
     if let Some(bytes) = chunk_bytes {
-        command.arg("--chunk-bytes").arg(bytes.to_string());
+        command.env("TRACERCTL_CHUNK_BYTES", bytes.to_string());
     }
     command.output().unwrap()
 }
@@ -29,7 +29,7 @@ fn assert_parallel_same(path: &Path, chunk_sizes: &[usize]) {
         for &bytes in chunk_sizes {
             for threads in [2, 3] {
                 let parallel = decode(path, threads, Some(bytes), extra);
-                let what = format!("{} {extra:?} -j{threads} --chunk-bytes {bytes}", path.display());
+                let what = format!("{} {extra:?} -j{threads} TRACERCTL_CHUNK_BYTES={bytes}", path.display());
                 assert_same(&single, &parallel, &what);
             }
         }
@@ -117,7 +117,7 @@ fn the_protocol_verdict_crosses_chunk_boundaries() {
     assert!(lines[1..].iter().all(|line| line["msg"] == "invalid"), "{}", lines[1]);
     for bytes in [1, 45, 46, 47, 100] {
         let parallel = decode(&path, 4, Some(bytes), &["-f", "json"]);
-        assert_same(&single, &parallel, &format!("--chunk-bytes {bytes}"));
+        assert_same(&single, &parallel, &format!("TRACERCTL_CHUNK_BYTES={bytes}"));
     }
 }
 
