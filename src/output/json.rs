@@ -22,11 +22,7 @@ fn push_header(out: &mut Vec<u8>, event: &Event) {
         Some(ts) => {
             push_timestamp(out, ts);
             out.extend_from_slice(b",\"ts_ns\":");
-            // u64 holds stamps until 2554; u128 formatting (slower) only beyond.
-            match u64::try_from(ts.as_nanos()) {
-                Ok(nanos) => push_int(out, nanos),
-                Err(_) => push_int(out, ts.as_nanos()),
-            }
+            push_nanos(out, ts);
         }
         None => out.extend_from_slice(b"null,\"ts_ns\":null"),
     }

@@ -43,13 +43,8 @@ fn digits_ending_at(buf: &mut [u8; NUMBER_BUFFER], end: usize, mut value: u64) -
     start
 }
 
-/// Writes exactly `digits` decimal digits of `value` (zero-padded; `value < 10^digits`) ending just
-/// before `end`.
-#[inline(always)]
-fn fixed_digits_ending_at(buf: &mut [u8; NUMBER_BUFFER], end: usize, value: u64, digits: usize) {
-    let start = digits_ending_at(buf, end, value);
-    buf[end - digits..start].fill(b'0');
-}
+/// A number buffer: all `'0'`, so digits written right-aligned are zero-padded for free (no `memset`).
+const ZEROS: [u8; NUMBER_BUFFER] = [b'0'; NUMBER_BUFFER];
 
 /// `raw / 10^scale` in plain decimal, trailing fractional zeros trimmed: (259, 1) -> "25.9", (150, 3) -> "0.15",
 /// (-5, 3) -> "-0.005", (2000, 3) -> "2".
@@ -63,7 +58,7 @@ pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
     }
     let divisor = 10u64.pow(u32::from(scale));
     let magnitude = raw.unsigned_abs();
-    let mut buf = [0u8; NUMBER_BUFFER];
+    let mut buf = ZEROS;
     let mut start = digits_ending_at(&mut buf, POINT, magnitude / divisor);
     if raw < 0 {
         start -= 1;
@@ -79,7 +74,7 @@ pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
         }
         buf[POINT] = b'.';
         end = POINT + 1 + digits;
-        fixed_digits_ending_at(&mut buf, end, fraction, digits);
+        digits_ending_at(&mut buf, end, fraction);
     }
     out.extend_from_slice(&buf[start..end]);
 }
@@ -112,15 +107,25 @@ fn push_decimal_general(out: &mut Vec<u8>, raw: i64, scale: u8) {
     out.extend_from_slice(text);
 }
 
+/// The two upper-case hex digits of every byte value.
+static HEX_PAIRS: [[u8; 2]; 256] = {
+    let mut table = [[0u8; 2]; 256];
+    let mut byte = 0;
+    while byte < 256 {
+        table[byte] = [HEX[byte >> 4], HEX[byte & 0xF]];
+        byte += 1;
+    }
+    table
+};
+
 /// Upper-case hex of each byte, no separators (built on the stack, appended in one copy).
 pub fn push_hex(out: &mut Vec<u8>, bytes: &[u8]) {
     for chunk in bytes.chunks(32) {
-        let mut buf = [0u8; 64];
-        for (pair, byte) in buf.chunks_exact_mut(2).zip(chunk) {
-            pair[0] = HEX[usize::from(byte >> 4)];
-            pair[1] = HEX[usize::from(byte & 0xF)];
+        let mut buf = [[0u8; 2]; 32];
+        for (pair, &byte) in buf.iter_mut().zip(chunk) {
+            *pair = HEX_PAIRS[usize::from(byte)];
         }
-        out.extend_from_slice(&buf[..2 * chunk.len()]);
+        out.extend_from_slice(buf[..chunk.len()].as_flattened());
     }
 }
 
@@ -150,14 +155,27 @@ fn push_hex_value_general(out: &mut Vec<u8>, value: u32, digits: usize) {
 
 /// Seconds with 6 fractional digits, or 9 when the stamp has sub-microsecond precision.
 pub fn push_timestamp(out: &mut Vec<u8>, ts: &Timestamp) {
-    let mut buf = [0u8; NUMBER_BUFFER];
+    let mut buf = ZEROS;
     let start = digits_ending_at(&mut buf, POINT, ts.secs);
     buf[POINT] = b'.';
     let (value, digits) = if ts.nanos % 1000 == 0 { (ts.nanos / 1000, 6) } else { (ts.nanos, 9) };
     // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value from overrunning the digits.
     let value = u64::from(value).min(10u64.pow(digits as u32) - 1);
-    fixed_digits_ending_at(&mut buf, POINT + 1 + digits, value, digits);
+    digits_ending_at(&mut buf, POINT + 1 + digits, value);
     out.extend_from_slice(&buf[start..POINT + 1 + digits]);
+}
+
+/// The stamp in whole nanoseconds, as `push_int(ts.as_nanos())` writes it: the seconds' digits followed by
+/// nine of nanoseconds, so no 19-digit (or u128) number is formatted.
+pub fn push_nanos(out: &mut Vec<u8>, ts: &Timestamp) {
+    if ts.secs == 0 {
+        return push_int(out, ts.nanos);
+    }
+    let mut buf = ZEROS;
+    let start = digits_ending_at(&mut buf, POINT, ts.secs);
+    // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value inside its nine digits.
+    digits_ending_at(&mut buf, POINT + 9, u64::from(ts.nanos.min(999_999_999)));
+    out.extend_from_slice(&buf[start..POINT + 9]);
 }
 
 /// A CAN identifier as `0x` + 3 hex digits (standard) or 8 (extended and error frames).
@@ -217,6 +235,18 @@ mod tests {
         assert_eq!(stamp(5, 1), "5.000000001");
         assert_eq!(stamp(u64::MAX, 999_999_999), "18446744073709551615.999999999");
         assert_eq!(stamp(12, 120_000_000), "12.120000");
+    }
+
+    #[test]
+    fn nanos_print_as_the_whole_number() {
+        for (secs, nanos) in
+            [(0, 0), (0, 2_500_000), (1, 0), (1_700_000_000, 2_500_000), (u64::MAX, 999_999_999)]
+        {
+            let ts = Timestamp::from_numeric(secs, nanos);
+            let mut out = Vec::new();
+            push_nanos(&mut out, &ts);
+            assert_eq!(out, ts.as_nanos().to_string().as_bytes(), "{secs} {nanos}");
+        }
     }
 
     #[test]
