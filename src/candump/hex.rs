@@ -43,6 +43,20 @@ pub(crate) fn hex_pair(hi: u8, lo: u8) -> Option<u8> {
     ((hi | lo) & 0xF0 == 0).then_some((hi << 4) | lo)
 }
 
+/// Decodes 16 hex digits into 8 bytes (a full classic payload) with one validity test for all of them.
+#[inline(always)]
+pub(crate) fn hex_bytes_8(digits: &[u8; 16]) -> Option<[u8; 8]> {
+    let mut bytes = [0u8; 8];
+    let mut seen = 0u8;
+    for (byte, pair) in bytes.iter_mut().zip(digits.chunks_exact(2)) {
+        let (hi, lo) = (HEX_VALUE[usize::from(pair[0])], HEX_VALUE[usize::from(pair[1])]);
+        seen |= hi | lo;
+        *byte = (hi << 4) | lo;
+    }
+    // Every lookup is < 16 unless one is NOT_HEX.
+    (seen & 0xF0 == 0).then_some(bytes)
+}
+
 /// Value of an all-hex slice of at most 8 digits; `None` if any byte is not hex.
 #[inline]
 pub(crate) fn hex_u32(digits: &[u8]) -> Option<u32> {
@@ -141,6 +155,12 @@ mod tests {
         assert_eq!(hex_pair(b'0', b' '), None);
         assert_eq!(hex_u32(b"1FFFFFFF"), Some(0x1FFF_FFFF));
         assert_eq!(hex_u32(b"12x"), None);
+        assert_eq!(hex_bytes_8(b"00B1fF0123456789"), Some([0x00, 0xB1, 0xFF, 0x01, 0x23, 0x45, 0x67, 0x89]));
+        for at in 0..16 {
+            let mut digits = *b"0123456789ABCDEF";
+            digits[at] = b'g';
+            assert_eq!(hex_bytes_8(&digits), None);
+        }
     }
 
     #[test]

@@ -4,7 +4,7 @@ use memchr::memchr;
 
 use super::asc::{self, AscState};
 use super::cansend::{classify_id, data_frame, parse_frame_text, FrameText, IdForm};
-use super::hex::{decimal_u64, hex_pair, hex_u32, hex_value, is_hex, skip_spaces, token_end};
+use super::hex::{decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, skip_spaces, token_end};
 use super::open::{LogFormat, TextFormat};
 use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
 use super::trc::{self, TrcState};
@@ -78,6 +78,9 @@ pub struct LineParser {
     iface: Vec<u8>,
     asc: AscState,
     trc: TrcState,
+    /// The interface name of the last log line, validated once: the next lines (nearly always the same
+    /// interface) are compared with it instead of being checked as UTF-8 again.
+    last_iface: String,
 }
 
 /// Lines of the Pengutronix-era canutils candump (`<0x18eeff01> [8] 05 a0 ...`) name no interface: this one
@@ -125,7 +128,7 @@ impl LineParser {
                 return trc::parse(line, &mut self.trc, &mut self.iface).map_err(to_error)
             }
         }
-        if let Some(record) = parse_log_fast(line) {
+        if let Some(record) = parse_log_fast(line, &mut self.last_iface) {
             self.after_error_frame = false;
             return Ok(Line::Frame(record));
         }
@@ -234,7 +237,7 @@ fn parse_angle_frame(text: &[u8], start: usize) -> Result<CanFrame, PosError> {
 /// or extended data frames of 0-8 bytes without separators. Returns `None` for anything else (including
 /// errors), leaving the line to the general path, which must give the same result for lines accepted here.
 #[inline]
-fn parse_log_fast(line: &[u8]) -> Option<Record<'_>> {
+fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Record<'a>> {
     if line.first() != Some(&b'(') {
         return None;
     }
@@ -251,7 +254,7 @@ fn parse_log_fast(line: &[u8]) -> Option<Record<'_>> {
     if pos == iface_start || pos - iface_start > IFACE_MAX_LEN || line.get(pos) != Some(&b' ') {
         return None;
     }
-    let iface = std::str::from_utf8(&line[iface_start..pos]).ok()?;
+    let iface = same_iface(last_iface, &line[iface_start..pos])?;
     let id_start = pos + 1;
     let (id, extended, mut pos) = if line.get(id_start + 3) == Some(&b'#') {
         let id = hex3(line.get(id_start..id_start + 3)?)?;
@@ -268,6 +271,14 @@ fn parse_log_fast(line: &[u8]) -> Option<Record<'_>> {
     }
     let mut data = [0u8; CC_MAX_LEN];
     let mut len = 0;
+    // A full 8-byte payload (most frames) in one step; anything else byte by byte below.
+    if let Some(digits) = line.get(pos..pos + 2 * CC_MAX_LEN) {
+        if matches!(line.get(pos + 2 * CC_MAX_LEN), None | Some(b' ')) {
+            data = hex_bytes_8(digits.try_into().ok()?)?;
+            len = CC_MAX_LEN;
+            pos += 2 * CC_MAX_LEN;
+        }
+    }
     while let Some(&hi) = line.get(pos) {
         if hi == b' ' {
             break;
@@ -287,6 +298,18 @@ fn parse_log_fast(line: &[u8]) -> Option<Record<'_>> {
     };
     let frame = data_frame_fixed(id, extended, &data, len)?;
     Some(Record { ts: Some(Timestamp::from_numeric(secs, nanos)), iface, frame, dir })
+}
+
+/// The interface `name` as text, through `last` (the previous line's): equal names (the usual case) need no
+/// UTF-8 check; a new one is checked and kept. `None` if it is not UTF-8.
+#[inline(always)]
+fn same_iface<'a>(last: &'a mut String, name: &[u8]) -> Option<&'a str> {
+    if last.as_bytes() != name {
+        let name = std::str::from_utf8(name).ok()?;
+        last.clear();
+        last.push_str(name);
+    }
+    Some(last.as_str())
 }
 
 /// `CanFrame::new`/`new_extended` with a constant-length slice per arm, so the payload copy is a few
@@ -787,8 +810,10 @@ impl LineParser {
 }
 
 #[cfg(test)]
-pub(crate) fn parse_log_fast_for_tests(line: &[u8]) -> Option<Record<'_>> {
-    parse_log_fast(line)
+pub(crate) fn parse_log_fast_for_tests<'a>(line: &'a [u8]) -> Option<Record<'a>> {
+    // Leaked: a test helper, so the record may outlive the cache it borrows.
+    let cache = Box::leak(Box::new(String::new()));
+    parse_log_fast(line, cache)
 }
 
 #[cfg(test)]

@@ -50,6 +50,49 @@ pub(crate) type PosError = (usize, Reason);
 /// just past the `)`. Accepts 1..=19 seconds digits and 1..=9 fraction digits.
 #[inline]
 pub(crate) fn parse_numeric(text: &[u8], pos: usize) -> Result<(u64, u32, usize), PosError> {
+    match parse_candump_stamp(text, pos) {
+        Some(parsed) => Ok(parsed),
+        None => parse_numeric_any(text, pos),
+    }
+}
+
+/// candump's own layout, `1700000000.002500)` (10 seconds digits, 6 fraction digits), in one pass of
+/// integer arithmetic: 8 digits at a time in a u64 (measured: a third of the summary's instructions went
+/// to the digit-by-digit scan). `None` for any other layout, which the general scan reads.
+#[inline(always)]
+fn parse_candump_stamp(text: &[u8], pos: usize) -> Option<(u64, u32, usize)> {
+    let stamp: &[u8; 18] = text.get(pos..pos + 18)?.try_into().ok()?;
+    let [s0, s1, s2, s3, s4, s5, s6, s7, s8, s9, dot, f0, f1, f2, f3, f4, f5, close] = *stamp;
+    if dot != b'.' || close != b')' {
+        return None;
+    }
+    let high = eight_digits([s0, s1, s2, s3, s4, s5, s6, s7])?;
+    let low = eight_digits([s8, s9, b'0', b'0', b'0', b'0', b'0', b'0'])?;
+    let fraction = eight_digits([b'0', b'0', f0, f1, f2, f3, f4, f5])?;
+    // `low` is s8 s9 followed by six zeros: divide them away.
+    let secs = high * 100 + low / 1_000_000;
+    Some((secs, fraction as u32 * NANO_SCALE[6], pos + 18))
+}
+
+/// The value of 8 ASCII decimal digits (the first is the most significant), or `None` if any byte is not
+/// a digit. SWAR: all eight bytes are checked and combined in a few operations on one u64.
+#[inline(always)]
+pub(crate) fn eight_digits(bytes: [u8; 8]) -> Option<u64> {
+    let digits = u64::from_le_bytes(bytes).wrapping_sub(0x3030_3030_3030_3030);
+    // A byte below '0' wraps to 0xD0.. and one above '9' reaches 0x10 once 6 is added: either sets a high
+    // nibble. The lowest bad byte always shows (no borrow or carry reaches it), which is all that matters.
+    if (digits | digits.wrapping_add(0x0606_0606_0606_0606)) & 0xF0F0_F0F0_F0F0_F0F0 != 0 {
+        return None;
+    }
+    // Pairs, then quadruples, then all eight (little-endian: the first digit is the lowest byte).
+    let pairs = digits.wrapping_mul(10).wrapping_add(digits >> 8) & 0x00FF_00FF_00FF_00FF;
+    let quads = pairs.wrapping_mul(100).wrapping_add(pairs >> 16) & 0x0000_FFFF_0000_FFFF;
+    Some(quads.wrapping_mul(10_000).wrapping_add(quads >> 32) & 0xFFFF_FFFF)
+}
+
+/// [`parse_numeric`] for every layout, with the error positions.
+#[inline(never)]
+fn parse_numeric_any(text: &[u8], pos: usize) -> Result<(u64, u32, usize), PosError> {
     let (secs, secs_digits) = decimal_u64(text, pos);
     let mut at = pos + secs_digits;
     match text.get(at) {
@@ -178,6 +221,47 @@ mod tests {
         assert_eq!(parse_numeric(b"(0.5)", 1), Ok((0, 500_000_000, 5)));
         assert_eq!(parse_numeric(b"(1614188635.1000000)", 1), Ok((1_614_188_635, 100_000_000, 20)));
         assert_eq!(parse_numeric(b"(1.123456789)", 1), Ok((1, 123_456_789, 13)));
+    }
+
+    #[test]
+    fn eight_digits_reads_digits_and_rejects_anything_else() {
+        assert_eq!(eight_digits(*b"01234567"), Some(1_234_567));
+        assert_eq!(eight_digits(*b"99999999"), Some(99_999_999));
+        assert_eq!(eight_digits(*b"00000000"), Some(0));
+        for bad in 0..=255u8 {
+            if bad.is_ascii_digit() {
+                continue;
+            }
+            for at in 0..8 {
+                let mut bytes = *b"98765432";
+                bytes[at] = bad;
+                assert_eq!(eight_digits(bytes), None, "{bad:#x} at {at}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_candump_layout_parses_as_the_general_scan_does() {
+        // Every layout near candump's: the fast path must agree with the digit-by-digit scan.
+        for text in [
+            &b"(1700000000.002500) "[..],
+            b"(0000000000.000000)",
+            b"(9999999999.999999)",
+            b"(1700000000.00250)",
+            b"(1700000000.0025000)",
+            b"(170000000.002500)",
+            b"(17000000000.002500)",
+            b"(1700000000x002500)",
+            b"(1700000000.00250x)",
+            b"(170000000a.002500)",
+            b"(1700000000.002500]",
+            b"(1700/00000.002500)",
+            b"(1700000000.002:00)",
+        ] {
+            assert_eq!(parse_numeric(text, 1), parse_numeric_any(text, 1), "{}", text.escape_ascii());
+        }
+        assert_eq!(parse_candump_stamp(b"(1614188635.123456)", 1), Some((1_614_188_635, 123_456_000, 19)));
+        assert_eq!(parse_candump_stamp(b"(1614188635.12345)", 1), None);
     }
 
     #[test]
