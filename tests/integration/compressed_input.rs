@@ -1,0 +1,138 @@
+//! Compressed logs are inflated on their own thread (issue 14): what `decode` writes for a `.zst` or a
+//! `.gz` log is what it writes for the plain file, damage is reported as before, and a decoder that stops
+//! early does not wait for the thread.
+
+use std::io::{Read, Write};
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::{Duration, Instant};
+
+use crate::util::{stderr, tracerctl};
+
+/// A generated TRACER session of `lines` lines: status frames whose count byte runs (and skips now and
+/// then), motion feedback, a mode command, and a line no parser reads, spread over many blocks.
+fn session(lines: usize) -> Vec<u8> {
+    let mut log = Vec::with_capacity(lines * 48);
+    for i in 0..lines {
+        let micros = 1_700_000_000_000_000u64 + i as u64 * 5_000;
+        let (seconds, fraction) = (micros / 1_000_000, micros % 1_000_000);
+        let line = match i % 5 {
+            0 => {
+                format!("({seconds}.{fraction:06}) can0 211#00000103000000{:02X}\n", (i / 5 + i / 997) % 256)
+            }
+            1 => {
+                format!("({seconds}.{fraction:06}) can0 221#{:04X}{:04X}00000000\n", i % 3000, (i * 7) % 900)
+            }
+            2 if i % 1000 == 2 => "not a candump line\n".to_string(),
+            2 => format!("({seconds}.{fraction:06}) can0 421#01\n"),
+            3 => format!("({seconds}.{fraction:06}) can1 18FF0001#0102\n"),
+            _ => format!("({seconds}.{fraction:06}) can0 231#00{:02X}000000000000\n", i % 200),
+        };
+        log.extend_from_slice(line.as_bytes());
+    }
+    log
+}
+
+fn gzip(data: &[u8]) -> Vec<u8> {
+    let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::fast());
+    encoder.write_all(data).unwrap();
+    encoder.finish().unwrap()
+}
+
+fn zstd(data: &[u8]) -> Vec<u8> {
+    zstd::encode_all(data, 1).unwrap()
+}
+
+/// `decode ARGS PATH`: (exit status, stdout, stderr).
+fn decode(args: &[&str], path: &Path) -> (i32, Vec<u8>, String) {
+    let output = tracerctl().arg("decode").args(args).arg(path).output().unwrap();
+    (output.status.code().unwrap_or(-1), output.stdout.clone(), stderr(&output))
+}
+
+#[test]
+fn zst_and_gz_logs_decode_exactly_like_the_plain_file_in_every_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = session(60_000); // about 2.5 MB: ten blocks of the decompression thread
+    let files = [("plain.log", plain.clone()), ("log.zst", zstd(&plain)), ("log.gz", gzip(&plain))];
+    for (name, bytes) in &files {
+        std::fs::write(dir.path().join(name), bytes).unwrap();
+    }
+    for args in [&[][..], &["-f", "json"], &["-f", "csv"], &["--summary"], &["--summary", "-f", "json"]] {
+        let (code, expected, errors) = decode(args, &dir.path().join("plain.log"));
+        assert_eq!((code, errors.as_str()), (0, ""), "{args:?}");
+        assert!(expected.len() > 1000, "{args:?}: the plain file decodes to something");
+        for (name, _) in &files[1..] {
+            let (code, output, errors) = decode(args, &dir.path().join(name));
+            assert_eq!((code, errors.as_str()), (0, ""), "{name} {args:?}");
+            assert!(output == expected, "{name} {args:?}: output differs from the plain file's");
+        }
+    }
+    // Standard input goes through the same thread.
+    let output =
+        tracerctl().args(["decode", "--summary", "-"]).write_stdin(files[1].1.clone()).output().unwrap();
+    assert_eq!(output.stdout, decode(&["--summary"], &dir.path().join("plain.log")).1);
+}
+
+#[test]
+fn a_truncated_zst_log_reports_the_damage_after_the_lines_before_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let plain = session(60_000);
+    let whole = zstd(&plain);
+    let path = dir.path().join("cut.log.zst");
+    std::fs::write(&path, &whole[..whole.len() / 2]).unwrap();
+    let (code, output, errors) = decode(&[], &path);
+    assert_eq!(code, 1, "{errors}");
+    assert_eq!(
+        errors.trim_end(),
+        format!("tracerctl: cannot read {}: truncated zstd data (incomplete frame)", path.display())
+    );
+    let plain_path = dir.path().join("plain.log");
+    std::fs::write(&plain_path, &plain).unwrap();
+    let (_, expected, _) = decode(&[], &plain_path);
+    assert!(!output.is_empty() && expected.starts_with(&output), "what was written is the start of the log");
+}
+
+#[test]
+fn a_corrupt_gz_log_reports_the_damage_naming_the_compression() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut bytes = gzip(&session(60_000));
+    let middle = bytes.len() / 2;
+    bytes[middle..middle + 64].fill(0xA5);
+    let path = dir.path().join("bad.log.gz");
+    std::fs::write(&path, &bytes).unwrap();
+    let (code, _, errors) = decode(&["--summary"], &path);
+    assert_eq!(code, 1, "{errors}");
+    let prefix = format!("tracerctl: cannot read {}: corrupt or truncated gzip data (", path.display());
+    // Garbage inflated before the checksum failed is rejected line by line first.
+    assert!(errors.lines().last().is_some_and(|last| last.starts_with(&prefix)), "{errors}");
+}
+
+#[test]
+fn a_closed_standard_output_ends_decode_of_a_large_zst_log_promptly() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("big.log.zst");
+    std::fs::write(&path, zstd(&session(400_000))).unwrap();
+    let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["decode", "--no-progress"])
+        .arg(&path)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = [0u8; 4096];
+    child.stdout.take().unwrap().read_exact(&mut first).unwrap(); // then the pipe is closed
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("decode still runs 30 s after its output was closed");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut errors = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut errors).unwrap();
+    assert_eq!((status.code(), errors.as_str()), (Some(0), ""), "a closed output is a quiet success");
+}
