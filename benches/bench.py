@@ -84,23 +84,23 @@ def contenders(binary, cores, jobs):
         if jobs:
             command = lambda p, a=args: [binary, "decode", "--no-progress", f"-j{cores}", *a, p]  # noqa: E731
         else:
-            command = "n/a: this build has no --threads"
+            command = "n/a (no --threads in this build)"
         rows.append((f"tracerctl -j{cores}", label, command, False))
     if shutil.which("log2asc"):
         rows.append(("can-utils log2asc", "log -> ASC, no decoding",
                      lambda p: ["log2asc", "-I", p, "-O", "/dev/null", "can0"], False))
     else:
-        rows.append(("can-utils log2asc", "log -> ASC", "not installed (apt-get install can-utils)", False))
+        rows.append(("can-utils log2asc", "log -> ASC", "not installed", False))
     if python_has("cantools"):
         rows.append((f"cantools {python_version('cantools')}", "decode --single-line",
                      lambda p: [sys.executable, "-m", "cantools", "decode", "--single-line", DBC], True))
     else:
-        rows.append(("cantools", "decode", "not installed (pip install cantools)", True))
+        rows.append(("cantools", "decode", "not installed", True))
     if python_has("can"):
         rows.append((f"python-can {python_version('can')}", "CanutilsLogReader, parse only",
                      lambda p: [sys.executable, "-c", PYTHON_CAN_READER, p], True))
     else:
-        rows.append(("python-can", "CanutilsLogReader", "not installed (pip install python-can)", True))
+        rows.append(("python-can", "CanutilsLogReader", "not installed", True))
     return rows
 
 
@@ -114,7 +114,7 @@ def measure(rows, sizes, options):
             if isinstance(command, str):
                 results[index, size] = command
             elif slow and size > options.slow_max_lines:
-                results[index, size] = f"skipped (> {options.slow_max_lines:,} lines)"
+                results[index, size] = "skipped (--slow-max-lines)"
             else:
                 stdin_path = path if tool.startswith("cantools") else None
                 results[index, size] = best_of(command(path), 1 if slow else runs, stdin_path)

@@ -10,8 +10,8 @@ use std::time::{Duration, Instant};
 use crate::util::{stderr, tracerctl};
 
 /// A generated TRACER session of `lines` lines: status frames whose count byte runs (and skips now and
-/// then), motion feedback, a mode command, and a line no parser reads, spread over many blocks.
-fn session(lines: usize) -> Vec<u8> {
+/// then), motion feedback, a mode command, and (with `bad_lines`) one line in 1000 no parser reads.
+fn session(lines: usize, bad_lines: bool) -> Vec<u8> {
     let mut log = Vec::with_capacity(lines * 48);
     for i in 0..lines {
         let micros = 1_700_000_000_000_000u64 + i as u64 * 5_000;
@@ -23,7 +23,7 @@ fn session(lines: usize) -> Vec<u8> {
             1 => {
                 format!("({seconds}.{fraction:06}) can0 221#{:04X}{:04X}00000000\n", i % 3000, (i * 7) % 900)
             }
-            2 if i % 1000 == 2 => "not a candump line\n".to_string(),
+            2 if bad_lines && i % 1000 == 2 => "not a candump line\n".to_string(),
             2 => format!("({seconds}.{fraction:06}) can0 421#01\n"),
             3 => format!("({seconds}.{fraction:06}) can1 18FF0001#0102\n"),
             _ => format!("({seconds}.{fraction:06}) can0 231#00{:02X}000000000000\n", i % 200),
@@ -52,31 +52,42 @@ fn decode(args: &[&str], path: &Path) -> (i32, Vec<u8>, String) {
 #[test]
 fn zst_and_gz_logs_decode_exactly_like_the_plain_file_in_every_format() {
     let dir = tempfile::tempdir().unwrap();
-    let plain = session(60_000); // about 2.5 MB: ten blocks of the decompression thread
+    let plain = session(60_000, true); // about 2.5 MB: ten blocks of the decompression thread
     let files = [("plain.log", plain.clone()), ("log.zst", zstd(&plain)), ("log.gz", gzip(&plain))];
     for (name, bytes) in &files {
         std::fs::write(dir.path().join(name), bytes).unwrap();
     }
     for args in [&[][..], &["-f", "json"], &["-f", "csv"], &["--summary"], &["--summary", "-f", "json"]] {
-        let (code, expected, errors) = decode(args, &dir.path().join("plain.log"));
-        assert_eq!((code, errors.as_str()), (0, ""), "{args:?}");
+        let plain_path = dir.path().join("plain.log");
+        let (code, expected, plain_errors) = decode(args, &plain_path);
+        assert_eq!(code, 0, "{args:?}: {plain_errors}");
         assert!(expected.len() > 1000, "{args:?}: the plain file decodes to something");
+        // The bad lines are reported with the same line numbers.
+        assert!(plain_errors.contains("plain.log:1003: column 6: missing '#'"), "{args:?}: {plain_errors}");
         for (name, _) in &files[1..] {
-            let (code, output, errors) = decode(args, &dir.path().join(name));
-            assert_eq!((code, errors.as_str()), (0, ""), "{name} {args:?}");
-            assert!(output == expected, "{name} {args:?}: output differs from the plain file's");
+            let path = dir.path().join(name);
+            let (code, output, errors) = decode(args, &path);
+            assert_eq!(code, 0, "{name} {args:?}: {errors}");
+            // The summary names the file where it saw the first bad line.
+            let as_plain =
+                |text: &str| text.replace(&path.display().to_string(), &plain_path.display().to_string());
+            assert_eq!(as_plain(&errors), plain_errors, "{name} {args:?}");
+            let output = as_plain(&String::from_utf8(output).unwrap());
+            assert!(output.as_bytes() == expected, "{name} {args:?}: output differs from the plain file's");
         }
     }
     // Standard input goes through the same thread.
     let output =
         tracerctl().args(["decode", "--summary", "-"]).write_stdin(files[1].1.clone()).output().unwrap();
-    assert_eq!(output.stdout, decode(&["--summary"], &dir.path().join("plain.log")).1);
+    let plain_name = dir.path().join("plain.log").display().to_string();
+    let summary = String::from_utf8(output.stdout).unwrap().replace("<stdin>", &plain_name);
+    assert!(summary.as_bytes() == decode(&["--summary"], &dir.path().join("plain.log")).1, "{summary}");
 }
 
 #[test]
 fn a_truncated_zst_log_reports_the_damage_after_the_lines_before_it() {
     let dir = tempfile::tempdir().unwrap();
-    let plain = session(60_000);
+    let plain = session(60_000, false);
     let whole = zstd(&plain);
     let path = dir.path().join("cut.log.zst");
     std::fs::write(&path, &whole[..whole.len() / 2]).unwrap();
@@ -95,7 +106,7 @@ fn a_truncated_zst_log_reports_the_damage_after_the_lines_before_it() {
 #[test]
 fn a_corrupt_gz_log_reports_the_damage_naming_the_compression() {
     let dir = tempfile::tempdir().unwrap();
-    let mut bytes = gzip(&session(60_000));
+    let mut bytes = gzip(&session(60_000, false));
     let middle = bytes.len() / 2;
     bytes[middle..middle + 64].fill(0xA5);
     let path = dir.path().join("bad.log.gz");
@@ -111,7 +122,7 @@ fn a_corrupt_gz_log_reports_the_damage_naming_the_compression() {
 fn a_closed_standard_output_ends_decode_of_a_large_zst_log_promptly() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("big.log.zst");
-    std::fs::write(&path, zstd(&session(400_000))).unwrap();
+    std::fs::write(&path, zstd(&session(400_000, false))).unwrap();
     let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
         .args(["decode", "--no-progress"])
         .arg(&path)
