@@ -147,3 +147,41 @@ fn a_closed_standard_output_ends_decode_of_a_large_zst_log_promptly() {
     child.stderr.take().unwrap().read_to_string(&mut errors).unwrap();
     assert_eq!((status.code(), errors.as_str()), (Some(0), ""), "a closed output is a quiet success");
 }
+
+#[test]
+fn ctrl_c_ends_a_quiet_compressed_stream_on_standard_input() {
+    let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["decode", "--no-progress", "-"])
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    // One whole zstd frame, then the pipe stays open and quiet, as from a live `candump | zstd`.
+    let mut stdin = child.stdin.take().unwrap();
+    stdin.write_all(&zstd(&session(1000, false))).unwrap();
+    stdin.flush().unwrap();
+    let mut lines = std::io::BufRead::lines(std::io::BufReader::new(child.stdout.take().unwrap()));
+    for _ in 0..1000 {
+        lines.next().unwrap().unwrap();
+    }
+    // Every line is out, so decode waits for more: the decompression thread is blocked on the pipe.
+    let killed = Command::new("kill").arg("-INT").arg(child.id().to_string()).status().unwrap();
+    assert!(killed.success());
+    let deadline = Instant::now() + Duration::from_secs(30);
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            child.kill().unwrap();
+            panic!("decode still runs 30 s after Ctrl-C");
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    drop(stdin);
+    let mut errors = String::new();
+    child.stderr.take().unwrap().read_to_string(&mut errors).unwrap();
+    assert_eq!(status.code(), Some(130), "{errors}");
+    assert!(errors.contains("SIGINT: decoded 1000 frames from 1000 lines"), "{errors}");
+}
