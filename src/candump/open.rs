@@ -132,7 +132,9 @@ impl From<FormatError> for crate::exit::Failure {
 /// Decompression streams (memory stays flat) on its own thread ([`super::decompress`]), so the caller
 /// decodes while the next blocks are inflated; a truncated or corrupt compressed stream makes a later
 /// read fail with an error naming the compression, after everything before the damage was returned.
-/// The reader is `'static` for that thread.
+/// The reader is `'static` for that thread. While a compressed stream is quiet (a live pipe), a read
+/// returns `Interrupted` every 50 ms so a caller can look at its signal flag; retry it, as
+/// [`LineReader`](super::LineReader) and `read_to_end` do.
 ///
 /// ```
 /// use tracerctl::candump::{open_log, TextFormat};
