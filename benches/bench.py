@@ -1,16 +1,25 @@
 #!/usr/bin/env python3
-"""Reproduces the decode numbers in docs/performance.md.
+"""Reproduces the decode table in docs/performance.md ("Decode against the tools (issue 14)").
 
-    python3 benches/bench.py [LINES]        (default 1,000,000; a log 10x larger checks flat memory)
+    python3 benches/bench.py [--sizes 1000000,100000000] [--runs 5] [--big-runs 1]
+                             [--slow-max-lines 1000000] [--bin PATH] [--no-build] [--out FILE]
 
-Builds the release binary and the log generator, generates TRACER candump logs (cached in bench-data/),
-then times `tracerctl decode` (--summary, json, text, csv) against the tools people use today on the same
-log: cantools (`cantools decode` with benches/tracer-bench.dbc), python-can's CanutilsLogReader, and
-can-utils' log2asc (a C parser that converts without decoding). Wall time is the best of three runs; peak
-memory is the maximum resident set size reported by /usr/bin/time.
+Builds the release binary and the log generator (unless --no-build or --bin), generates TRACER candump logs
+of each size into bench-data/ (never committed; a 100 M-line log is about 4.6 GB), then times, in the same
+run and on the same files: `wc -l`, cantools (`cantools decode --single-line` with docs/tracer.dbc),
+python-can's CanutilsLogReader (parse only), can-utils' log2asc (a C converter, no decoding), and
+`tracerctl decode` with one thread (`-j1`) and all cores (`-jN`) for --summary, json, text and csv.
+`-jN` is measured only when `tracerctl decode --help` lists `--threads` (n/a otherwise).
+
+Wall time is the best of --runs runs (--big-runs for logs above 10 M lines; cantools and python-can run
+once: they take minutes), output to /dev/null; peak memory is the maximum resident set size from
+/usr/bin/time. cantools and python-can are skipped on logs above --slow-max-lines lines (cantools would
+take hours on 100 M lines). Prints one Markdown table: lines/s, time relative to `wc -l` in the same run,
+peak memory per size, and whether memory stays flat (largest / smallest log within 1.2x).
 Needs: cargo, /usr/bin/time; optional: pip install cantools python-can; apt-get install can-utils.
 """
 
+import argparse
 import os
 import shutil
 import subprocess
@@ -19,80 +28,160 @@ import time
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(ROOT, "bench-data")
-BIN = os.path.join(ROOT, "target", "release", "tracerctl")
 GEN = os.path.join(ROOT, "target", "release", "examples", "gen_log")
+DBC = os.path.join(ROOT, "docs", "tracer.dbc")
+BIG = 10_000_000
+MODES = [("--summary", ["--summary"]), ("json", ["-f", "json"]), ("text", ["-f", "text"]), ("csv", ["-f", "csv"])]
+PYTHON_CAN_READER = "import can,sys\nn=sum(1 for _ in can.CanutilsLogReader(sys.argv[1]))\nprint(n)"
 
 
 def run_once(command, stdin_path=None):
     """Wall seconds and peak RSS (KiB) of one run, output discarded."""
-    stdin = open(stdin_path, "rb") if stdin_path else subprocess.DEVNULL
-    start = time.perf_counter()
-    done = subprocess.run(["/usr/bin/time", "-f", "%M"] + command, stdin=stdin,
-                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, check=True)
-    elapsed = time.perf_counter() - start
-    rss = int(done.stderr.decode().strip().splitlines()[-1])
-    return elapsed, rss
+    with open(stdin_path or os.devnull, "rb") as stdin:
+        start = time.perf_counter()
+        done = subprocess.run(["/usr/bin/time", "-f", "%M"] + command, stdin=stdin,
+                              stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, check=True)
+        elapsed = time.perf_counter() - start
+    return elapsed, int(done.stderr.decode().strip().splitlines()[-1])
 
 
-def best_of(command, runs=3, stdin_path=None):
-    results = [run_once(command, stdin_path) for _ in range(runs)]
+def best_of(command, runs, stdin_path=None):
+    results = [run_once(command, stdin_path) for _ in range(max(1, runs))]
     return min(r[0] for r in results), max(r[1] for r in results)
 
 
 def log_with(lines):
     path = os.path.join(DATA, f"tracer-{lines}.log")
     if not os.path.exists(path):
-        subprocess.run([GEN, str(lines), path], check=True)
+        print(f"generating {path}", file=sys.stderr, flush=True)
+        subprocess.run([GEN, str(lines), path + ".part"], check=True)
+        os.rename(path + ".part", path)
     return path
 
 
-def row(tool, mode, lines, seconds, rss_kib):
-    rate = lines / seconds
-    return f"| {tool} | {mode} | {lines:,} | {seconds:.3f} | {rate / 1e6:.2f} M | {rss_kib / 1024:.1f} MiB |"
+def threads_supported(binary):
+    help_text = subprocess.run([binary, "decode", "--help"], capture_output=True, text=True).stdout
+    return "--threads" in help_text
+
+
+def python_has(module):
+    return subprocess.run([sys.executable, "-c", f"import {module}"], capture_output=True).returncode == 0
+
+
+def python_version(module):
+    done = subprocess.run([sys.executable, "-c", f"import {module}; print({module}.__version__)"],
+                          capture_output=True, text=True)
+    return done.stdout.strip()
+
+
+def contenders(binary, cores, jobs):
+    """(tool, mode, command(path) or a reason it is not measured, slow) for every row of the table."""
+    rows = [("wc -l", "count lines", lambda p: ["wc", "-l", p], False)]
+    for label, args in MODES:
+        one = ["-j1"] if jobs else []
+        rows.append(("tracerctl -j1", label, lambda p, a=args, o=one: [binary, "decode", "--no-progress", *o, *a, p],
+                     False))
+        if jobs:
+            command = lambda p, a=args: [binary, "decode", "--no-progress", f"-j{cores}", *a, p]  # noqa: E731
+        else:
+            command = "n/a (no --threads in this build)"
+        rows.append((f"tracerctl -j{cores}", label, command, False))
+    if shutil.which("log2asc"):
+        rows.append(("can-utils log2asc", "log -> ASC, no decoding",
+                     lambda p: ["log2asc", "-I", p, "-O", "/dev/null", "can0"], False))
+    else:
+        rows.append(("can-utils log2asc", "log -> ASC", "not installed", False))
+    if python_has("cantools"):
+        rows.append((f"cantools {python_version('cantools')}", "decode --single-line",
+                     lambda p: [sys.executable, "-m", "cantools", "decode", "--single-line", DBC], True))
+    else:
+        rows.append(("cantools", "decode", "not installed", True))
+    if python_has("can"):
+        rows.append((f"python-can {python_version('can')}", "CanutilsLogReader, parse only",
+                     lambda p: [sys.executable, "-c", PYTHON_CAN_READER, p], True))
+    else:
+        rows.append(("python-can", "CanutilsLogReader", "not installed", True))
+    return rows
+
+
+def measure(rows, sizes, options):
+    """{(row index, size): (seconds, rss KiB) or a reason}."""
+    results = {}
+    for size in sizes:
+        path = log_with(size)
+        runs = options.runs if size <= BIG else options.big_runs
+        for index, (tool, mode, command, slow) in enumerate(rows):
+            if isinstance(command, str):
+                results[index, size] = command
+            elif slow and size > options.slow_max_lines:
+                results[index, size] = "skipped (--slow-max-lines)"
+            else:
+                stdin_path = path if tool.startswith("cantools") else None
+                results[index, size] = best_of(command(path), 1 if slow else runs, stdin_path)
+            print(f"{size:>12,} {tool} {mode}: {results[index, size]}", file=sys.stderr, flush=True)
+    return results
+
+
+def table(rows, sizes, results):
+    def short(n):
+        return f"{n // 1_000_000} M" if n % 1_000_000 == 0 else f"{n:,}"
+
+    head = ["tool", "mode"]
+    for size in sizes:
+        head += [f"{short(size)}: lines/s", f"{short(size)}: x `wc -l`", f"{short(size)}: peak memory"]
+    if len(sizes) > 1:
+        head.append(f"memory {short(sizes[-1])} / {short(sizes[0])}")
+    out = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for index, (tool, mode, _, _) in enumerate(rows):
+        cells = [tool, mode]
+        for size in sizes:
+            result, wc = results[index, size], results[0, size]
+            if isinstance(result, str):
+                cells += [result, "", ""]
+                continue
+            seconds, rss = result
+            cells += [f"{size / seconds / 1e6:.2f} M", f"{seconds / wc[0]:.1f}x", f"{rss / 1024:.1f} MiB"]
+        measured = [results[index, s] for s in sizes if not isinstance(results[index, s], str)]
+        if len(sizes) > 1:
+            if len(measured) == len(sizes):
+                ratio = measured[-1][1] / measured[0][1]
+                cells.append(f"{ratio:.2f}x ({'flat' if ratio <= 1.2 else 'grows'})")
+            else:
+                cells.append("")
+        out.append("| " + " | ".join(cells) + " |")
+    return out
 
 
 def main():
-    lines = int(sys.argv[1]) if len(sys.argv) > 1 else 1_000_000
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--sizes", default="1000000,100000000",
+                        help="comma-separated log sizes in lines (default 1000000,100000000)")
+    parser.add_argument("--runs", type=int, default=5, help="runs per measurement, best kept (default 5)")
+    parser.add_argument("--big-runs", type=int, default=1, help=f"runs on logs above {BIG:,} lines (default 1)")
+    parser.add_argument("--slow-max-lines", type=int, default=1_000_000,
+                        help="run cantools and python-can only on logs up to this many lines (default 1000000)")
+    parser.add_argument("--bin", help="the tracerctl binary to time (default: build target/release/tracerctl)")
+    parser.add_argument("--no-build", action="store_true", help="do not run cargo build first")
+    parser.add_argument("--out", default=os.path.join(DATA, "results.md"), help="where the table is written")
+    options = parser.parse_args()
+    sizes = sorted(int(s.replace("_", "")) for s in options.sizes.split(","))
+    binary = options.bin or os.path.join(ROOT, "target", "release", "tracerctl")
     os.makedirs(DATA, exist_ok=True)
-    subprocess.run(["cargo", "build", "--release", "--locked", "--bin", "tracerctl", "--example", "gen_log"],
-                   cwd=ROOT, check=True)
-    small, big = log_with(lines), log_with(lines * 10)
-    out = ["| tool | mode | lines | seconds | lines/s | peak memory |", "|---|---|---|---|---|---|"]
-    modes = [("--summary", ["--summary"]), ("json", ["-f", "json"]), ("text", ["-f", "text"]), ("csv", ["-f", "csv"])]
-    for path, count in [(small, lines), (big, lines * 10)]:
-        for label, args in modes:
-            seconds, rss = best_of([BIN, "decode", "--no-progress", *args, path])
-            out.append(row("tracerctl", label, count, seconds, rss))
-            print(out[-1], flush=True)
+    if not options.no_build:
+        targets = ["--example", "gen_log"] + ([] if options.bin else ["--bin", "tracerctl"])
+        subprocess.run(["cargo", "build", "--release", "--locked", *targets], cwd=ROOT, check=True)
 
-    # The same log through other tools, on a slice small enough for the slow ones.
-    slice_lines = min(lines, 200_000)
-    slice_path = os.path.join(DATA, f"tracer-slice-{slice_lines}.log")
-    with open(small, "rb") as src, open(slice_path, "wb") as dst:
-        for _ in range(slice_lines):
-            dst.write(src.readline())
-    seconds, rss = best_of([BIN, "decode", "--no-progress", "-f", "text", slice_path])
-    out.append(row("tracerctl", "text", slice_lines, seconds, rss))
-    dbc = os.path.join(ROOT, "docs", "tracer.dbc")
-    try:
-        import cantools  # noqa: F401
-        seconds, rss = best_of([sys.executable, "-m", "cantools", "decode", "--single-line", dbc], 1, slice_path)
-        out.append(row(f"cantools {cantools.__version__}", "decode --single-line", slice_lines, seconds, rss))
-    except ImportError:
-        out.append("| cantools | not installed | | | | |")
-    try:
-        import can
-        script = "import can,sys\nn=sum(1 for _ in can.CanutilsLogReader(sys.argv[1]))\nprint(n)"
-        seconds, rss = best_of([sys.executable, "-c", script, slice_path], 1)
-        out.append(row(f"python-can {can.__version__}", "CanutilsLogReader (parse only)", slice_lines, seconds, rss))
-    except ImportError:
-        out.append("| python-can | not installed | | | | |")
-    if shutil.which("log2asc"):
-        seconds, rss = best_of(["log2asc", "-I", small, "-O", "/dev/null", "can0"])
-        out.append(row("can-utils log2asc", "log -> ASC (parse + print, no decode)", lines, seconds, rss))
-    print()
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count()
+    rows = contenders(binary, cores, threads_supported(binary))
+    results = measure(rows, sizes, options)
+    out = table(rows, sizes, results)
+    out.append("")
+    out.append(f"How to reproduce: `python3 benches/bench.py --sizes {','.join(str(s) for s in sizes)} "
+               f"--runs {options.runs}` ({cores} cores; best of {options.runs} runs, "
+               f"{options.big_runs} on logs above {BIG // 1_000_000} M lines, cantools and python-can once; "
+               "output to /dev/null).")
     print("\n".join(out))
-    with open(os.path.join(DATA, "results.md"), "w") as f:
+    with open(options.out, "w") as f:
         f.write("\n".join(out) + "\n")
 
 

@@ -365,7 +365,7 @@ mod never_panic {
                                                       text in proptest::collection::vec(mutated(), 0..4)) {
             use std::io::Read;
             for input in [bytes, text.join(&b'\n')] {
-                if let Ok((mut reader, _)) = open_log(&input[..], "x") {
+                if let Ok((mut reader, _)) = open_log(std::io::Cursor::new(input.clone()), "x") {
                     let mut out = Vec::new();
                     if reader.read_to_end(&mut out).is_ok() && !input.starts_with(b"\x1f\x8b") {
                         // Plain text comes back whole, less a leading BOM.

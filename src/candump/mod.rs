@@ -40,6 +40,7 @@
 
 mod asc;
 mod cansend;
+mod decompress;
 mod hex;
 mod line;
 mod open;

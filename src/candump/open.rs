@@ -16,6 +16,8 @@ use std::io::{self, Cursor, Read};
 
 use memchr::memchr;
 
+use super::decompress;
+
 /// Bytes looked at to recognise a compressed stream.
 const MAGIC_LEN: usize = 10;
 /// At most this much text is read to recognise the format (header lines of ASC/TRC/Microchip files).
@@ -127,8 +129,12 @@ impl From<FormatError> for crate::exit::Failure {
 /// bytes, whatever the name), skips a UTF-8 BOM, and recognises the text format. `name` is used in
 /// messages only.
 ///
-/// Decompression streams (memory stays flat); a truncated or corrupt compressed stream makes a later
+/// Decompression streams (memory stays flat) on its own thread ([`super::decompress`]), so the caller
+/// decodes while the next blocks are inflated; a truncated or corrupt compressed stream makes a later
 /// read fail with an error naming the compression, after everything before the damage was returned.
+/// The reader is `'static` for that thread. While a compressed stream is quiet (a live pipe), a read
+/// returns `Interrupted` every 50 ms so a caller can look at its signal flag; retry it, as
+/// [`LineReader`](super::LineReader) and `read_to_end` do.
 ///
 /// ```
 /// use tracerctl::candump::{open_log, TextFormat};
@@ -144,20 +150,21 @@ impl From<FormatError> for crate::exit::Failure {
 /// assert!(refused.to_string().starts_with("f.blf is a Vector BLF log, which tracerctl does not read"));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
 /// ```
-pub fn open_log<'a>(
-    reader: impl Read + Send + 'a,
+pub fn open_log(
+    reader: impl Read + Send + 'static,
     name: &str,
-) -> Result<(Box<dyn Read + Send + 'a>, LogFormat), FormatError> {
+) -> Result<(Box<dyn Read + Send>, LogFormat), FormatError> {
     let io_error = |source| FormatError::Io { name: name.to_string(), source };
     let mut reader = reader;
     let mut magic = Vec::with_capacity(MAGIC_LEN);
     fill_to(&mut reader, &mut magic, MAGIC_LEN).map_err(io_error)?;
     let compression = Compression::detect(&magic);
     let raw = Cursor::new(magic).chain(reader);
-    let mut text: Box<dyn Read + Send + 'a> = match compression {
+    let mut text: Box<dyn Read + Send> = match compression {
         None => Box::new(raw),
         Some(compression) => {
-            Box::new(NamedErrors { inner: decompressor(compression, raw).map_err(io_error)?, compression })
+            let inner = decompressor(compression, raw).map_err(io_error)?;
+            Box::new(decompress::spawn(NamedErrors { inner, compression }).map_err(io_error)?)
         }
     };
 
@@ -198,10 +205,10 @@ fn fill_to(reader: &mut impl Read, buf: &mut Vec<u8>, want: usize) -> io::Result
     Ok(())
 }
 
-fn decompressor<'a>(
+fn decompressor(
     compression: Compression,
-    raw: impl Read + Send + 'a,
-) -> io::Result<Box<dyn Read + Send + 'a>> {
+    raw: impl Read + Send + 'static,
+) -> io::Result<Box<dyn Read + Send>> {
     Ok(match compression {
         Compression::Gzip => Box::new(flate2::read::MultiGzDecoder::new(raw)),
         Compression::Zstd => Box::new(zstd::stream::read::Decoder::new(raw)?),
@@ -212,12 +219,12 @@ fn decompressor<'a>(
 
 /// Says which compression failed, and turns a silent early end into an error: every decoder must see
 /// its end-of-stream marker, or the file was cut.
-struct NamedErrors<'a> {
-    inner: Box<dyn Read + Send + 'a>,
+struct NamedErrors {
+    inner: Box<dyn Read + Send>,
     compression: Compression,
 }
 
-impl Read for NamedErrors<'_> {
+impl Read for NamedErrors {
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         self.inner.read(buf).map_err(|error| {
             let kind = match error.kind() {

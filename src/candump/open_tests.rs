@@ -5,7 +5,7 @@ use super::*;
 const LOG: &[u8] = b"(1700000000.000000) can0 211#00000103000000B1\n(1700000000.020000) can0 421#01\n";
 
 fn open(bytes: &[u8], name: &str) -> Result<(Vec<u8>, LogFormat), FormatError> {
-    let (mut reader, format) = open_log(bytes, name)?;
+    let (mut reader, format) = open_log(io::Cursor::new(bytes.to_vec()), name)?;
     let mut text = Vec::new();
     reader.read_to_end(&mut text).map_err(|source| FormatError::Io { name: name.into(), source })?;
     Ok((text, format))
