@@ -69,6 +69,22 @@ impl ProtocolDetector {
     }
 
     /// The hint to decode ambiguous frames with (0x151): the bus's version once it is clear.
+    /// Observes `frame`, then decodes it as `protocol` says: as given, or for `Auto` as the traffic seen so far
+    /// says (what decides an ambiguous 0x151).
+    #[inline]
+    pub fn observe_and_decode(
+        &mut self,
+        frame: &CanFrame,
+        protocol: ProtocolHint,
+    ) -> Result<Option<super::Decoded>, can::DecodeError> {
+        self.observe(frame);
+        let hint = match protocol {
+            ProtocolHint::Auto => self.hint(),
+            forced => forced,
+        };
+        can::decode(frame, hint)
+    }
+
     pub fn hint(&self) -> ProtocolHint {
         match self.verdict() {
             Verdict::V1 => ProtocolHint::V1,

@@ -539,12 +539,7 @@ impl Decoder {
         frame: &CanFrame,
     ) -> Result<()> {
         self.stats.frames += 1;
-        self.detector.observe(frame);
-        let hint = match self.protocol {
-            ProtocolHint::Auto => self.detector.hint(),
-            forced => forced,
-        };
-        let decoded = protocol::decode(frame, hint);
+        let decoded = self.detector.observe_and_decode(frame, self.protocol);
         let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
         self.event(&event)
     }

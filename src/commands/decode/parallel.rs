@@ -33,7 +33,7 @@ use crate::exit::Failure;
 use crate::output::filter::Filter;
 use crate::output::{Event, EventWriter, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
-use crate::protocol::{self, CanFrame, ProtocolHint};
+use crate::protocol::{CanFrame, ProtocolHint};
 
 /// Input bytes per chunk by default: large enough that the per-chunk work (a channel hop, one write) vanishes,
 /// small enough that the pool stays a few megabytes.
@@ -494,12 +494,7 @@ impl ChunkLines<'_> {
         frame: &CanFrame,
     ) -> Option<String> {
         self.outcome.frames += 1;
-        self.detector.observe(frame);
-        let hint = match self.settings.protocol {
-            ProtocolHint::Auto => self.detector.hint(),
-            forced => forced,
-        };
-        let decoded = protocol::decode(frame, hint);
+        let decoded = self.detector.observe_and_decode(frame, self.settings.protocol);
         let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
         if let Err(error) = event.decoded {
             self.outcome.invalid_frames += 1;
