@@ -24,7 +24,7 @@ use std::time::{Duration, Instant};
 use anyhow::{Context, Result};
 use parking_lot::Mutex;
 
-use crate::link::{is_queue_full, FrameTx, LinkFrame};
+use crate::link::{is_queue_full, Discarded, FrameTx, LinkFrame};
 use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
 use crate::protocol::Codec;
 
@@ -227,6 +227,8 @@ pub struct SenderStats {
     pub held_back: u64,
     /// Frames still queued for output that were discarded before the stop frames.
     pub discarded: u64,
+    /// The link also discarded output it cannot count (a pseudo-terminal's), before the stop frames.
+    pub discarded_uncounted: bool,
     pub mode_frames: u64,
     /// Ticks where the watchdog zeroed a stale target.
     pub watchdog_trips: u64,
@@ -512,12 +514,12 @@ impl Drop for MotionSender {
 /// The stop sequence every sender shares (the 50 Hz sender, send-raw): discard what the link still holds for
 /// output, so the zeros are not queued behind stale motion, then [`STOP_FRAMES`] zero-velocity frames (each
 /// encoded anew, so RS232 frame ids keep rolling), each retried for up to [`STOP_RETRY`] while the transmit
-/// queue is full. Every attempt's result goes to `record`. Returns (stop frames sent, frames discarded).
+/// queue is full. Every attempt's result goes to `record`. Returns (stop frames sent, what was discarded).
 pub fn send_stop_frames(
     tx: &dyn FrameTx,
     codec: &mut Codec,
     mut record: impl FnMut(std::io::Result<()>),
-) -> (usize, usize) {
+) -> (usize, Discarded) {
     let discarded = tx.discard_pending();
     let deadline = Instant::now() + STOP_RETRY;
     let mut sent = 0;
@@ -679,7 +681,8 @@ fn send_final_stop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec) {
         queued = tx.pending().unwrap_or(0);
     }
     let mut stats = shared.stats();
-    stats.discarded += discarded as u64;
+    stats.discarded += discarded.frames as u64;
+    stats.discarded_uncounted |= discarded.uncounted;
     stats.stop_frames_sent = Some(sent);
     stats.stop_frames_queued = if sent > 0 { queued } else { 0 };
     if sent > 0 {
@@ -915,10 +918,10 @@ mod tests {
             self.stuck.lock().unwrap().or(*self.pending.lock().unwrap())
         }
 
-        fn discard_pending(&self) -> usize {
+        fn discard_pending(&self) -> Discarded {
             let queued = self.pending.lock().unwrap().take().unwrap_or(0);
             self.discards.lock().unwrap().push((Instant::now(), queued));
-            queued
+            Discarded { frames: queued, uncounted: false }
         }
     }
 

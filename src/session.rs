@@ -371,7 +371,7 @@ impl FrameTx for RecordingTx {
         self.inner.pending()
     }
 
-    fn discard_pending(&self) -> usize {
+    fn discard_pending(&self) -> crate::link::Discarded {
         self.inner.discard_pending()
     }
 }

@@ -19,6 +19,11 @@ use super::Global;
 use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
 use crate::link::queue_full_meaning;
+
+/// The report's words for a pseudo-terminal's flush before the stop frames: it drops what the peer has not
+/// taken in (a stalled peer's backlog, or the latest frames on a loaded machine) and cannot say how much.
+pub const UNCOUNTED_DISCARD: &str =
+    "output the pseudo-terminal still held flushed before the stop frames, uncounted";
 use crate::output::Format;
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT};
@@ -210,6 +215,7 @@ fn report_json(
         "not_sent": stats.queue_full,
         "held_back": stats.held_back,
         "discarded": stats.discarded,
+        "discarded_uncounted": stats.discarded_uncounted,
         "watchdog_trips": stats.watchdog_trips,
         "distance": measured.then(|| status::round(follow.distance, 3)),
         "peak_linear_velocity": measured.then(|| status::round(follow.peak_linear, 3)),
@@ -539,6 +545,9 @@ fn report(stats: &SenderStats, follow: &Follow, session: &Session) -> Vec<String
     }
     if stats.discarded > 0 {
         trouble.push(format!("{} stale frames discarded before the stop frames", stats.discarded));
+    }
+    if stats.discarded_uncounted {
+        trouble.push(UNCOUNTED_DISCARD.to_string());
     }
     if stats.watchdog_trips > 0 {
         trouble.push(format!("{} watchdog stops", stats.watchdog_trips));

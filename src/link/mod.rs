@@ -59,9 +59,19 @@ pub trait FrameTx: Send + Sync {
 
     /// Discards frames accepted but not yet sent (before the stop frames, so they reach the robot first);
     /// how many, where the link can tell.
-    fn discard_pending(&self) -> usize {
-        0
+    fn discard_pending(&self) -> Discarded {
+        Discarded::default()
     }
+}
+
+/// What discarding a link's unsent output threw away.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Discarded {
+    /// Frames the link counted in its queue and discarded.
+    pub frames: usize,
+    /// The link discarded output it cannot count: a pseudo-terminal, whose flush drops what its peer has not
+    /// taken in yet (frames already written, possibly the latest ones) while its queue always reads as empty.
+    pub uncounted: bool,
 }
 
 /// True when a send failed only because the transmit queue is full (SocketCAN's ENOBUFS, a non-blocking

@@ -19,6 +19,7 @@ use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use crate::fault_peer::{estop, exception, healthy, FaultyRobot, MotionFeedback};
+use tracerctl::control::STOP_FRAMES;
 
 /// The contract: a zero-velocity frame reaches the robot within 50 ms of a signal.
 const ZERO_WITHIN: Duration = Duration::from_millis(50);
@@ -754,8 +755,22 @@ fn garbage_flood_with_feedback() {
             frames.iter().all(|(_, f)| f.payload[0] == 0x02 && f.payload[1] == 0x00),
             "every motion command says serial mode, no fault clear",
         );
-        let rolled = frames.windows(2).all(|pair| pair[1].1.frame_id == pair[0].1.frame_id.wrapping_add(1));
-        verdict.check(rolled, "frame ids roll by one (nothing lost or corrupted towards the robot)");
+        // Ids roll by one, except where the stop's flush dropped what the pseudo-terminal had not passed on
+        // yet (the latest frames, on a loaded machine): allowed only right before the stop frames, and only
+        // when the report says the flush was uncounted (it once said nothing while a frame went missing).
+        let breaks: Vec<usize> = (1..frames.len())
+            .filter(|&i| frames[i].1.frame_id != frames[i - 1].1.frame_id.wrapping_add(1))
+            .collect();
+        let before_stop = frames.len().saturating_sub(STOP_FRAMES);
+        let reported = outcome.stderr.contains(tracerctl::commands::drive::UNCOUNTED_DISCARD);
+        verdict.check(
+            breaks.is_empty() || (breaks == [before_stop] && reported),
+            format!(
+                "frame ids roll by one (nothing lost or corrupted towards the robot), but for a reported flush \
+                 before the stop frames: breaks at {breaks:?} of {}, stop frames from {before_stop}",
+                frames.len()
+            ),
+        );
         verdict.check(at_full_speed(&motion), "reached 20 %");
         let tail: Vec<(i8, i8)> = motion.iter().rev().take(3).map(|(_, s)| *s).collect();
         verdict.check(tail == [(0, 0); 3], format!("ends with three zeros ({tail:?})"));
