@@ -3,6 +3,7 @@
 
     python3 tests/mcap/verify.py DIR      (CI: DIR = target/tmp/mcap-check, filled by `cargo test`)
     python3 tests/mcap/verify.py --self-test   (the checker catches a bad file: run by CI first)
+    python3 tests/mcap/verify.py DIR --layout docs/foxglove-layout.json
 
 For each DIR/NAME.mcap:
   * the file is finished (summary, statistics and indexes present) and read both ways: indexed (seeking) and
@@ -17,6 +18,8 @@ For each DIR/NAME.mcap:
   * a metadata record `tracerctl` names the version, sources, protocol and command;
   * when NAME.jsonl is beside it (decode's `--format json` of the same input): /tracer/raw holds one message per
     line, and each /tracer/<msg> channel (motors split by number) one per line of that `msg`.
+With --layout, the suggested Foxglove layout is checked against the files: every topic a panel shows is written
+by them, with Foxglove's schema where the panel needs one, and every plotted field is in its topic's schema.
 Exits 1 with every failure listed; 2 when DIR holds no MCAP file (a CI step that checked nothing must not pass).
 Needs: pip install mcap jsonschema.
 """
@@ -81,7 +84,43 @@ def read_all(path, killed):
     return channels, schemas, messages, metadata, statistics
 
 
-def check_file(path):
+def layout_failures(layout_path, topics):
+    """What in the layout names a topic or field that no file has; `topics`: topic -> (schema name, schema)."""
+    with open(layout_path, encoding="utf-8") as stream:
+        layout = json.load(stream)
+    failures, panels = [], layout["configById"]
+
+    def leaves(node):
+        return [node] if isinstance(node, str) else leaves(node["first"]) + leaves(node["second"])
+
+    for panel in leaves(layout["layout"]):
+        if panel not in panels:
+            failures.append(f"layout: panel {panel} is placed but has no configuration")
+    needs = []
+    for panel, config in panels.items():
+        kind = panel.split("!")[0]
+        if kind == "Plot":
+            needs += [(panel, path["value"], None) for path in config["paths"]]
+        elif kind == "RosOut":
+            needs.append((panel, config["topicToRender"], "foxglove.Log"))
+        elif kind == "3D":
+            needs += [(panel, topic, None) for topic in config["topics"]]
+        elif kind == "RawMessages":
+            needs.append((panel, config["topicPath"], None))
+    for panel, path, schema_name in needs:
+        topic, _, field = path.partition(".")
+        if topic not in topics:
+            failures.append(f"layout: {panel} shows {topic}, which no file has")
+            continue
+        name, schema = topics[topic]
+        if schema_name and name != schema_name:
+            failures.append(f"layout: {panel} needs {schema_name} on {topic}, the files have {name}")
+        if field and field not in schema.get("properties", {}):
+            failures.append(f"layout: {panel} plots {path}, but {topic}'s schema has no {field!r}")
+    return failures
+
+
+def check_file(path, topics=None):
     failures = []
     name = os.path.basename(path)[: -len(".mcap")]
     killed = name.endswith(".killed")
@@ -106,6 +145,8 @@ def check_file(path):
             validator = jsonschema.validators.validator_for(document)
             validator.check_schema(document)
             validators[channel.id] = validator(document)
+            if topics is not None:
+                topics[channel.topic] = (schema.name, document)
         except (ValueError, jsonschema.SchemaError) as error:
             failures.append(f"{name}: {channel.topic}: schema {schema.name!r} is not a valid JSON Schema: {error}")
 
@@ -202,6 +243,20 @@ def self_test():
             if (not found) != should_pass:
                 failed.append(f"{name}: expected {'pass' if should_pass else 'failure'}, got {found}")
             os.remove(path)
+        # The layout checker: a plotted field the schema has passes, one it lacks fails.
+        path = os.path.join(directory, "layout.mcap")
+        write(path, {"battery_voltage": 25.9})
+        topics = {}
+        check_file(path, topics)
+        for field, should_pass in (("battery_voltage", True), ("no_such_field", False)):
+            layout_path = os.path.join(directory, "layout.json")
+            with open(layout_path, "w", encoding="utf-8") as out:
+                json.dump({"configById": {"Plot!a": {"paths": [{"value": f"/tracer/system_state.{field}"}]}},
+                           "layout": "Plot!a"}, out)
+            found = layout_failures(layout_path, topics)
+            if (not found) != should_pass:
+                failed.append(f"layout plotting {field}: expected {'pass' if should_pass else 'failure'}, got {found}")
+    cases += [("layout", {}, True)] * 2
     for failure in failed:
         print(f"self-test: {failure}")
     print(f"self-test: {len(cases) - len(failed)} of {len(cases)} cases judged right")
@@ -211,21 +266,30 @@ def self_test():
 def main():
     if sys.argv[1:] == ["--self-test"]:
         return self_test()
-    if len(sys.argv) != 2:
+    arguments = sys.argv[1:]
+    layout = None
+    if len(arguments) == 3 and arguments[1] == "--layout":
+        layout = arguments[2]
+        arguments = arguments[:1]
+    if len(arguments) != 1:
         print(__doc__.strip().splitlines()[2].strip(), file=sys.stderr)
         return 2
-    directory = sys.argv[1]
+    directory = arguments[0]
     paths = sorted(os.path.join(directory, f) for f in os.listdir(directory) if f.endswith(".mcap")) \
         if os.path.isdir(directory) else []
     if not paths:
         print(f"verify.py: no .mcap file in {directory}: the tests wrote none", file=sys.stderr)
         return 2
-    failures, total = [], 0
+    failures, total, topics = [], 0, {}
     for path in paths:
-        found, messages = check_file(path)
+        found, messages = check_file(path, topics)
         failures += found
         total += messages
         print(f"{'FAIL' if found else 'ok  '} {os.path.basename(path)}: {messages} messages")
+    if layout:
+        found = layout_failures(layout, topics)
+        failures += found
+        print(f"{'FAIL' if found else 'ok  '} {layout}: every panel's topic and field is in the files")
     print(f"{len(paths)} MCAP files, {total} messages, {len(failures)} failures")
     for failure in failures:
         print(f"  - {failure}")
