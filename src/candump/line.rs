@@ -4,7 +4,9 @@ use memchr::memchr;
 
 use super::asc::{self, AscState};
 use super::cansend::{classify_id, data_frame, parse_frame_text, FrameText, IdForm};
-use super::hex::{decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, skip_spaces, token_end};
+use super::hex::{
+    decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, same_bytes, skip_spaces, token_end,
+};
 use super::open::{LogFormat, TextFormat};
 use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
 use super::trc::{self, TrcState};
@@ -304,7 +306,7 @@ fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Reco
 /// UTF-8 check; a new one is checked and kept. `None` if it is not UTF-8.
 #[inline(always)]
 fn same_iface<'a>(last: &'a mut String, name: &[u8]) -> Option<&'a str> {
-    if last.as_bytes() != name {
+    if !same_bytes(last.as_bytes(), name) {
         let name = std::str::from_utf8(name).ok()?;
         last.clear();
         last.push_str(name);

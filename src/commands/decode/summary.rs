@@ -11,11 +11,11 @@ use std::hash::{Hash, Hasher};
 use serde_json::Value as Json;
 
 use super::InputStats;
-use crate::candump::Timestamp;
+use crate::candump::{same_bytes, Timestamp};
 use crate::output::{Event, FrameRef, Shape};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ERROR_CLASSES;
-use crate::protocol::frame::ERR_FLAG;
+use crate::protocol::frame::{ERR_FLAG, SFF_MAX};
 use crate::protocol::message::{control_mode_name, vehicle_state_name, Message, SystemState, Wire};
 use crate::protocol::{Decoded, FrameId, FrameKind};
 
@@ -133,6 +133,8 @@ struct IdStats {
     count: u64,
     first: Option<Timestamp>,
     last: Option<Timestamp>,
+    /// `last` in nanoseconds, for the gap to the next frame.
+    last_ns: u128,
     worst_gap_ns: u128,
     worst_gap_at: Option<Timestamp>,
     last_counter: Option<u8>,
@@ -150,6 +152,7 @@ impl IdStats {
             count: 0,
             first: None,
             last: None,
+            last_ns: 0,
             worst_gap_ns: 0,
             worst_gap_at: None,
             last_counter: None,
@@ -158,6 +161,38 @@ impl IdStats {
             counter_repeats: 0,
             invalid: 0,
         }
+    }
+
+    /// A frame of this row at `ts`: first and last times and the longest gap.
+    #[inline]
+    fn see_time(&mut self, ts: Timestamp) {
+        let now = nanos(&ts);
+        if self.last.is_some() {
+            let gap = now.saturating_sub(self.last_ns);
+            if gap > self.worst_gap_ns {
+                self.worst_gap_ns = gap;
+                self.worst_gap_at = Some(ts);
+            }
+        }
+        self.first.get_or_insert(ts);
+        self.last = Some(ts);
+        self.last_ns = now;
+    }
+
+    /// The rolling count byte of a frame of this row: a step of 1 is normal, 0 a repeat, more a skip.
+    #[inline]
+    fn count_byte(&mut self, count: u8) {
+        if let Some(previous) = self.last_counter {
+            match count.wrapping_sub(previous) {
+                1 => {}
+                0 => self.counter_repeats += 1,
+                step => {
+                    self.counter_skips += 1;
+                    self.frames_lost += u64::from(step - 1);
+                }
+            }
+        }
+        self.last_counter = Some(count);
     }
 }
 
@@ -168,14 +203,18 @@ struct FaultSeen {
     frames: u64,
 }
 
-/// Records `at` for every bit set in `bits`, one slot per bit.
+/// Records `at` for every bit set in `bits`, one slot per bit (bits beyond the slots are ignored). Visits
+/// only the set bits: nearly always none.
+#[inline]
 fn see_bits(slots: &mut [FaultSeen], bits: u16, at: At) {
-    for (bit, seen) in slots.iter_mut().enumerate() {
-        if bits & (1 << bit) != 0 {
+    let mut bits = u32::from(bits) & ((1u32 << slots.len().min(16)) - 1);
+    while bits != 0 {
+        if let Some(seen) = slots.get_mut(bits.trailing_zeros() as usize) {
             seen.first.get_or_insert(at);
             seen.last = Some(at);
             seen.frames += 1;
         }
+        bits &= bits - 1;
     }
 }
 
@@ -286,20 +325,9 @@ fn nanos(ts: &Timestamp) -> u128 {
     ts.as_nanos()
 }
 
-/// The rolling count byte a message carries, if any.
-fn counter(decoded: &Decoded) -> Option<u8> {
-    match decoded.message {
-        Message::SystemState(state) => Some(state.count),
-        Message::LightCommand(lights) | Message::LightState(lights) => Some(lights.count),
-        Message::RcState(rc) => Some(rc.count),
-        Message::PercentMotionCommand(cmd) => Some(cmd.count),
-        Message::MotorDriverState(motor) => Some(motor.count),
-        Message::MotionState(state) if decoded.wire != Wire::CanV2 => Some(state.count),
-        _ => None,
-    }
-}
-
 impl Summary {
+    /// One event: a few direct-indexed table updates, nothing allocated or formatted (except the rare
+    /// mode and vehicle-state changes listed).
     pub fn event(&mut self, event: &Event) {
         self.frames += 1;
         let at = At { ts: event.ts, frame: self.frames };
@@ -307,43 +335,31 @@ impl Summary {
             self.first.get_or_insert(ts);
             self.last = Some(ts);
         }
-        if event.iface != self.last_iface {
-            self.last_iface.clear();
-            self.last_iface.push_str(event.iface);
-            self.interfaces.see(event.iface);
+        if !same_bytes(event.iface.as_bytes(), self.last_iface.as_bytes()) {
+            self.new_iface(event.iface);
         }
-        let shape = event.shape();
-        let stats = self.id_stats(RowKey::of(event));
+        let row = self.row(event);
+        let stats = &mut self.ids[row];
         stats.count += 1;
-        stats.name = event.msg_name();
         if let Some(ts) = event.ts {
-            if let Some(previous) = stats.last {
-                let gap = nanos(&ts).saturating_sub(nanos(&previous));
-                if gap > stats.worst_gap_ns {
-                    stats.worst_gap_ns = gap;
-                    stats.worst_gap_at = Some(ts);
-                }
-            }
-            stats.first.get_or_insert(ts);
-            stats.last = Some(ts);
+            stats.see_time(ts);
         }
-        match shape {
-            Shape::Message(decoded) => {
-                if let Some(count) = counter(&decoded) {
-                    if let Some(previous) = stats.last_counter {
-                        match count.wrapping_sub(previous) {
-                            1 => {}
-                            0 => stats.counter_repeats += 1,
-                            step => {
-                                stats.counter_skips += 1;
-                                stats.frames_lost += u64::from(step - 1);
-                            }
-                        }
-                    }
-                    stats.last_counter = Some(count);
-                }
-                self.message(&decoded, at);
+        // A TRACER message (nearly every frame) by reference: no copy of the decoded message.
+        match &event.decoded {
+            Ok(Some(decoded)) => {
+                stats.name = decoded.message.name();
+                self.message(row, decoded, at);
             }
+            _ => self.not_a_message(row, event.shape()),
+        }
+    }
+
+    /// Raw, remote, error and invalid frames.
+    fn not_a_message(&mut self, row: usize, shape: Shape) {
+        let stats = &mut self.ids[row];
+        stats.name = shape.name();
+        match shape {
+            Shape::Message(_) => {} // taken by the caller
             Shape::Invalid(_) => stats.invalid += 1,
             Shape::ErrorFrame(error) => {
                 for (index, (mask, _)) in ERROR_CLASSES.iter().enumerate() {
@@ -356,32 +372,51 @@ impl Summary {
         }
     }
 
-    fn id_stats(&mut self, key: RowKey) -> &mut IdStats {
-        let slot = if let Some(standard) = key.standard_index() {
-            let index = self.standard_index[standard];
-            if index == 0 {
-                self.ids.push(IdStats::new(key));
-                self.standard_index[standard] = self.ids.len() as u32;
-                self.ids.len() - 1
-            } else {
-                index as usize - 1
-            }
-        } else {
-            let key = if self.other_index.len() >= MAX_OTHER_IDS && !self.other_index.contains_key(&key) {
-                RowKey::Other
-            } else {
-                key
-            };
-            match self.other_index.get(&key) {
-                Some(index) => *index,
-                None => {
-                    self.ids.push(IdStats::new(key));
-                    self.other_index.insert(key, self.ids.len() - 1);
-                    self.ids.len() - 1
+    /// Another interface than the last event's (rare: most logs have one).
+    #[inline(never)]
+    fn new_iface(&mut self, iface: &str) {
+        self.last_iface.clear();
+        self.last_iface.push_str(iface);
+        self.interfaces.see(iface);
+    }
+
+    /// The index in `ids` of the event's row: a classic standard identifier straight from the 2048-entry
+    /// table, every other key through the bounded map.
+    #[inline]
+    fn row(&mut self, event: &Event) -> usize {
+        if let FrameRef::Can(frame) = event.frame {
+            if !frame.is_extended() && matches!(frame.kind(), FrameKind::Data | FrameKind::Remote) {
+                let standard = (frame.id() & SFF_MAX) as usize;
+                let index = self.standard_index[standard];
+                if index != 0 {
+                    return index as usize - 1;
                 }
             }
+        }
+        self.new_or_other_row(RowKey::of(event))
+    }
+
+    /// The row of a standard identifier seen for the first time, or of any other key.
+    #[inline(never)]
+    fn new_or_other_row(&mut self, key: RowKey) -> usize {
+        if let Some(standard) = key.standard_index() {
+            self.ids.push(IdStats::new(key));
+            self.standard_index[standard] = self.ids.len() as u32;
+            return self.ids.len() - 1;
+        }
+        let key = if self.other_index.len() >= MAX_OTHER_IDS && !self.other_index.contains_key(&key) {
+            RowKey::Other
+        } else {
+            key
         };
-        &mut self.ids[slot]
+        match self.other_index.get(&key) {
+            Some(index) => *index,
+            None => {
+                self.ids.push(IdStats::new(key));
+                self.other_index.insert(key, self.ids.len() - 1);
+                self.ids.len() - 1
+            }
+        }
     }
 
     fn note(&mut self, at: At, text: String) {
@@ -392,10 +427,19 @@ impl Summary {
         }
     }
 
-    fn message(&mut self, decoded: &Decoded, at: At) {
+    /// What a decoded message adds: its count byte (row `row`) and the values the report tracks. One match
+    /// for both, so a message is dispatched once.
+    #[inline]
+    fn message(&mut self, row: usize, decoded: &Decoded, at: At) {
         match decoded.message {
-            Message::SystemState(state) => self.system_state(&state, decoded.wire, at),
+            Message::SystemState(state) => {
+                self.ids[row].count_byte(state.count);
+                self.system_state(&state, decoded.wire, at);
+            }
             Message::MotionState(state) => {
+                if decoded.wire != Wire::CanV2 {
+                    self.ids[row].count_byte(state.count);
+                }
                 keep_max_abs(&mut self.measured_linear, state.linear_mm_s.into(), at);
                 keep_max_abs(&mut self.measured_angular, state.angular_mrad_s.into(), at);
             }
@@ -404,15 +448,23 @@ impl Summary {
                 keep_max_abs(&mut self.commanded_angular, cmd.angular_mrad_s.into(), at);
             }
             Message::PercentMotionCommand(cmd) => {
+                self.ids[row].count_byte(cmd.count);
                 keep_max_abs(&mut self.commanded_linear, cmd.linear_mm_s(), at);
                 // Percent commands are in 1e-5 rad/s; the table keeps mrad/s.
                 keep_max_abs(&mut self.commanded_angular, cmd.angular_1e5() / 100, at);
             }
+            Message::LightCommand(lights) | Message::LightState(lights) => {
+                self.ids[row].count_byte(lights.count)
+            }
+            Message::RcState(rc) => self.ids[row].count_byte(rc.count),
             Message::MotorHighSpeed(motor) if matches!(motor.motor, 1 | 2) => {
                 self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
             }
-            Message::MotorDriverState(motor) if matches!(motor.motor, 1 | 2) => {
-                self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
+            Message::MotorDriverState(motor) => {
+                self.ids[row].count_byte(motor.count);
+                if matches!(motor.motor, 1 | 2) {
+                    self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
+                }
             }
             Message::MotorLowSpeed(motor) => {
                 let index = usize::from(motor.motor.clamp(1, 3) - 1);
