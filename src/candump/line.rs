@@ -249,14 +249,28 @@ fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Reco
         return None;
     }
     let iface_start = skip_spaces(line, after_ts + 1);
-    let mut pos = iface_start;
-    while let Some(0x21..=0x7E) = line.get(pos) {
-        pos += 1;
-    }
-    if pos == iface_start || pos - iface_start > IFACE_MAX_LEN || line.get(pos) != Some(&b' ') {
-        return None;
-    }
-    let iface = same_iface(last_iface, &line[iface_start..pos])?;
+    // The last line's interface (1..=15 printable bytes, checked then) followed by a space: the scan
+    // below would stop at that space, so the name is that one.
+    let last_end = iface_start + last_iface.len();
+    let (pos, iface) = match line.get(iface_start..last_end) {
+        Some(name)
+            if !last_iface.is_empty()
+                && same_bytes(name, last_iface.as_bytes())
+                && line.get(last_end) == Some(&b' ') =>
+        {
+            (last_end, last_iface.as_str())
+        }
+        _ => {
+            let mut pos = iface_start;
+            while let Some(0x21..=0x7E) = line.get(pos) {
+                pos += 1;
+            }
+            if pos == iface_start || pos - iface_start > IFACE_MAX_LEN || line.get(pos) != Some(&b' ') {
+                return None;
+            }
+            (pos, same_iface(last_iface, &line[iface_start..pos])?)
+        }
+    };
     let id_start = pos + 1;
     let (id, extended, mut pos) = if line.get(id_start + 3) == Some(&b'#') {
         let id = hex3(line.get(id_start..id_start + 3)?)?;
