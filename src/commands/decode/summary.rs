@@ -547,6 +547,7 @@ fn mode_text(wire: Wire, value: u8) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::CanFrame;
 
     #[test]
     fn rows_are_ordered_and_printed_as_the_table_lists_them() {
@@ -568,5 +569,92 @@ mod tests {
         assert_eq!(RowKey::Can(FrameId::Standard(0x211)).standard_index(), Some(0x211));
         assert_eq!(RowKey::Fd(FrameId::Standard(0x211)).standard_index(), None);
         assert_eq!(RowKey::Can(FrameId::Extended(0x211)).standard_index(), None);
+    }
+
+    fn event_at<'a>(frame: &'a CanFrame, secs: u64, nanos: u32) -> Event<'a> {
+        Event {
+            ts: Some(Timestamp::from_numeric(secs, nanos)),
+            iface: "can0",
+            dir: None,
+            frame: FrameRef::Can(frame),
+            decoded: Ok(None),
+        }
+    }
+
+    /// Classic standard identifiers find their row in the 2048-entry table; the same number as an FD or an
+    /// extended frame, and error frames, get rows of their own through the map.
+    #[test]
+    fn each_key_gets_one_row_and_standard_ids_are_indexed_directly() {
+        let classic = CanFrame::new(0x123, &[1, 2]).unwrap();
+        let remote = CanFrame::new_remote(0x7FF, false, 8).unwrap();
+        let fd = CanFrame::new_fd(0x123, false, 4, &[0; 12]).unwrap();
+        let extended = CanFrame::new_extended(0x123, &[]).unwrap();
+        let mut summary = Summary::default();
+        for (frame, secs) in
+            [(&classic, 1), (&fd, 1), (&classic, 2), (&extended, 2), (&remote, 3), (&classic, 5)]
+        {
+            summary.event(&event_at(frame, 1_700_000_000 + secs, 0));
+        }
+        let rows: Vec<(String, u64)> =
+            summary.ids.iter().map(|row| (row.key.to_string(), row.count)).collect();
+        assert_eq!(
+            rows,
+            [("0x123".into(), 3), ("0x123 (FD)".into(), 1), ("0x00000123".into(), 1), ("0x7FF".into(), 1)]
+        );
+        assert_eq!(summary.standard_index[0x123], 1);
+        assert_eq!(summary.standard_index[0x7FF], 4);
+        assert_eq!(summary.standard_index.iter().filter(|index| **index != 0).count(), 2);
+        assert_eq!(summary.other_index.len(), 2);
+        // 0x123's frames at 1, 2 and 5 s: the longest gap is 3 s, ended by the last frame.
+        let row = &summary.ids[0];
+        assert_eq!(row.worst_gap_ns, 3_000_000_000);
+        assert_eq!(row.worst_gap_at.map(|ts| ts.secs), Some(1_700_000_005));
+        assert_eq!(
+            (row.first.map(|ts| ts.secs), row.last.map(|ts| ts.secs)),
+            (Some(1_700_000_001), Some(1_700_000_005))
+        );
+        assert_eq!(row.name, "raw");
+        assert_eq!(summary.ids[3].name, "remote_request");
+        assert_eq!((summary.frames, summary.raw_frames), (6, 6));
+    }
+
+    #[test]
+    fn a_gap_is_measured_in_nanoseconds_across_seconds_and_never_negative() {
+        let mut row = IdStats::new(RowKey::Other);
+        let at = |secs, nanos| Timestamp::from_numeric(secs, nanos);
+        row.see_time(at(10, 900_000_000));
+        row.see_time(at(11, 100_000_000)); // 0.2 s
+        row.see_time(at(11, 50_000_000)); // backwards: no gap
+        row.see_time(at(11, 400_000_000)); // 0.35 s after the previous frame
+        assert_eq!(row.worst_gap_ns, 350_000_000);
+        assert_eq!(row.worst_gap_at, Some(at(11, 400_000_000)));
+        assert_eq!(row.first, Some(at(10, 900_000_000)));
+        assert_eq!(row.last, Some(at(11, 400_000_000)));
+    }
+
+    #[test]
+    fn count_bytes_count_repeats_skips_and_lost_frames_across_the_wrap() {
+        let mut row = IdStats::new(RowKey::Other);
+        for count in [254, 255, 0, 0, 3, 4, 2] {
+            row.count_byte(count);
+        }
+        // 255 -> 0 is a normal step; 0 -> 0 a repeat; 0 -> 3 loses 2; 4 -> 2 wraps: 253 lost.
+        assert_eq!((row.counter_repeats, row.counter_skips, row.frames_lost), (1, 2, 255));
+        assert_eq!(row.last_counter, Some(2));
+    }
+
+    #[test]
+    fn fault_bits_are_recorded_only_where_set_and_within_the_slots() {
+        let at = |frame| At { ts: None, frame };
+        let mut slots = [FaultSeen::default(); 8];
+        see_bits(&mut slots, 0b1_1000_0101, at(1)); // bit 8 has no slot
+        see_bits(&mut slots, 0b0000_0100, at(2));
+        see_bits(&mut slots, 0, at(3));
+        let frames: Vec<u64> = slots.iter().map(|seen| seen.frames).collect();
+        assert_eq!(frames, [1, 0, 2, 0, 0, 0, 0, 1]);
+        assert_eq!((slots[2].first, slots[2].last), (Some(at(1)), Some(at(2))));
+        let mut wide = [FaultSeen::default(); 16];
+        see_bits(&mut wide, 0x8001, at(4));
+        assert_eq!((wide[0].frames, wide[15].frames, wide[1].frames), (1, 1, 0));
     }
 }
