@@ -167,14 +167,16 @@ impl IdStats {
     #[inline]
     fn see_time(&mut self, ts: Timestamp) {
         let now = nanos(&ts);
-        if self.last.is_some() {
+        // `first` and `last` are only set here, together: one test for both.
+        if self.last.is_none() {
+            self.first = Some(ts);
+        } else {
             let gap = now.saturating_sub(self.last_ns);
             if gap > self.worst_gap_ns {
                 self.worst_gap_ns = gap;
                 self.worst_gap_at = Some(ts);
             }
         }
-        self.first.get_or_insert(ts);
         self.last = Some(ts);
         self.last_ns = now;
     }
