@@ -4,9 +4,9 @@ mod json;
 mod report;
 mod text;
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::fmt;
-use std::hash::{Hash, Hasher};
+use std::hash::{BuildHasher, Hash, Hasher};
 
 use serde_json::Value as Json;
 
@@ -69,6 +69,68 @@ impl Interfaces {
     }
 }
 
+/// Slots of [`OtherRows`]: a power of two, about twice the keys it holds (`MAX_OTHER_IDS` and the
+/// overflow row).
+const OTHER_SLOTS: usize = (2 * MAX_OTHER_IDS).next_power_of_two();
+/// The bits of a hash that index [`OTHER_SLOTS`].
+const OTHER_SLOT_BITS: u32 = OTHER_SLOTS.trailing_zeros();
+
+/// The rows of every key but a classic standard identifier (extended, error, RS232, FD, the overflow row):
+/// an open-addressing table of row numbers, probed linearly from a multiplicative hash of the packed key.
+/// The multiplier is random per run, so a log cannot pick identifiers that collide; the table is never more
+/// than half full. (A `HashMap` with SipHash cost about 340 instructions per extended frame.)
+#[derive(Debug, Default)]
+struct OtherRows {
+    /// `(packed key, row + 1)`; row 0 = empty. Allocated at the first such key.
+    slots: Vec<(u64, u32)>,
+    multiplier: u64,
+    len: usize,
+}
+
+impl OtherRows {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The slot holding `key`, or the empty slot where it belongs.
+    #[inline]
+    fn slot(&mut self, key: u64) -> usize {
+        if self.slots.is_empty() {
+            self.slots = vec![(0, 0); OTHER_SLOTS];
+            let mut hasher = std::collections::hash_map::RandomState::new().build_hasher();
+            hasher.write_u64(key);
+            self.multiplier = hasher.finish() | 1;
+        }
+        let mut slot = (key.wrapping_mul(self.multiplier) >> (64 - OTHER_SLOT_BITS)) as usize;
+        loop {
+            match self.slots.get(slot) {
+                Some(&(stored, row)) if row != 0 && stored != key => slot = (slot + 1) % OTHER_SLOTS,
+                _ => return slot,
+            }
+        }
+    }
+
+    /// The row of `key`, if it has one.
+    #[inline]
+    fn get(&mut self, key: RowKey) -> Option<usize> {
+        let slot = self.slot(key.packed());
+        match self.slots.get(slot) {
+            Some(&(_, row)) if row != 0 => Some(row as usize - 1),
+            _ => None,
+        }
+    }
+
+    /// Gives `key` (which has no row yet) the row `row`.
+    fn insert(&mut self, key: RowKey, row: usize) {
+        let packed = key.packed();
+        let slot = self.slot(packed);
+        if let Some(entry) = self.slots.get_mut(slot) {
+            *entry = (packed, row as u32 + 1);
+            self.len += 1;
+        }
+    }
+}
+
 /// When something happened: the timestamp if the input has one, else the frame's position.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct At {
@@ -103,6 +165,24 @@ impl RowKey {
             },
             FrameRef::Serial(frame) => Self::Serial(frame.frame_id()),
         }
+    }
+
+    /// The key as one number, distinct for every key: the variant and the identifier's kind above its value.
+    fn packed(self) -> u64 {
+        let (variant, id) = match self {
+            Self::Can(id) => (0, Some(id)),
+            Self::Error(id) => (1, Some(id)),
+            Self::Serial(id) => (2, Some(id)),
+            Self::Fd(id) => (3, Some(id)),
+            Self::Other => (4, None),
+        };
+        let (kind, value) = match id {
+            Some(FrameId::Standard(value)) => (0, u32::from(value)),
+            Some(FrameId::Extended(value)) => (1, value),
+            Some(FrameId::Serial(value)) => (2, u32::from(value)),
+            None => (3, 0),
+        };
+        ((variant * 4 + kind) << 32) | u64::from(value)
     }
 
     /// The slot in the 2048-entry table, for a classic standard identifier.
@@ -264,7 +344,7 @@ pub struct Summary {
     /// Index into `ids` + 1 for each standard identifier; 0 = not seen.
     standard_index: Box<[u32; 2048]>,
     /// Index into `ids` for every other key (extended, error, serial, FD).
-    other_index: HashMap<RowKey, usize>,
+    other_index: OtherRows,
     ids: Vec<IdStats>,
     interfaces: Interfaces,
     last_iface: String,
@@ -296,7 +376,7 @@ impl Default for Summary {
             first: None,
             last: None,
             standard_index: Box::new([0; 2048]),
-            other_index: HashMap::new(),
+            other_index: OtherRows::default(),
             ids: Vec::new(),
             interfaces: Interfaces::default(),
             last_iface: String::new(),
@@ -406,19 +486,22 @@ impl Summary {
             self.standard_index[standard] = self.ids.len() as u32;
             return self.ids.len() - 1;
         }
-        let key = if self.other_index.len() >= MAX_OTHER_IDS && !self.other_index.contains_key(&key) {
-            RowKey::Other
-        } else {
-            key
-        };
-        match self.other_index.get(&key) {
-            Some(index) => *index,
-            None => {
-                self.ids.push(IdStats::new(key));
-                self.other_index.insert(key, self.ids.len() - 1);
-                self.ids.len() - 1
-            }
+        if let Some(row) = self.other_index.get(key) {
+            return row;
         }
+        if self.other_index.len() >= MAX_OTHER_IDS {
+            if let Some(row) = self.other_index.get(RowKey::Other) {
+                return row;
+            }
+            return self.push_other_row(RowKey::Other);
+        }
+        self.push_other_row(key)
+    }
+
+    fn push_other_row(&mut self, key: RowKey) -> usize {
+        self.ids.push(IdStats::new(key));
+        self.other_index.insert(key, self.ids.len() - 1);
+        self.ids.len() - 1
     }
 
     fn note(&mut self, at: At, text: String) {
@@ -658,5 +741,48 @@ mod tests {
         let mut wide = [FaultSeen::default(); 16];
         see_bits(&mut wide, 0x8001, at(4));
         assert_eq!((wide[0].frames, wide[15].frames, wide[1].frames), (1, 1, 0));
+    }
+
+    /// Every key packs to a number of its own (the variant, the identifier's kind and its value).
+    #[test]
+    fn packed_keys_are_distinct() {
+        let keys = [
+            RowKey::Can(FrameId::Standard(0x123)),
+            RowKey::Can(FrameId::Extended(0x123)),
+            RowKey::Error(FrameId::Extended(0x123)),
+            RowKey::Serial(FrameId::Serial(0x123)),
+            RowKey::Fd(FrameId::Standard(0x123)),
+            RowKey::Fd(FrameId::Extended(0x123)),
+            RowKey::Can(FrameId::Extended(0x1FFF_FFFF)),
+            RowKey::Other,
+        ];
+        let packed: HashSet<u64> = keys.iter().map(|key| key.packed()).collect();
+        assert_eq!(packed.len(), keys.len());
+        assert_eq!(RowKey::Can(FrameId::Extended(0x1FFF_FFFF)).packed(), (1 << 32) | 0x1FFF_FFFF);
+        assert_eq!(RowKey::Other.packed(), 19 << 32);
+    }
+
+    /// The first 4096 extended identifiers get rows of their own, found again when they repeat; every
+    /// later one counts in the overflow row.
+    #[test]
+    fn other_keys_are_found_again_and_overflow_into_one_row() {
+        let mut summary = Summary::default();
+        let frames: Vec<CanFrame> =
+            (0..5000u32).map(|n| CanFrame::new_extended(0x1800_0000 + n * 7, &[]).unwrap()).collect();
+        for (n, frame) in frames.iter().enumerate() {
+            summary.event(&event_at(frame, 1_700_000_000, n as u32));
+        }
+        for frame in frames.iter().take(10).chain(frames.iter().skip(4990)) {
+            summary.event(&event_at(frame, 1_700_000_001, 0));
+        }
+        assert_eq!(summary.ids.len(), MAX_OTHER_IDS + 1);
+        assert_eq!(summary.other_index.len(), MAX_OTHER_IDS + 1);
+        assert_eq!(summary.ids[0].key, RowKey::Can(FrameId::Extended(0x1800_0000)));
+        assert_eq!(summary.ids[4095].key, RowKey::Can(FrameId::Extended(0x1800_0000 + 4095 * 7)));
+        assert_eq!(summary.ids[4096].key, RowKey::Other);
+        // 0..10 repeated: two frames each; 4096..5000 and the ten repeats of the last ones: the overflow row.
+        assert_eq!((summary.ids[0].count, summary.ids[9].count, summary.ids[10].count), (2, 2, 1));
+        assert_eq!(summary.ids[4096].count, 904 + 10);
+        assert_eq!(summary.ids.iter().map(|row| row.count).sum::<u64>(), 5020);
     }
 }
