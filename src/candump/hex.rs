@@ -43,18 +43,67 @@ pub(crate) fn hex_pair(hi: u8, lo: u8) -> Option<u8> {
     ((hi | lo) & 0xF0 == 0).then_some((hi << 4) | lo)
 }
 
-/// Decodes 16 hex digits into 8 bytes (a full classic payload) with one validity test for all of them.
+/// Decodes 16 hex digits into 8 bytes (a full classic payload): SWAR, eight digits at a time in a u64,
+/// with one validity test for each eight (measured: the table lookups took 110 instructions a line).
 #[inline(always)]
 pub(crate) fn hex_bytes_8(digits: &[u8; 16]) -> Option<[u8; 8]> {
-    let mut bytes = [0u8; 8];
-    let mut seen = 0u8;
-    for (byte, pair) in bytes.iter_mut().zip(digits.chunks_exact(2)) {
-        let (hi, lo) = (HEX_VALUE[usize::from(pair[0])], HEX_VALUE[usize::from(pair[1])]);
-        seen |= hi | lo;
-        *byte = (hi << 4) | lo;
+    let (first, second) = digits.split_at(8);
+    let first = hex_word(u64::from_le_bytes(first.try_into().ok()?))?;
+    let second = hex_word(u64::from_le_bytes(second.try_into().ok()?))?;
+    Some((first | (second << 32)).to_le_bytes())
+}
+
+/// Eight ASCII hex digits, the first in the lowest byte, as four bytes in the low 32 bits (the first byte
+/// lowest); `None` unless every byte is `0-9`, `A-F` or `a-f` (exactly what [`HEX_VALUE`] accepts).
+#[inline(always)]
+fn hex_word(digits: u64) -> Option<u64> {
+    const ONES: u64 = 0x0101_0101_0101_0101;
+    const HIGH: u64 = 0x8080_8080_8080_8080;
+    if digits & HIGH != 0 {
+        return None;
     }
-    // Every lookup is < 16 unless one is NOT_HEX.
-    (seen & 0xF0 == 0).then_some(bytes)
+    // For bytes below 0x80: the high bit of each byte of the result says whether it lies in lo..=hi
+    // (b + 0x80 - lo reaches 0x80 when b >= lo; b + 0x7F - hi does when b > hi; no carry between bytes).
+    let in_range = |word: u64, lo: u8, hi: u8| {
+        (word + ONES * u64::from(0x80 - lo)) & !(word + ONES * u64::from(0x7F - hi)) & HIGH
+    };
+    let decimal = in_range(digits, b'0', b'9');
+    // Setting 0x20 folds `A-F` onto `a-f` and moves nothing else into that range.
+    let letter = in_range(digits | (ONES * 0x20), b'a', b'f');
+    if decimal | letter != HIGH {
+        return None;
+    }
+    let values = (digits & (ONES * 0x0F)) + (letter >> 7) * 9;
+    // Each 16-bit lane: its first digit (the high nibble) and second digit into its low byte.
+    const LOW_BYTES: u64 = 0x00FF_00FF_00FF_00FF;
+    let pairs = ((values & LOW_BYTES) << 4) | ((values >> 8) & LOW_BYTES);
+    // The four low bytes of the lanes, gathered into the low 32 bits.
+    let pairs = (pairs | (pairs >> 8)) & 0x0000_FFFF_0000_FFFF;
+    Some((pairs | (pairs >> 16)) & 0xFFFF_FFFF)
+}
+
+/// Whether two byte strings are equal; names of up to 16 bytes (interface names) are compared as two
+/// overlapping words each, inline, instead of through a `memcmp` call (measured: one call per line).
+#[inline(always)]
+pub fn same_bytes(a: &[u8], b: &[u8]) -> bool {
+    let len = a.len();
+    if len != b.len() {
+        return false;
+    }
+    match len {
+        0 => true,
+        // Positions 0, len / 2 and len - 1 cover every byte of 1 to 3.
+        1..=3 => a.first() == b.first() && a.get(len / 2) == b.get(len / 2) && a.last() == b.last(),
+        4..=8 => word::<4>(a, 0) == word::<4>(b, 0) && word::<4>(a, len - 4) == word::<4>(b, len - 4),
+        9..=16 => word::<8>(a, 0) == word::<8>(b, 0) && word::<8>(a, len - 8) == word::<8>(b, len - 8),
+        _ => a == b,
+    }
+}
+
+/// The `N` bytes of `bytes` at `at`, as one array (compared as a word).
+#[inline(always)]
+fn word<const N: usize>(bytes: &[u8], at: usize) -> Option<[u8; N]> {
+    bytes.get(at..at + N)?.try_into().ok()
 }
 
 /// Value of an all-hex slice of at most 8 digits; `None` if any byte is not hex.
@@ -161,6 +210,48 @@ mod tests {
             digits[at] = b'g';
             assert_eq!(hex_bytes_8(&digits), None);
         }
+    }
+
+    /// The word-at-a-time decoding against the table, for every byte value at every position.
+    #[test]
+    fn hex_bytes_8_agrees_with_the_table_for_every_byte() {
+        let by_table = |digits: &[u8; 16]| -> Option<[u8; 8]> {
+            let mut bytes = [0u8; 8];
+            for (byte, pair) in bytes.iter_mut().zip(digits.chunks_exact(2)) {
+                *byte = hex_pair(pair[0], pair[1])?;
+            }
+            Some(bytes)
+        };
+        for base in [*b"0123456789ABCDEF", *b"fedcba9876543210", *b"0000000000000000", *b"FfFfaAbB09afAF90"] {
+            assert_eq!(hex_bytes_8(&base), by_table(&base));
+            for at in 0..16 {
+                for byte in 0..=255u8 {
+                    let mut digits = base;
+                    digits[at] = byte;
+                    assert_eq!(hex_bytes_8(&digits), by_table(&digits), "{:?}", digits);
+                }
+            }
+        }
+        assert_eq!(hex_bytes_8(b"fedcba9876543210"), Some([0xFE, 0xDC, 0xBA, 0x98, 0x76, 0x54, 0x32, 0x10]));
+        assert_eq!(hex_bytes_8(b"0000000000000000"), Some([0; 8]));
+        assert_eq!(hex_bytes_8(b"FFFFFFFFFFFFFFFF"), Some([0xFF; 8]));
+    }
+
+    #[test]
+    fn same_bytes_compares_every_byte_of_every_length() {
+        for len in 0..=24usize {
+            let name: Vec<u8> = (0..len).map(|i| b'a' + i as u8).collect();
+            assert!(same_bytes(&name, &name.clone()), "length {len}");
+            for at in 0..len {
+                let mut other = name.clone();
+                other[at] ^= 0x01;
+                assert!(!same_bytes(&name, &other), "length {len}, byte {at}");
+            }
+            assert!(!same_bytes(&name, &name[..len.saturating_sub(1)]) || len == 0);
+        }
+        assert!(same_bytes(b"can0", b"can0"));
+        assert!(!same_bytes(b"can0", b"can1"));
+        assert!(!same_bytes(b"vcan0", b"can0"));
     }
 
     #[test]

@@ -4,7 +4,9 @@ use memchr::memchr;
 
 use super::asc::{self, AscState};
 use super::cansend::{classify_id, data_frame, parse_frame_text, FrameText, IdForm};
-use super::hex::{decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, skip_spaces, token_end};
+use super::hex::{
+    decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, same_bytes, skip_spaces, token_end,
+};
 use super::open::{LogFormat, TextFormat};
 use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
 use super::trc::{self, TrcState};
@@ -247,14 +249,28 @@ fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Reco
         return None;
     }
     let iface_start = skip_spaces(line, after_ts + 1);
-    let mut pos = iface_start;
-    while let Some(0x21..=0x7E) = line.get(pos) {
-        pos += 1;
-    }
-    if pos == iface_start || pos - iface_start > IFACE_MAX_LEN || line.get(pos) != Some(&b' ') {
-        return None;
-    }
-    let iface = same_iface(last_iface, &line[iface_start..pos])?;
+    // The last line's interface (1..=15 printable bytes, checked then) followed by a space: the scan
+    // below would stop at that space, so the name is that one.
+    let last_end = iface_start + last_iface.len();
+    let (pos, iface) = match line.get(iface_start..last_end) {
+        Some(name)
+            if !last_iface.is_empty()
+                && same_bytes(name, last_iface.as_bytes())
+                && line.get(last_end) == Some(&b' ') =>
+        {
+            (last_end, last_iface.as_str())
+        }
+        _ => {
+            let mut pos = iface_start;
+            while let Some(0x21..=0x7E) = line.get(pos) {
+                pos += 1;
+            }
+            if pos == iface_start || pos - iface_start > IFACE_MAX_LEN || line.get(pos) != Some(&b' ') {
+                return None;
+            }
+            (pos, same_iface(last_iface, &line[iface_start..pos])?)
+        }
+    };
     let id_start = pos + 1;
     let (id, extended, mut pos) = if line.get(id_start + 3) == Some(&b'#') {
         let id = hex3(line.get(id_start..id_start + 3)?)?;
@@ -304,7 +320,7 @@ fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Reco
 /// UTF-8 check; a new one is checked and kept. `None` if it is not UTF-8.
 #[inline(always)]
 fn same_iface<'a>(last: &'a mut String, name: &[u8]) -> Option<&'a str> {
-    if last.as_bytes() != name {
+    if !same_bytes(last.as_bytes(), name) {
         let name = std::str::from_utf8(name).ok()?;
         last.clear();
         last.push_str(name);

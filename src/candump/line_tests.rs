@@ -600,3 +600,33 @@ mod fast_path_props {
         }
     }
 }
+
+/// The fast path takes the last line's interface when the same name and a space follow the stamp; every
+/// other name (longer, shorter, a prefix, one byte changed, not printable) is scanned as before.
+#[test]
+fn log_interface_names_change_from_line_to_line() {
+    let mut parser = LineParser::new();
+    let line = |iface: &str| format!("(1700000000.002500) {iface} 211#00000103000000B1");
+    for iface in [
+        "can0",
+        "can0",
+        "can01",
+        "can0",
+        "can1",
+        "vcan0",
+        "c",
+        "c",
+        "abcdefghijklmno",
+        "abcdefghijklmno",
+        "can0",
+    ] {
+        assert_eq!(frame_with(&mut parser, &line(iface)).iface, iface);
+    }
+    // A name of 16 bytes, or with a byte that is not printable ASCII, is not an interface.
+    assert!(parser.parse(line("abcdefghijklmnop").as_bytes()).is_err());
+    assert!(parser.parse(line("can\u{7f}").as_bytes()).is_err());
+    assert_eq!(frame_with(&mut parser, &line("can0")).iface, "can0");
+    // The last name followed by more name is another name.
+    assert_eq!(frame_with(&mut parser, &line("can0x")).iface, "can0x");
+    assert_eq!(frame_with(&mut parser, "(1700000000.002500) can0x  211#00").iface, "can0x");
+}

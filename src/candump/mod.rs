@@ -61,6 +61,7 @@ mod formats_tests;
 mod line_tests;
 
 pub use cansend::parse_cansend;
+pub use hex::same_bytes;
 pub use line::{CarriedState, Direction, Line, LineParser, Record};
 pub use open::{open_log, Compression, FormatError, LogFormat, TextFormat};
 pub use reader::{LineReader, RawLine, DEFAULT_BUFFER_CAPACITY, DEFAULT_MAX_LINE_LEN};

@@ -2,7 +2,32 @@
 
 use std::io::{self, Read};
 
-use memchr::memchr;
+/// Finds the newline ending each line. On x86-64 a searcher built once (SSE2 is always there), which
+/// skips the per-call CPU dispatch of `memchr::memchr` (measured: about a third of its cost on 46-byte
+/// lines); elsewhere `memchr` itself.
+#[derive(Clone, Copy)]
+struct Newline {
+    #[cfg(target_arch = "x86_64")]
+    sse2: Option<memchr::arch::x86_64::sse2::memchr::One>,
+}
+
+impl Newline {
+    fn new() -> Self {
+        Self {
+            #[cfg(target_arch = "x86_64")]
+            sse2: memchr::arch::x86_64::sse2::memchr::One::new(b'\n'),
+        }
+    }
+
+    #[inline(always)]
+    fn find(&self, haystack: &[u8]) -> Option<usize> {
+        #[cfg(target_arch = "x86_64")]
+        if let Some(sse2) = &self.sse2 {
+            return sse2.find(haystack);
+        }
+        memchr::memchr(b'\n', haystack)
+    }
+}
 
 /// Default size of the read buffer.
 pub const DEFAULT_BUFFER_CAPACITY: usize = 256 * 1024;
@@ -25,6 +50,7 @@ pub enum RawLine<'a> {
 /// skipped without being buffered, and reading continues with the next line.
 pub struct LineReader<R: Read> {
     inner: R,
+    newline: Newline,
     buf: Vec<u8>,
     /// Unconsumed data is `buf[start..end]`.
     start: usize,
@@ -48,6 +74,7 @@ impl<R: Read> LineReader<R> {
     pub fn with_capacity(cap: usize, inner: R) -> Self {
         Self {
             inner,
+            newline: Newline::new(),
             buf: vec![0; cap.max(1)],
             start: 0,
             end: 0,
@@ -74,7 +101,7 @@ impl<R: Read> LineReader<R> {
     /// The next line without its `\n`, or `None` at the end. A final line without `\n` is returned too.
     pub fn next_line(&mut self) -> io::Result<Option<RawLine<'_>>> {
         loop {
-            if let Some(offset) = memchr(b'\n', &self.buf[self.searched..self.end]) {
+            if let Some(offset) = self.newline.find(&self.buf[self.searched..self.end]) {
                 let newline = self.searched + offset;
                 let (start, len) = (self.start, newline - self.start);
                 self.start = newline + 1;

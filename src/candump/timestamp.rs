@@ -62,15 +62,20 @@ pub(crate) fn parse_numeric(text: &[u8], pos: usize) -> Result<(u64, u32, usize)
 #[inline(always)]
 fn parse_candump_stamp(text: &[u8], pos: usize) -> Option<(u64, u32, usize)> {
     let stamp: &[u8; 18] = text.get(pos..pos + 18)?.try_into().ok()?;
-    let [s0, s1, s2, s3, s4, s5, s6, s7, s8, s9, dot, f0, f1, f2, f3, f4, f5, close] = *stamp;
-    if dot != b'.' || close != b')' {
+    let (seconds, tail) = stamp.split_at(10);
+    // `.ffffff)` as one word: the dot in the lowest byte, the parenthesis in the highest.
+    let tail = u64::from_le_bytes(tail.try_into().ok()?);
+    if tail & 0xFF != u64::from(b'.') || tail >> 56 != u64::from(b')') {
         return None;
     }
-    let high = eight_digits([s0, s1, s2, s3, s4, s5, s6, s7])?;
-    let low = eight_digits([s8, s9, b'0', b'0', b'0', b'0', b'0', b'0'])?;
-    let fraction = eight_digits([b'0', b'0', f0, f1, f2, f3, f4, f5])?;
-    // `low` is s8 s9 followed by six zeros: divide them away.
-    let secs = high * 100 + low / 1_000_000;
+    let [s0, s1, ..] = *stamp;
+    if !s0.is_ascii_digit() || !s1.is_ascii_digit() {
+        return None;
+    }
+    let low = eight_digits(seconds.get(2..10)?.try_into().ok()?)?;
+    // The six fraction digits moved up two bytes, with two zeros before them: their value in microseconds.
+    let fraction = eight_digits((((tail >> 8) << 16) | 0x3030).to_le_bytes())?;
+    let secs = u64::from(s0 - b'0') * 1_000_000_000 + u64::from(s1 - b'0') * 100_000_000 + low;
     Some((secs, fraction as u32 * NANO_SCALE[6], pos + 18))
 }
 
@@ -262,6 +267,33 @@ mod tests {
         }
         assert_eq!(parse_candump_stamp(b"(1614188635.123456)", 1), Some((1_614_188_635, 123_456_000, 19)));
         assert_eq!(parse_candump_stamp(b"(1614188635.12345)", 1), None);
+    }
+
+    /// The word-at-a-time stamp (seconds in two digits and a word, the fraction in a word with the dot and
+    /// the parenthesis) against the digit-by-digit scan: every byte value at every position.
+    #[test]
+    fn the_candump_layout_agrees_with_the_scan_for_every_byte() {
+        for base in [*b"(1700000000.002500) ", *b"(9876543210.987654) ", *b"(0123456789.012345) "] {
+            for at in 1..19 {
+                for byte in 0..=255u8 {
+                    let mut text = base;
+                    text[at] = byte;
+                    let fast = parse_candump_stamp(&text, 1);
+                    if let Some(parsed) = fast {
+                        assert_eq!(Ok(parsed), parse_numeric_any(&text, 1), "{}", text.escape_ascii());
+                    } else {
+                        assert!(!byte.is_ascii_digit() || at == 11 || at == 18, "{}", text.escape_ascii());
+                    }
+                    assert_eq!(
+                        parse_numeric(&text, 1),
+                        parse_numeric_any(&text, 1),
+                        "{}",
+                        text.escape_ascii()
+                    );
+                }
+            }
+        }
+        assert_eq!(parse_candump_stamp(b"(9876543210.987654)", 1), Some((9_876_543_210, 987_654_000, 19)));
     }
 
     #[test]

@@ -44,6 +44,19 @@ pub enum Shape {
     Raw,
 }
 
+impl Shape {
+    /// The `msg` name of an event of this shape.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Shape::Message(decoded) => decoded.message.name(),
+            Shape::Invalid(_) => filter::FrameShape::Invalid.name(),
+            Shape::ErrorFrame(_) => filter::FrameShape::ErrorFrame.name(),
+            Shape::Remote => filter::FrameShape::RemoteRequest.name(),
+            Shape::Raw => filter::FrameShape::Raw.name(),
+        }
+    }
+}
+
 impl Event<'_> {
     pub fn shape(&self) -> Shape {
         match self.decoded {
@@ -62,13 +75,7 @@ impl Event<'_> {
 
     /// The `msg` name of the line.
     pub fn msg_name(&self) -> &'static str {
-        match self.shape() {
-            Shape::Message(decoded) => decoded.message.name(),
-            Shape::Invalid(_) => filter::FrameShape::Invalid.name(),
-            Shape::ErrorFrame(_) => filter::FrameShape::ErrorFrame.name(),
-            Shape::Remote => filter::FrameShape::RemoteRequest.name(),
-            Shape::Raw => filter::FrameShape::Raw.name(),
-        }
+        self.shape().name()
     }
 
     /// `can-v2`, `can-v1`, `serial`, or `None` for frames that are not TRACER messages.

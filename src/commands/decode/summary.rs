@@ -4,18 +4,18 @@ mod json;
 mod report;
 mod text;
 
-use std::collections::{HashMap, HashSet};
+use std::collections::HashSet;
 use std::fmt;
-use std::hash::{Hash, Hasher};
+use std::hash::{BuildHasher, Hash, Hasher};
 
 use serde_json::Value as Json;
 
 use super::InputStats;
-use crate::candump::Timestamp;
+use crate::candump::{same_bytes, Timestamp};
 use crate::output::{Event, FrameRef, Shape};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ERROR_CLASSES;
-use crate::protocol::frame::ERR_FLAG;
+use crate::protocol::frame::{ERR_FLAG, SFF_MAX};
 use crate::protocol::message::{control_mode_name, vehicle_state_name, Message, SystemState, Wire};
 use crate::protocol::{Decoded, FrameId, FrameKind};
 
@@ -69,6 +69,68 @@ impl Interfaces {
     }
 }
 
+/// Slots of [`OtherRows`]: a power of two, about twice the keys it holds (`MAX_OTHER_IDS` and the
+/// overflow row).
+const OTHER_SLOTS: usize = (2 * MAX_OTHER_IDS).next_power_of_two();
+/// The bits of a hash that index [`OTHER_SLOTS`].
+const OTHER_SLOT_BITS: u32 = OTHER_SLOTS.trailing_zeros();
+
+/// The rows of every key but a classic standard identifier (extended, error, RS232, FD, the overflow row):
+/// an open-addressing table of row numbers, probed linearly from a multiplicative hash of the packed key.
+/// The multiplier is random per run, so a log cannot pick identifiers that collide; the table is never more
+/// than half full. (A `HashMap` with SipHash cost about 340 instructions per extended frame.)
+#[derive(Debug, Default)]
+struct OtherRows {
+    /// `(packed key, row + 1)`; row 0 = empty. Allocated at the first such key.
+    slots: Vec<(u64, u32)>,
+    multiplier: u64,
+    len: usize,
+}
+
+impl OtherRows {
+    fn len(&self) -> usize {
+        self.len
+    }
+
+    /// The slot holding `key`, or the empty slot where it belongs.
+    #[inline]
+    fn slot(&mut self, key: u64) -> usize {
+        if self.slots.is_empty() {
+            self.slots = vec![(0, 0); OTHER_SLOTS];
+            let mut hasher = std::collections::hash_map::RandomState::new().build_hasher();
+            hasher.write_u64(key);
+            self.multiplier = hasher.finish() | 1;
+        }
+        let mut slot = (key.wrapping_mul(self.multiplier) >> (64 - OTHER_SLOT_BITS)) as usize;
+        loop {
+            match self.slots.get(slot) {
+                Some(&(stored, row)) if row != 0 && stored != key => slot = (slot + 1) % OTHER_SLOTS,
+                _ => return slot,
+            }
+        }
+    }
+
+    /// The row of `key`, if it has one.
+    #[inline]
+    fn get(&mut self, key: RowKey) -> Option<usize> {
+        let slot = self.slot(key.packed());
+        match self.slots.get(slot) {
+            Some(&(_, row)) if row != 0 => Some(row as usize - 1),
+            _ => None,
+        }
+    }
+
+    /// Gives `key` (which has no row yet) the row `row`.
+    fn insert(&mut self, key: RowKey, row: usize) {
+        let packed = key.packed();
+        let slot = self.slot(packed);
+        if let Some(entry) = self.slots.get_mut(slot) {
+            *entry = (packed, row as u32 + 1);
+            self.len += 1;
+        }
+    }
+}
+
 /// When something happened: the timestamp if the input has one, else the frame's position.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct At {
@@ -105,6 +167,24 @@ impl RowKey {
         }
     }
 
+    /// The key as one number, distinct for every key: the variant and the identifier's kind above its value.
+    fn packed(self) -> u64 {
+        let (variant, id) = match self {
+            Self::Can(id) => (0, Some(id)),
+            Self::Error(id) => (1, Some(id)),
+            Self::Serial(id) => (2, Some(id)),
+            Self::Fd(id) => (3, Some(id)),
+            Self::Other => (4, None),
+        };
+        let (kind, value) = match id {
+            Some(FrameId::Standard(value)) => (0, u32::from(value)),
+            Some(FrameId::Extended(value)) => (1, value),
+            Some(FrameId::Serial(value)) => (2, u32::from(value)),
+            None => (3, 0),
+        };
+        ((variant * 4 + kind) << 32) | u64::from(value)
+    }
+
     /// The slot in the 2048-entry table, for a classic standard identifier.
     fn standard_index(self) -> Option<usize> {
         match self {
@@ -133,6 +213,8 @@ struct IdStats {
     count: u64,
     first: Option<Timestamp>,
     last: Option<Timestamp>,
+    /// `last` in nanoseconds, for the gap to the next frame.
+    last_ns: u128,
     worst_gap_ns: u128,
     worst_gap_at: Option<Timestamp>,
     last_counter: Option<u8>,
@@ -150,6 +232,7 @@ impl IdStats {
             count: 0,
             first: None,
             last: None,
+            last_ns: 0,
             worst_gap_ns: 0,
             worst_gap_at: None,
             last_counter: None,
@@ -158,6 +241,40 @@ impl IdStats {
             counter_repeats: 0,
             invalid: 0,
         }
+    }
+
+    /// A frame of this row at `ts`: first and last times and the longest gap.
+    #[inline]
+    fn see_time(&mut self, ts: Timestamp) {
+        let now = nanos(&ts);
+        // `first` and `last` are only set here, together: one test for both.
+        if self.last.is_none() {
+            self.first = Some(ts);
+        } else {
+            let gap = now.saturating_sub(self.last_ns);
+            if gap > self.worst_gap_ns {
+                self.worst_gap_ns = gap;
+                self.worst_gap_at = Some(ts);
+            }
+        }
+        self.last = Some(ts);
+        self.last_ns = now;
+    }
+
+    /// The rolling count byte of a frame of this row: a step of 1 is normal, 0 a repeat, more a skip.
+    #[inline]
+    fn count_byte(&mut self, count: u8) {
+        if let Some(previous) = self.last_counter {
+            match count.wrapping_sub(previous) {
+                1 => {}
+                0 => self.counter_repeats += 1,
+                step => {
+                    self.counter_skips += 1;
+                    self.frames_lost += u64::from(step - 1);
+                }
+            }
+        }
+        self.last_counter = Some(count);
     }
 }
 
@@ -168,14 +285,18 @@ struct FaultSeen {
     frames: u64,
 }
 
-/// Records `at` for every bit set in `bits`, one slot per bit.
+/// Records `at` for every bit set in `bits`, one slot per bit (bits beyond the slots are ignored). Visits
+/// only the set bits: nearly always none.
+#[inline]
 fn see_bits(slots: &mut [FaultSeen], bits: u16, at: At) {
-    for (bit, seen) in slots.iter_mut().enumerate() {
-        if bits & (1 << bit) != 0 {
+    let mut bits = u32::from(bits) & ((1u32 << slots.len().min(16)) - 1);
+    while bits != 0 {
+        if let Some(seen) = slots.get_mut(bits.trailing_zeros() as usize) {
             seen.first.get_or_insert(at);
             seen.last = Some(at);
             seen.frames += 1;
         }
+        bits &= bits - 1;
     }
 }
 
@@ -223,7 +344,7 @@ pub struct Summary {
     /// Index into `ids` + 1 for each standard identifier; 0 = not seen.
     standard_index: Box<[u32; 2048]>,
     /// Index into `ids` for every other key (extended, error, serial, FD).
-    other_index: HashMap<RowKey, usize>,
+    other_index: OtherRows,
     ids: Vec<IdStats>,
     interfaces: Interfaces,
     last_iface: String,
@@ -255,7 +376,7 @@ impl Default for Summary {
             first: None,
             last: None,
             standard_index: Box::new([0; 2048]),
-            other_index: HashMap::new(),
+            other_index: OtherRows::default(),
             ids: Vec::new(),
             interfaces: Interfaces::default(),
             last_iface: String::new(),
@@ -286,20 +407,9 @@ fn nanos(ts: &Timestamp) -> u128 {
     ts.as_nanos()
 }
 
-/// The rolling count byte a message carries, if any.
-fn counter(decoded: &Decoded) -> Option<u8> {
-    match decoded.message {
-        Message::SystemState(state) => Some(state.count),
-        Message::LightCommand(lights) | Message::LightState(lights) => Some(lights.count),
-        Message::RcState(rc) => Some(rc.count),
-        Message::PercentMotionCommand(cmd) => Some(cmd.count),
-        Message::MotorDriverState(motor) => Some(motor.count),
-        Message::MotionState(state) if decoded.wire != Wire::CanV2 => Some(state.count),
-        _ => None,
-    }
-}
-
 impl Summary {
+    /// One event: a few direct-indexed table updates, nothing allocated or formatted (except the rare
+    /// mode and vehicle-state changes listed).
     pub fn event(&mut self, event: &Event) {
         self.frames += 1;
         let at = At { ts: event.ts, frame: self.frames };
@@ -307,43 +417,31 @@ impl Summary {
             self.first.get_or_insert(ts);
             self.last = Some(ts);
         }
-        if event.iface != self.last_iface {
-            self.last_iface.clear();
-            self.last_iface.push_str(event.iface);
-            self.interfaces.see(event.iface);
+        if !same_bytes(event.iface.as_bytes(), self.last_iface.as_bytes()) {
+            self.new_iface(event.iface);
         }
-        let shape = event.shape();
-        let stats = self.id_stats(RowKey::of(event));
+        let row = self.row(event);
+        let stats = &mut self.ids[row];
         stats.count += 1;
-        stats.name = event.msg_name();
         if let Some(ts) = event.ts {
-            if let Some(previous) = stats.last {
-                let gap = nanos(&ts).saturating_sub(nanos(&previous));
-                if gap > stats.worst_gap_ns {
-                    stats.worst_gap_ns = gap;
-                    stats.worst_gap_at = Some(ts);
-                }
-            }
-            stats.first.get_or_insert(ts);
-            stats.last = Some(ts);
+            stats.see_time(ts);
         }
-        match shape {
-            Shape::Message(decoded) => {
-                if let Some(count) = counter(&decoded) {
-                    if let Some(previous) = stats.last_counter {
-                        match count.wrapping_sub(previous) {
-                            1 => {}
-                            0 => stats.counter_repeats += 1,
-                            step => {
-                                stats.counter_skips += 1;
-                                stats.frames_lost += u64::from(step - 1);
-                            }
-                        }
-                    }
-                    stats.last_counter = Some(count);
-                }
-                self.message(&decoded, at);
+        // A TRACER message (nearly every frame) by reference: no copy of the decoded message.
+        match &event.decoded {
+            Ok(Some(decoded)) => {
+                stats.name = decoded.message.name();
+                self.message(row, decoded, at);
             }
+            _ => self.not_a_message(row, event.shape()),
+        }
+    }
+
+    /// Raw, remote, error and invalid frames.
+    fn not_a_message(&mut self, row: usize, shape: Shape) {
+        let stats = &mut self.ids[row];
+        stats.name = shape.name();
+        match shape {
+            Shape::Message(_) => {} // taken by the caller
             Shape::Invalid(_) => stats.invalid += 1,
             Shape::ErrorFrame(error) => {
                 for (index, (mask, _)) in ERROR_CLASSES.iter().enumerate() {
@@ -356,32 +454,54 @@ impl Summary {
         }
     }
 
-    fn id_stats(&mut self, key: RowKey) -> &mut IdStats {
-        let slot = if let Some(standard) = key.standard_index() {
-            let index = self.standard_index[standard];
-            if index == 0 {
-                self.ids.push(IdStats::new(key));
-                self.standard_index[standard] = self.ids.len() as u32;
-                self.ids.len() - 1
-            } else {
-                index as usize - 1
-            }
-        } else {
-            let key = if self.other_index.len() >= MAX_OTHER_IDS && !self.other_index.contains_key(&key) {
-                RowKey::Other
-            } else {
-                key
-            };
-            match self.other_index.get(&key) {
-                Some(index) => *index,
-                None => {
-                    self.ids.push(IdStats::new(key));
-                    self.other_index.insert(key, self.ids.len() - 1);
-                    self.ids.len() - 1
+    /// Another interface than the last event's (rare: most logs have one).
+    #[inline(never)]
+    fn new_iface(&mut self, iface: &str) {
+        self.last_iface.clear();
+        self.last_iface.push_str(iface);
+        self.interfaces.see(iface);
+    }
+
+    /// The index in `ids` of the event's row: a classic standard identifier straight from the 2048-entry
+    /// table, every other key through the bounded map.
+    #[inline]
+    fn row(&mut self, event: &Event) -> usize {
+        if let FrameRef::Can(frame) = event.frame {
+            if !frame.is_extended() && matches!(frame.kind(), FrameKind::Data | FrameKind::Remote) {
+                let standard = (frame.id() & SFF_MAX) as usize;
+                let index = self.standard_index[standard];
+                if index != 0 {
+                    return index as usize - 1;
                 }
             }
-        };
-        &mut self.ids[slot]
+        }
+        self.new_or_other_row(RowKey::of(event))
+    }
+
+    /// The row of a standard identifier seen for the first time, or of any other key.
+    #[inline(never)]
+    fn new_or_other_row(&mut self, key: RowKey) -> usize {
+        if let Some(standard) = key.standard_index() {
+            self.ids.push(IdStats::new(key));
+            self.standard_index[standard] = self.ids.len() as u32;
+            return self.ids.len() - 1;
+        }
+        if let Some(row) = self.other_index.get(key) {
+            return row;
+        }
+        if self.other_index.len() >= MAX_OTHER_IDS {
+            if let Some(row) = self.other_index.get(RowKey::Other) {
+                return row;
+            }
+            return self.push_other_row(RowKey::Other);
+        }
+        self.push_other_row(key)
+    }
+
+    fn push_other_row(&mut self, key: RowKey) -> usize {
+        self.ids.push(IdStats::new(key));
+        self.other_index.insert(key, self.ids.len() - 1);
+        self.ids.len() - 1
     }
 
     fn note(&mut self, at: At, text: String) {
@@ -392,10 +512,19 @@ impl Summary {
         }
     }
 
-    fn message(&mut self, decoded: &Decoded, at: At) {
+    /// What a decoded message adds: its count byte (row `row`) and the values the report tracks. One match
+    /// for both, so a message is dispatched once.
+    #[inline]
+    fn message(&mut self, row: usize, decoded: &Decoded, at: At) {
         match decoded.message {
-            Message::SystemState(state) => self.system_state(&state, decoded.wire, at),
+            Message::SystemState(state) => {
+                self.ids[row].count_byte(state.count);
+                self.system_state(&state, decoded.wire, at);
+            }
             Message::MotionState(state) => {
+                if decoded.wire != Wire::CanV2 {
+                    self.ids[row].count_byte(state.count);
+                }
                 keep_max_abs(&mut self.measured_linear, state.linear_mm_s.into(), at);
                 keep_max_abs(&mut self.measured_angular, state.angular_mrad_s.into(), at);
             }
@@ -404,15 +533,23 @@ impl Summary {
                 keep_max_abs(&mut self.commanded_angular, cmd.angular_mrad_s.into(), at);
             }
             Message::PercentMotionCommand(cmd) => {
+                self.ids[row].count_byte(cmd.count);
                 keep_max_abs(&mut self.commanded_linear, cmd.linear_mm_s(), at);
                 // Percent commands are in 1e-5 rad/s; the table keeps mrad/s.
                 keep_max_abs(&mut self.commanded_angular, cmd.angular_1e5() / 100, at);
             }
+            Message::LightCommand(lights) | Message::LightState(lights) => {
+                self.ids[row].count_byte(lights.count)
+            }
+            Message::RcState(rc) => self.ids[row].count_byte(rc.count),
             Message::MotorHighSpeed(motor) if matches!(motor.motor, 1 | 2) => {
                 self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
             }
-            Message::MotorDriverState(motor) if matches!(motor.motor, 1 | 2) => {
-                self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
+            Message::MotorDriverState(motor) => {
+                self.ids[row].count_byte(motor.count);
+                if matches!(motor.motor, 1 | 2) {
+                    self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
+                }
             }
             Message::MotorLowSpeed(motor) => {
                 let index = usize::from(motor.motor.clamp(1, 3) - 1);
@@ -495,6 +632,7 @@ fn mode_text(wire: Wire, value: u8) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::CanFrame;
 
     #[test]
     fn rows_are_ordered_and_printed_as_the_table_lists_them() {
@@ -516,5 +654,135 @@ mod tests {
         assert_eq!(RowKey::Can(FrameId::Standard(0x211)).standard_index(), Some(0x211));
         assert_eq!(RowKey::Fd(FrameId::Standard(0x211)).standard_index(), None);
         assert_eq!(RowKey::Can(FrameId::Extended(0x211)).standard_index(), None);
+    }
+
+    fn event_at<'a>(frame: &'a CanFrame, secs: u64, nanos: u32) -> Event<'a> {
+        Event {
+            ts: Some(Timestamp::from_numeric(secs, nanos)),
+            iface: "can0",
+            dir: None,
+            frame: FrameRef::Can(frame),
+            decoded: Ok(None),
+        }
+    }
+
+    /// Classic standard identifiers find their row in the 2048-entry table; the same number as an FD or an
+    /// extended frame, and error frames, get rows of their own through the map.
+    #[test]
+    fn each_key_gets_one_row_and_standard_ids_are_indexed_directly() {
+        let classic = CanFrame::new(0x123, &[1, 2]).unwrap();
+        let remote = CanFrame::new_remote(0x7FF, false, 8).unwrap();
+        let fd = CanFrame::new_fd(0x123, false, 4, &[0; 12]).unwrap();
+        let extended = CanFrame::new_extended(0x123, &[]).unwrap();
+        let mut summary = Summary::default();
+        for (frame, secs) in
+            [(&classic, 1), (&fd, 1), (&classic, 2), (&extended, 2), (&remote, 3), (&classic, 5)]
+        {
+            summary.event(&event_at(frame, 1_700_000_000 + secs, 0));
+        }
+        let rows: Vec<(String, u64)> =
+            summary.ids.iter().map(|row| (row.key.to_string(), row.count)).collect();
+        assert_eq!(
+            rows,
+            [("0x123".into(), 3), ("0x123 (FD)".into(), 1), ("0x00000123".into(), 1), ("0x7FF".into(), 1)]
+        );
+        assert_eq!(summary.standard_index[0x123], 1);
+        assert_eq!(summary.standard_index[0x7FF], 4);
+        assert_eq!(summary.standard_index.iter().filter(|index| **index != 0).count(), 2);
+        assert_eq!(summary.other_index.len(), 2);
+        // 0x123's frames at 1, 2 and 5 s: the longest gap is 3 s, ended by the last frame.
+        let row = &summary.ids[0];
+        assert_eq!(row.worst_gap_ns, 3_000_000_000);
+        assert_eq!(row.worst_gap_at.map(|ts| ts.secs), Some(1_700_000_005));
+        assert_eq!(
+            (row.first.map(|ts| ts.secs), row.last.map(|ts| ts.secs)),
+            (Some(1_700_000_001), Some(1_700_000_005))
+        );
+        assert_eq!(row.name, "raw");
+        assert_eq!(summary.ids[3].name, "remote_request");
+        assert_eq!((summary.frames, summary.raw_frames), (6, 6));
+    }
+
+    #[test]
+    fn a_gap_is_measured_in_nanoseconds_across_seconds_and_never_negative() {
+        let mut row = IdStats::new(RowKey::Other);
+        let at = |secs, nanos| Timestamp::from_numeric(secs, nanos);
+        row.see_time(at(10, 900_000_000));
+        row.see_time(at(11, 100_000_000)); // 0.2 s
+        row.see_time(at(11, 50_000_000)); // backwards: no gap
+        row.see_time(at(11, 400_000_000)); // 0.35 s after the previous frame
+        assert_eq!(row.worst_gap_ns, 350_000_000);
+        assert_eq!(row.worst_gap_at, Some(at(11, 400_000_000)));
+        assert_eq!(row.first, Some(at(10, 900_000_000)));
+        assert_eq!(row.last, Some(at(11, 400_000_000)));
+    }
+
+    #[test]
+    fn count_bytes_count_repeats_skips_and_lost_frames_across_the_wrap() {
+        let mut row = IdStats::new(RowKey::Other);
+        for count in [254, 255, 0, 0, 3, 4, 2] {
+            row.count_byte(count);
+        }
+        // 255 -> 0 is a normal step; 0 -> 0 a repeat; 0 -> 3 loses 2; 4 -> 2 wraps: 253 lost.
+        assert_eq!((row.counter_repeats, row.counter_skips, row.frames_lost), (1, 2, 255));
+        assert_eq!(row.last_counter, Some(2));
+    }
+
+    #[test]
+    fn fault_bits_are_recorded_only_where_set_and_within_the_slots() {
+        let at = |frame| At { ts: None, frame };
+        let mut slots = [FaultSeen::default(); 8];
+        see_bits(&mut slots, 0b1_1000_0101, at(1)); // bit 8 has no slot
+        see_bits(&mut slots, 0b0000_0100, at(2));
+        see_bits(&mut slots, 0, at(3));
+        let frames: Vec<u64> = slots.iter().map(|seen| seen.frames).collect();
+        assert_eq!(frames, [1, 0, 2, 0, 0, 0, 0, 1]);
+        assert_eq!((slots[2].first, slots[2].last), (Some(at(1)), Some(at(2))));
+        let mut wide = [FaultSeen::default(); 16];
+        see_bits(&mut wide, 0x8001, at(4));
+        assert_eq!((wide[0].frames, wide[15].frames, wide[1].frames), (1, 1, 0));
+    }
+
+    /// Every key packs to a number of its own (the variant, the identifier's kind and its value).
+    #[test]
+    fn packed_keys_are_distinct() {
+        let keys = [
+            RowKey::Can(FrameId::Standard(0x123)),
+            RowKey::Can(FrameId::Extended(0x123)),
+            RowKey::Error(FrameId::Extended(0x123)),
+            RowKey::Serial(FrameId::Serial(0x123)),
+            RowKey::Fd(FrameId::Standard(0x123)),
+            RowKey::Fd(FrameId::Extended(0x123)),
+            RowKey::Can(FrameId::Extended(0x1FFF_FFFF)),
+            RowKey::Other,
+        ];
+        let packed: HashSet<u64> = keys.iter().map(|key| key.packed()).collect();
+        assert_eq!(packed.len(), keys.len());
+        assert_eq!(RowKey::Can(FrameId::Extended(0x1FFF_FFFF)).packed(), (1 << 32) | 0x1FFF_FFFF);
+        assert_eq!(RowKey::Other.packed(), 19 << 32);
+    }
+
+    /// The first 4096 extended identifiers get rows of their own, found again when they repeat; every
+    /// later one counts in the overflow row.
+    #[test]
+    fn other_keys_are_found_again_and_overflow_into_one_row() {
+        let mut summary = Summary::default();
+        let frames: Vec<CanFrame> =
+            (0..5000u32).map(|n| CanFrame::new_extended(0x1800_0000 + n * 7, &[]).unwrap()).collect();
+        for (n, frame) in frames.iter().enumerate() {
+            summary.event(&event_at(frame, 1_700_000_000, n as u32));
+        }
+        for frame in frames.iter().take(10).chain(frames.iter().skip(4990)) {
+            summary.event(&event_at(frame, 1_700_000_001, 0));
+        }
+        assert_eq!(summary.ids.len(), MAX_OTHER_IDS + 1);
+        assert_eq!(summary.other_index.len(), MAX_OTHER_IDS + 1);
+        assert_eq!(summary.ids[0].key, RowKey::Can(FrameId::Extended(0x1800_0000)));
+        assert_eq!(summary.ids[4095].key, RowKey::Can(FrameId::Extended(0x1800_0000 + 4095 * 7)));
+        assert_eq!(summary.ids[4096].key, RowKey::Other);
+        // 0..10 repeated: two frames each; 4096..5000 and the ten repeats of the last ones: the overflow row.
+        assert_eq!((summary.ids[0].count, summary.ids[9].count, summary.ids[10].count), (2, 2, 1));
+        assert_eq!(summary.ids[4096].count, 904 + 10);
+        assert_eq!(summary.ids.iter().map(|row| row.count).sum::<u64>(), 5020);
     }
 }
