@@ -555,6 +555,12 @@ impl Decoder {
         if !self.filter.passes(event) {
             return Ok(());
         }
+        self.deliver(event)
+    }
+
+    /// An event that passed the filter: written or summarised, and plotted.
+    #[inline]
+    fn deliver(&mut self, event: &Event) -> Result<()> {
         match &mut self.sink {
             Sink::Lines { writer, output } => {
                 let mut output = output.borrow_mut();

@@ -1,4 +1,5 @@
-//! `decode -j N`: a plain candump log file decoded by N threads, written byte for byte as one thread would.
+//! `decode -j N`: a candump log file (plain or compressed) decoded by N threads, written byte for byte as one
+//! thread would.
 //!
 //! A reader thread cuts the text into chunks that end after a `\n`; worker threads decode each chunk into its
 //! own output buffer with the line counts, rejections and stop (`--strict`) it found, numbered within the
@@ -6,14 +7,22 @@
 //! and messages with the chunk's first line number, which is known only then. Chunks travel in a fixed pool,
 //! so memory is bounded by the pool (threads x chunk size), whatever the size of the input.
 //!
+//! `--summary`, `--plot` and `--delta-stamps` (`-t d`) need state carried over every line before: there the
+//! workers parse, decode and filter their chunk into a compact list of events ([`Events`]: stamp, interface
+//! as an index into the chunk's names, direction, frame, what it decoded to), and this thread replays them in
+//! input order through [`Decoder::deliver`], the code one thread feeds them to. So the report (counts, rates,
+//! gaps and count-byte skips across chunk boundaries, fault timelines, first and last times) and the plot are
+//! exact by construction. `-t d` stamps are summed within the chunk from zero and the run's sum before the
+//! chunk is added here, in order (saturating sums of non-negative deltas are associative: exact too); with
+//! `-t d` this thread also writes the text, since every stamp depends on all the lines before.
+//!
 //! State one line leaves for the next is guessed at a chunk's start and checked in order: the protocol
 //! detector's verdict (which decodes the shared identifiers), the interface a Pengutronix header named and
 //! whether an error frame came last ([`CarriedState`]). A worker starts from the state this thread last
 //! published; a chunk decoded from a wrong guess is decoded again here, from the true state (rare: the
 //! verdict settles within the first frames). What cannot be checked this way stays on the single-thread
-//! path ([`Decoder::parallel_fits`]): `-t d` sums (`--delta-stamps`), ASC and trc files (header state),
-//! `--summary` and `--plot`, standard input and pipes (a live stream is written line by line as it comes).
-//! A compressed file is read through its decompressor like a plain one.
+//! path ([`Decoder::parallel_fits`]): ASC and trc files (header state), standard input and pipes (a live
+//! stream is written line by line as it comes).
 
 use std::collections::BTreeMap;
 use std::io::{self, Read};
@@ -26,14 +35,14 @@ use parking_lot::Mutex;
 
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
 use crate::candump::{
-    self, CarriedState, Line, LineParser, LogFormat, Reason, Rejected, Rejection, TextFormat,
-    DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
+    self, CarriedState, DeltaSum, Direction, Line, LineParser, LogFormat, Reason, Rejected, Rejection,
+    TextFormat, Timestamp, DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
 };
 use crate::exit::Failure;
 use crate::output::filter::Filter;
 use crate::output::{Event, EventWriter, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
-use crate::protocol::{CanFrame, ProtocolHint};
+use crate::protocol::{CanFrame, DecodeError, Decoded, ProtocolHint};
 
 /// Input bytes per chunk by default: large enough that the per-chunk work (a channel hop, one write) vanishes,
 /// small enough that the pool stays a few megabytes.
@@ -45,11 +54,7 @@ const MAX_THREADS: usize = 64;
 impl Decoder {
     /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
     pub(super) fn parallel_fits(&self, format: LogFormat) -> bool {
-        self.threads > 1
-            && matches!(self.sink, Sink::Lines { .. })
-            && self.plot.is_none()
-            && !self.delta_stamps
-            && format.text == TextFormat::Candump
+        self.threads > 1 && format.text == TextFormat::Candump
     }
 }
 
@@ -74,7 +79,65 @@ struct Chunk {
     /// Reading failed after `input`.
     read_error: Option<io::Error>,
     output: Vec<u8>,
+    events: Events,
     outcome: Outcome,
+}
+
+/// `--summary`, `--plot` and `-t d`: a chunk's events that passed the filter, replayed by this thread in
+/// input order through the same code one thread feeds them to, so the merge is exact by construction.
+#[derive(Default)]
+struct Events {
+    list: Vec<Replay>,
+    /// The interface names the events point into, one after the other: a name is added each time it
+    /// changes (nearly never), so a line costs no allocation and no search.
+    names: String,
+    /// Where each name ends in `names`.
+    ends: Vec<usize>,
+    /// `-t d`: what all the chunk's deltas (rejected lines' too) add up to.
+    deltas: DeltaSum,
+}
+
+impl Events {
+    fn clear(&mut self) {
+        self.list.clear();
+        self.names.clear();
+        self.ends.clear();
+        self.deltas = DeltaSum::default();
+    }
+
+    /// The index of `iface`: the last name's, or a new one.
+    fn intern(&mut self, iface: &str) -> u32 {
+        let start = self.ends.len().checked_sub(2).map_or(0, |before| self.ends[before]);
+        if self.ends.is_empty() || &self.names[start..] != iface {
+            self.names.push_str(iface);
+            self.ends.push(self.names.len());
+        }
+        // A chunk holds far fewer than 2^32 lines (it is a few hundred kilobytes).
+        (self.ends.len() - 1) as u32
+    }
+
+    fn name(&self, index: u32) -> &str {
+        let index = index as usize;
+        let start = index.checked_sub(1).map_or(0, |before| self.ends[before]);
+        &self.names[start..self.ends[index]]
+    }
+}
+
+/// What [`Decoder::deliver`] needs of one event.
+struct Replay {
+    stamp: Stamp,
+    iface: u32,
+    dir: Option<Direction>,
+    frame: CanFrame,
+    decoded: Result<Option<Decoded>, DecodeError>,
+}
+
+#[derive(Clone, Copy)]
+enum Stamp {
+    /// The line's own stamp, or none.
+    Given(Option<Timestamp>),
+    /// `-t d`: the sum of the chunk's deltas up to this line; the run's sum before the chunk is added in order.
+    Summed(Timestamp),
 }
 
 /// What decoding a chunk found besides its output; line numbers count from 1 within the chunk.
@@ -118,7 +181,11 @@ struct Stop {
 struct Settings {
     protocol: ProtocolHint,
     filter: Filter,
-    writer: EventWriter,
+    /// Workers write the output (not with `-t d`, whose stamps are sums over everything before).
+    writer: Option<EventWriter>,
+    /// Workers keep the events for this thread to replay.
+    record: bool,
+    delta_stamps: bool,
     strict: bool,
 }
 
@@ -130,18 +197,16 @@ pub(super) fn decode(
     reader: impl Read + Send,
     size: Option<u64>,
 ) -> Result<()> {
-    let Sink::Lines { writer, .. } = &decoder.sink else {
-        return decoder.candump(
-            name,
-            reader,
-            size,
-            LogFormat { text: TextFormat::Candump, compression: None },
-        );
+    let writer = match &decoder.sink {
+        Sink::Lines { writer, .. } if !decoder.delta_stamps => Some(*writer),
+        _ => None,
     };
     let settings = Settings {
         protocol: decoder.protocol,
         filter: decoder.filter.clone(),
-        writer: *writer,
+        writer,
+        record: writer.is_none() || decoder.plot.is_some(),
+        delta_stamps: decoder.delta_stamps,
         strict: decoder.strict,
     };
     let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), decoder.chunk_bytes.max(1));
@@ -175,8 +240,15 @@ pub(super) fn decode(
             });
         }
         drop(done_tx);
-        let result = Merger { decoder: &mut *decoder, name, settings: &settings, guess: &guess, size }
-            .run(&done_rx, &pool_tx);
+        let merger = Merger {
+            decoder: &mut *decoder,
+            name,
+            settings: &settings,
+            guess: &guess,
+            size,
+            deltas: DeltaSum::default(),
+        };
+        let result = merger.run(&done_rx, &pool_tx);
         // The reader stops at the flag or the closed pool, the workers at the flag or the closed queue.
         finished.store(true, Ordering::Relaxed);
         drop(pool_tx);
@@ -196,6 +268,8 @@ struct Merger<'a> {
     settings: &'a Settings,
     guess: &'a Mutex<Start>,
     size: Option<u64>,
+    /// `-t d`: the sum of the deltas of the chunks merged so far.
+    deltas: DeltaSum,
 }
 
 impl Merger<'_> {
@@ -233,10 +307,13 @@ impl Merger<'_> {
             v2_seen: detector.v2_frames > 0,
         };
         settle(self.settings, chunk, &truth);
-        let decoder = &mut *self.decoder;
-        if let Sink::Lines { output, .. } = &decoder.sink {
+        if let (Sink::Lines { output, .. }, Some(_)) = (&self.decoder.sink, self.settings.writer) {
             output.borrow_mut().write_through(&chunk.output)?;
         }
+        if self.settings.record {
+            self.replay(&chunk.events)?;
+        }
+        let decoder = &mut *self.decoder;
         let base = decoder.stats.lines;
         let outcome = &chunk.outcome;
         let stats = &mut decoder.stats;
@@ -274,6 +351,37 @@ impl Merger<'_> {
             Some(error) => Err(read_error(error, self.name)),
             None => Ok(()),
         }
+    }
+
+    /// The chunk's events, delivered as one thread delivers them (the workers counted and filtered them).
+    fn replay(&mut self, events: &Events) -> Result<()> {
+        let decoder = &mut *self.decoder;
+        for replay in &events.list {
+            let ts = match replay.stamp {
+                Stamp::Given(ts) => ts,
+                Stamp::Summed(sum) => Some(self.deltas.clone().add(sum.secs, sum.nanos)),
+            };
+            let frame = FrameRef::Can(&replay.frame);
+            let event = Event {
+                ts,
+                iface: events.name(replay.iface),
+                dir: replay.dir,
+                frame,
+                decoded: replay.decoded,
+            };
+            match self.settings.writer {
+                // The workers wrote the output: only the plot is left.
+                Some(_) => {
+                    if let Some(plot) = &mut decoder.plot {
+                        plot.event(&event);
+                    }
+                }
+                None => decoder.deliver(&event)?,
+            }
+        }
+        let sum = events.deltas.total();
+        self.deltas.add(sum.secs, sum.nanos);
+        Ok(())
     }
 
     /// The chunk's rejections, said and counted as if they had come one by one.
@@ -424,16 +532,20 @@ fn fill(
     (last_newline, eof)
 }
 
-/// Decodes one chunk from `start` into its output, as [`Decoder::candump`] decodes lines.
+// Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
+/// Decodes one chunk from `start` into its output (or events), as [`Decoder::candump`] decodes lines.
 fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     chunk.output.clear();
+    chunk.events.clear();
     let mut lines = ChunkLines {
         settings,
         detector: ProtocolDetector { v1_frames: start.v1_seen.into(), v2_frames: start.v2_seen.into() },
         output: &mut chunk.output,
+        events: &mut chunk.events,
         outcome: Outcome { start: start.clone(), ..Outcome::default() },
     };
-    let mut parser = LineParser::new();
+    let parser = LineParser::new();
+    let mut parser = if settings.delta_stamps { parser.with_delta_timestamps() } else { parser };
     parser.carry_on_from(&start.carried);
     let input = &chunk.input;
     let mut long_lines = chunk.long_lines.iter().peekable();
@@ -453,10 +565,25 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
             let message = candump::line_too_long(length);
             lines.rejected(number, message, Reason::LineTooLong.as_str(), Some(length as u64));
         } else {
+            let deltas_before = parser.delta_sum().added();
             match parser.parse(text) {
+                Ok(Line::Frame(record)) if settings.record => {
+                    lines.outcome.decoded_lines += 1;
+                    // Interned first: the record borrows the parser, which is asked about its sum next.
+                    let iface = Iface::Interned(lines.events.intern(record.iface));
+                    let (ts, dir, frame) = (record.ts, record.dir, record.frame);
+                    let stamp = match ts {
+                        Some(sum) if parser.delta_sum().added() != deltas_before => Stamp::Summed(sum),
+                        ts => Stamp::Given(ts),
+                    };
+                    if let Some(message) = lines.frame(stamp, iface, dir, &frame) {
+                        lines.outcome.stop = Some(Stop { line: Some(number), message });
+                    }
+                }
                 Ok(Line::Frame(record)) => {
                     lines.outcome.decoded_lines += 1;
-                    if let Some(message) = lines.frame(record.ts, record.iface, record.dir, &record.frame) {
+                    let (ts, iface, dir) = (Stamp::Given(record.ts), Iface::Name(record.iface), record.dir);
+                    if let Some(message) = lines.frame(ts, iface, dir, &record.frame) {
                         lines.outcome.stop = Some(Stop { line: Some(number), message });
                     }
                 }
@@ -472,6 +599,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     outcome.v1_frames = lines.detector.v1_frames - u64::from(start.v1_seen);
     outcome.v2_frames = lines.detector.v2_frames - u64::from(start.v2_seen);
     outcome.end = parser.carried();
+    chunk.events.deltas = parser.delta_sum();
     chunk.outcome = outcome;
 }
 
@@ -480,7 +608,15 @@ struct ChunkLines<'a> {
     settings: &'a Settings,
     detector: ProtocolDetector,
     output: &'a mut Vec<u8>,
+    events: &'a mut Events,
     outcome: Outcome,
+}
+
+/// An event's interface: the name, or (when the events are kept) its index among the chunk's names.
+#[derive(Clone, Copy)]
+enum Iface<'a> {
+    Name(&'a str),
+    Interned(u32),
 }
 
 impl ChunkLines<'_> {
@@ -488,24 +624,46 @@ impl ChunkLines<'_> {
     #[inline]
     fn frame(
         &mut self,
-        ts: Option<candump::Timestamp>,
-        iface: &str,
-        dir: Option<candump::Direction>,
+        stamp: Stamp,
+        iface: Iface<'_>,
+        dir: Option<Direction>,
         frame: &CanFrame,
     ) -> Option<String> {
         self.outcome.frames += 1;
         let decoded = self.detector.observe_and_decode(frame, self.settings.protocol);
-        let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
-        if let Err(error) = event.decoded {
+        if let Err(error) = decoded {
             self.outcome.invalid_frames += 1;
             if self.settings.strict {
                 return Some(format!("invalid frame: {error}"));
             }
         }
-        if self.settings.filter.passes(&event) {
-            self.settings.writer.write(self.output, &event);
+        let ts = match stamp {
+            Stamp::Given(ts) => ts,
+            Stamp::Summed(sum) => Some(sum),
+        };
+        let name = match iface {
+            Iface::Name(name) => name,
+            Iface::Interned(index) => self.events.name(index),
+        };
+        let event = Event { ts, iface: name, dir, frame: FrameRef::Can(frame), decoded };
+        if !self.settings.filter.passes(&event) {
+            return None;
+        }
+        if let Some(writer) = self.settings.writer {
+            writer.write(self.output, &event);
+        }
+        if let Iface::Interned(iface) = iface {
+            self.events.list.push(Replay { stamp, iface, dir, frame: *frame, decoded });
         }
         None
+    }
+
+    /// `iface` as [`Self::frame`] takes it: interned when the events are kept.
+    fn iface<'n>(&mut self, iface: &'n str) -> Iface<'n> {
+        match self.settings.record {
+            true => Iface::Interned(self.events.intern(iface)),
+            false => Iface::Name(iface),
+        }
     }
 
     /// As [`Decoder::skipped_line`].
@@ -539,7 +697,8 @@ impl ChunkLines<'_> {
         match candump::parse_cansend(bare) {
             Ok(frame) => {
                 self.outcome.decoded_lines += 1;
-                if let Some(message) = self.frame(None, "-", None, &frame) {
+                let iface = self.iface("-");
+                if let Some(message) = self.frame(Stamp::Given(None), iface, None, &frame) {
                     // The single thread says this one without the place, too.
                     self.outcome.stop = Some(Stop { line: None, message });
                 }
@@ -583,9 +742,48 @@ mod tests {
         Settings {
             protocol: ProtocolHint::Auto,
             filter: Filter::default(),
-            writer: EventWriter::new(Format::Json, false),
+            writer: Some(EventWriter::new(Format::Json, false)),
+            record: false,
+            delta_stamps: false,
             strict: false,
         }
+    }
+
+    #[test]
+    fn interface_names_are_kept_once_per_change() {
+        let mut events = Events::default();
+        let indexes: Vec<u32> =
+            ["can0", "can0", "vcan12", "can0", "can0", "-"].iter().map(|name| events.intern(name)).collect();
+        assert_eq!(indexes, [0, 0, 1, 2, 2, 3]);
+        let names: Vec<&str> = (0..4).map(|index| events.name(index)).collect();
+        assert_eq!(names, ["can0", "vcan12", "can0", "-"]);
+        events.clear();
+        assert_eq!(events.intern("can1"), 0);
+        assert_eq!(events.name(0), "can1");
+    }
+
+    /// `-t d`: a chunk's stamps are its own sums from zero; added to the sum before, they are one thread's.
+    #[test]
+    fn chunk_delta_sums_add_up_to_the_single_sum() {
+        let text = b" (000.600000)  can0  211   [8]  00 00 01 03 00 00 00 B1\n\
+                     (001.700000)  can0  211   [8]  00 00 ZZ 03 00 00 00 B1\n\
+                     (0.500000) can0 221#01F4000000000001\n\
+                     (000.900000)  can0  221   [8]  01 F4 00 00 00 00 00 01\n";
+        let settings = Settings { writer: None, record: true, delta_stamps: true, ..settings() };
+        let mut chunk = chunk(text);
+        decode_chunk(&settings, &Start::default(), &mut chunk);
+        let stamps: Vec<(bool, u64, u32)> = chunk
+            .events
+            .list
+            .iter()
+            .map(|replay| match replay.stamp {
+                Stamp::Summed(ts) => (true, ts.secs, ts.nanos),
+                Stamp::Given(ts) => (false, ts.map_or(0, |ts| ts.secs), ts.map_or(0, |ts| ts.nanos)),
+            })
+            .collect();
+        // The rejected line's delta counts; the log line's own stamp is not a delta.
+        assert_eq!(stamps, [(true, 0, 600_000_000), (false, 0, 500_000_000), (true, 3, 200_000_000)]);
+        assert_eq!(chunk.events.deltas.total().as_nanos(), 3_200_000_000);
     }
 
     fn chunk(text: &[u8]) -> Chunk {
