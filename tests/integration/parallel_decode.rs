@@ -290,3 +290,81 @@ fn zero_threads_is_a_usage_error() {
     let output = tracerctl().args(["decode", "-j0"]).arg(data("decode/good14.log")).output().unwrap();
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
 }
+
+/// Standard input (a pipe) is chunked at whatever each read returns (at most the chunk size), and written
+/// exactly as one thread writes it, in every mode; compressed input on a pipe too.
+#[test]
+fn standard_input_decodes_the_same_with_threads() {
+    let modes: &[&[&str]] = &[
+        &["-f", "text"],
+        &["-f", "json"],
+        &["-f", "csv", "--strict"],
+        EVENT_MODES[0],
+        EVENT_MODES[1],
+        EVENT_MODES[5],
+    ];
+    let piped = |input: &[u8], threads: u16, bytes: Option<usize>, extra: &[&str]| {
+        let mut command = tracerctl();
+        command.arg("decode").arg(format!("-j{threads}")).args(extra).arg("-").write_stdin(input.to_vec());
+        if let Some(bytes) = bytes {
+            command.env("TRACERCTL_CHUNK_BYTES", bytes.to_string());
+        }
+        command.output().unwrap()
+    };
+    let zst = zstd::encode_all(session_log().as_bytes(), 3).unwrap();
+    for input in [awkward_log().into_bytes(), session_log().into_bytes(), delta_log().into_bytes(), zst] {
+        for extra in modes {
+            let single = piped(&input, 1, None, extra);
+            for bytes in [1, 61, 4096, 1 << 20] {
+                let parallel = piped(&input, 2, Some(bytes), extra);
+                assert_same(&single, &parallel, &format!("stdin {extra:?} TRACERCTL_CHUNK_BYTES={bytes}"));
+            }
+        }
+    }
+    let strict = piped(&std::fs::read(data("decode/bad_line15.log")).unwrap(), 3, Some(10), &["--strict"]);
+    assert_eq!(strict.status.code(), Some(3));
+    assert!(stderr(&strict).contains("<stdin>:15: "), "{}", stderr(&strict));
+}
+
+/// `candump | tracerctl decode -j2 -`: each line is written soon after it arrives, while the writer still
+/// runs (in `-t d` mode too, where the main thread writes the text).
+#[test]
+fn a_live_stream_is_written_line_by_line_with_threads() {
+    use std::io::{BufRead, Write};
+    use std::process::{Command, Stdio};
+    use std::time::Duration;
+    for (extra, line) in [
+        (&["-f", "json"][..], "(1700000000.000000) can0 211#00000103000000B1\n"),
+        (&["--delta-stamps"][..], " (000.250000)  can0  211   [8]  00 00 01 03 00 00 00 B1\n"),
+    ] {
+        let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["decode", "-j2", "--no-progress"])
+            .args(extra)
+            .arg("-")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut stdin = child.stdin.take().unwrap();
+        let stdout = child.stdout.take().unwrap();
+        let (lines_tx, lines_rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufReader::new(stdout).lines() {
+                let _ = lines_tx.send(line.unwrap());
+            }
+        });
+        for n in 1..=3 {
+            stdin.write_all(line.as_bytes()).unwrap();
+            stdin.flush().unwrap();
+            // The pipe stays open: the line must come out before the next is written.
+            let out = lines_rx.recv_timeout(Duration::from_secs(20)).expect("a line while the writer runs");
+            assert!(out.contains("0x211"), "{out}");
+            if extra == ["--delta-stamps"] {
+                assert!(out.starts_with(&format!("{:.6}", 0.25 * f64::from(n))), "{out}");
+            }
+        }
+        drop(stdin);
+        assert!(child.wait().unwrap().success());
+    }
+}

@@ -374,6 +374,9 @@ impl Decoder {
     fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
             let (reader, format) = candump::open_log(io::stdin(), "<stdin>").map_err(Failure::from)?;
+            if self.parallel_fits(format) {
+                return parallel::decode(self, "<stdin>", reader, None, true);
+            }
             return self.candump("<stdin>", reader, None, format);
         }
         let path = Path::new(input);
@@ -386,7 +389,7 @@ impl Decoder {
             // The progress bar counts text bytes: unknown for a compressed file.
             let size = size.filter(|_| format.compression.is_none());
             if regular && self.parallel_fits(format) {
-                return parallel::decode(self, input, reader, size);
+                return parallel::decode(self, input, reader, size, false);
             }
             return self.candump(input, reader, size, format);
         }

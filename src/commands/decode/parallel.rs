@@ -21,13 +21,20 @@
 //! whether an error frame came last ([`CarriedState`]). A worker starts from the state this thread last
 //! published; a chunk decoded from a wrong guess is decoded again here, from the true state (rare: the
 //! verdict settles within the first frames). What cannot be checked this way stays on the single-thread
-//! path ([`Decoder::parallel_fits`]): ASC and trc files (header state), standard input and pipes (a live
-//! stream is written line by line as it comes).
+//! path ([`Decoder::parallel_fits`]): ASC and trc files (header state).
+//!
+//! Standard input and pipes (plain or compressed) are cut at whatever each read returns, at the last `\n`
+//! (the rest is carried to the next chunk), so a live stream (`candump -L can0 | tracerctl decode -`) is
+//! written line by line as it comes, while bulk input still makes large chunks. The reader thread is not
+//! joined (a read of a quiet stream may block until the process exits); the workers and this thread wake
+//! every [`WAKE`] to see the end of decoding or a signal.
 
 use std::collections::BTreeMap;
 use std::io::{self, Read};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::Arc;
+use std::time::Duration;
 
 use anyhow::Result;
 use memchr::{memchr, memrchr};
@@ -50,6 +57,9 @@ pub const CHUNK_BYTES: usize = 256 * 1024;
 /// More workers than this gain nothing (the reader and the writer are one thread each), and a `-j` of
 /// thousands would only fail to spawn.
 const MAX_THREADS: usize = 64;
+/// How often a thread waiting for chunks looks whether decoding ended or a signal came: a live stream may
+/// send nothing for hours.
+const WAKE: Duration = Duration::from_millis(50);
 
 impl Decoder {
     /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
@@ -189,13 +199,16 @@ struct Settings {
     strict: bool,
 }
 
-/// Decodes `reader` (the text of a regular file, decompressed, after [`candump::open_log`]) with the
-/// decoder's threads.
+/// Decodes `reader` (the text of a regular file or of standard input, decompressed, after
+/// [`candump::open_log`]) with the decoder's threads. A `stream` (standard input, a pipe) is cut into chunks
+/// at whatever each read returns, so a live stream's lines are written as soon as they arrive.
+// Long: the threads' set-up, each a few lines, reads best in one place.
 pub(super) fn decode(
     decoder: &mut Decoder,
     name: &str,
-    reader: impl Read + Send,
+    reader: impl Read + Send + 'static,
     size: Option<u64>,
+    stream: bool,
 ) -> Result<()> {
     let writer = match &decoder.sink {
         Sink::Lines { writer, .. } if !decoder.delta_stamps => Some(*writer),
@@ -216,19 +229,26 @@ pub(super) fn decode(
     let (work_tx, work_rx) = mpsc::channel::<Chunk>();
     let (done_tx, done_rx) = mpsc::channel::<Chunk>();
     let work_rx = Mutex::new(work_rx);
-    // Set when this thread stops taking chunks (the end, an error, --strict): the others stop too.
-    let finished = AtomicBool::new(false);
+    // Set when this thread stops taking chunks (the end, an error, --strict, a signal): the others stop too.
+    let finished = Arc::new(AtomicBool::new(false));
     for _ in 0..threads * 2 + 2 {
         let _ = pool_tx.send(Chunk::default());
     }
+    // The reader is not joined: a read of a quiet stream may block until the process exits.
+    let reader_finished = Arc::clone(&finished);
+    let cut = Cut { chunk_bytes, stream };
+    std::thread::spawn(move || split(reader, cut, pool_rx, work_tx, &reader_finished));
     let result = std::thread::scope(|scope| {
-        let finished_ref = &finished;
-        scope.spawn(move || split(reader, chunk_bytes, pool_rx, work_tx, finished_ref));
         for _ in 0..threads {
             let done_tx = done_tx.clone();
-            let (work_rx, guess, settings, finished) = (&work_rx, &guess, &settings, &finished);
+            let (work_rx, guess, settings, finished) = (&work_rx, &guess, &settings, &*finished);
             scope.spawn(move || loop {
-                let Ok(mut chunk) = work_rx.lock().recv() else { return };
+                let received = work_rx.lock().recv_timeout(WAKE);
+                let mut chunk = match received {
+                    Ok(chunk) => chunk,
+                    Err(RecvTimeoutError::Timeout) if !finished.load(Ordering::Relaxed) => continue,
+                    Err(_) => return,
+                };
                 if finished.load(Ordering::Relaxed) {
                     return;
                 }
@@ -277,7 +297,15 @@ impl Merger<'_> {
         let bar = self.decoder.progress_bar(self.size);
         let mut waiting = BTreeMap::new();
         let (mut next, mut consumed, mut carried) = (0u64, 0u64, CarriedState::default());
-        for chunk in done {
+        loop {
+            let chunk = match done.recv_timeout(WAKE) {
+                Ok(chunk) => chunk,
+                Err(RecvTimeoutError::Timeout) if self.decoder.signals.received().is_some() => {
+                    return Err(io::Error::other(Interrupted).into());
+                }
+                Err(RecvTimeoutError::Timeout) => continue,
+                Err(RecvTimeoutError::Disconnected) => break,
+            };
             waiting.insert(chunk.index, chunk);
             while let Some(mut chunk) = waiting.remove(&next) {
                 if self.decoder.signals.received().is_some() {
@@ -312,6 +340,10 @@ impl Merger<'_> {
         }
         if self.settings.record {
             self.replay(&chunk.events)?;
+            if let (Sink::Lines { output, .. }, None) = (&self.decoder.sink, self.settings.writer) {
+                // Lines this thread wrote (-t d) leave with their chunk, as a live stream's must.
+                output.borrow_mut().flush()?;
+            }
         }
         let decoder = &mut *self.decoder;
         let base = decoder.stats.lines;
@@ -424,11 +456,19 @@ fn settle(settings: &Settings, chunk: &mut Chunk, truth: &Start) -> bool {
     true
 }
 
+/// Where the reader cuts chunks.
+#[derive(Clone, Copy)]
+struct Cut {
+    chunk_bytes: usize,
+    /// After every read that ends a line, not only after `chunk_bytes` (a stream).
+    stream: bool,
+}
+
 /// The reader: chunks of about `chunk_bytes` ending after a `\n` (or at the end), numbered in order. A line
 /// longer than the line limit is kept only up to one byte past it, with its true length beside.
 fn split(
     mut reader: impl Read,
-    chunk_bytes: usize,
+    cut: Cut,
     pool: mpsc::Receiver<Chunk>,
     work: mpsc::Sender<Chunk>,
     finished: &AtomicBool,
@@ -447,7 +487,7 @@ fn split(
         chunk.long_lines.clear();
         chunk.input.extend_from_slice(&carry);
         let mut long = carry_long.take();
-        let (last_newline, eof) = fill(&mut reader, &mut chunk, chunk_bytes, &mut long);
+        let (last_newline, eof) = fill(&mut reader, &mut chunk, cut, &mut long);
         carry.clear();
         if eof {
             if let Some(length) = long.take() {
@@ -472,13 +512,13 @@ fn split(
 fn fill(
     reader: &mut impl Read,
     chunk: &mut Chunk,
-    chunk_bytes: usize,
+    cut: Cut,
     long: &mut Option<usize>,
 ) -> (Option<usize>, bool) {
-    let keep = DEFAULT_MAX_LINE_LEN + 1;
+    let (keep, chunk_bytes) = (DEFAULT_MAX_LINE_LEN + 1, cut.chunk_bytes);
     let mut last_newline: Option<usize> = None;
     let mut eof = false;
-    while !(last_newline.is_some() && chunk.input.len() >= chunk_bytes) {
+    while !(last_newline.is_some() && (cut.stream || chunk.input.len() >= chunk_bytes)) {
         let old = chunk.input.len();
         chunk.input.resize(old + chunk_bytes, 0);
         let read = match reader.read(&mut chunk.input[old..]) {
@@ -829,7 +869,8 @@ mod tests {
         for _ in 0..10_000 {
             pool_tx.send(Chunk::default()).unwrap();
         }
-        split(text, chunk_bytes, pool_rx, work_tx, &AtomicBool::new(false));
+        let cut = Cut { chunk_bytes, stream: false };
+        split(text, cut, pool_rx, work_tx, &AtomicBool::new(false));
         work_rx.iter().collect()
     }
 
