@@ -254,6 +254,7 @@ pub(super) fn decode(
                 }
                 let start = guess.lock().clone();
                 decode_chunk(settings, &start, &mut chunk);
+                publish_verdict(guess, &chunk.outcome);
                 if done_tx.send(chunk).is_err() {
                     return;
                 }
@@ -367,11 +368,14 @@ impl Merger<'_> {
         *carried = outcome.end.clone();
         // The next chunks' guess: the settled verdict and interface; an error frame rarely ends a chunk.
         let detector = &self.decoder.detector;
-        *self.guess.lock() = Start {
+        let mut guess = self.guess.lock();
+        *guess = Start {
             carried: CarriedState { iface: carried.iface.clone(), after_error_frame: false },
-            v1_seen: detector.v1_frames > 0,
-            v2_seen: detector.v2_frames > 0,
+            // A worker may have seen further ahead (see publish_verdict).
+            v1_seen: detector.v1_frames > 0 || guess.v1_seen,
+            v2_seen: detector.v2_frames > 0 || guess.v2_seen,
         };
+        drop(guess);
         if let Some(stop) = &outcome.stop {
             let message = match stop.line {
                 Some(line) => format!("{}:{}: {}", self.name, base + line, stop.message),
@@ -388,27 +392,30 @@ impl Merger<'_> {
     /// The chunk's events, delivered as one thread delivers them (the workers counted and filtered them).
     fn replay(&mut self, events: &Events) -> Result<()> {
         let decoder = &mut *self.decoder;
+        let workers_wrote = self.settings.writer.is_some();
+        // Events nearly all share one interface: its name is looked up when it changes.
+        let (mut named, mut name) = (u32::MAX, "");
         for replay in &events.list {
+            if replay.iface != named {
+                (named, name) = (replay.iface, events.name(replay.iface));
+            }
             let ts = match replay.stamp {
                 Stamp::Given(ts) => ts,
-                Stamp::Summed(sum) => Some(self.deltas.clone().add(sum.secs, sum.nanos)),
+                Stamp::Summed(sum) => Some({ self.deltas }.add(sum.secs, sum.nanos)),
             };
             let frame = FrameRef::Can(&replay.frame);
-            let event = Event {
-                ts,
-                iface: events.name(replay.iface),
-                dir: replay.dir,
-                frame,
-                decoded: replay.decoded,
-            };
-            match self.settings.writer {
+            let event = Event { ts, iface: name, dir: replay.dir, frame, decoded: replay.decoded };
+            match &mut decoder.sink {
+                Sink::Summary(summary) => summary.event(&event),
                 // The workers wrote the output: only the plot is left.
-                Some(_) => {
-                    if let Some(plot) = &mut decoder.plot {
-                        plot.event(&event);
-                    }
+                Sink::Lines { .. } if workers_wrote => {}
+                Sink::Lines { .. } => {
+                    decoder.deliver(&event)?;
+                    continue;
                 }
-                None => decoder.deliver(&event)?,
+            }
+            if let Some(plot) = &mut decoder.plot {
+                plot.event(&event);
             }
         }
         let sum = events.deltas.total();
@@ -444,6 +451,19 @@ impl Merger<'_> {
                 }),
             }
         }
+    }
+}
+
+/// A worker's part of the guess: V1-only or V2-only frames in its chunk were seen before every chunk taken
+/// after it (chunks are taken in order), so those start with the right verdict before this chunk is merged
+/// (without it, every chunk taken before the first merge would be decoded twice). A guess is only a guess:
+/// [`settle`] checks it.
+fn publish_verdict(guess: &Mutex<Start>, outcome: &Outcome) {
+    let (v1, v2) = (outcome.v1_frames > 0, outcome.v2_frames > 0);
+    if v1 || v2 {
+        let mut guess = guess.lock();
+        guess.v1_seen |= v1;
+        guess.v2_seen |= v2;
     }
 }
 
