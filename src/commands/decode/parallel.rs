@@ -116,9 +116,13 @@ impl Events {
     }
 
     /// The index of `iface`: the last name's, or a new one.
+    #[inline]
     fn intern(&mut self, iface: &str) -> u32 {
         let start = self.ends.len().checked_sub(2).map_or(0, |before| self.ends[before]);
-        if self.ends.is_empty() || &self.names[start..] != iface {
+        let last = &self.names.as_bytes()[start..];
+        // Compared byte by byte: names are a few bytes, a call to memcmp cost more than the comparison.
+        let same = last.len() == iface.len() && last.iter().zip(iface.as_bytes()).all(|(a, b)| a == b);
+        if self.ends.is_empty() || !same {
             self.names.push_str(iface);
             self.ends.push(self.names.len());
         }
