@@ -561,8 +561,9 @@ impl Decoder {
         self.deliver(event)
     }
 
-    /// An event that passed the filter: written or summarised, and plotted.
-    #[inline]
+    /// An event that passed the filter: written or summarised, and plotted. Always inlined: a call per
+    /// event cost the single thread's summary 1.3% (callgrind).
+    #[inline(always)]
     fn deliver(&mut self, event: &Event) -> Result<()> {
         match &mut self.sink {
             Sink::Lines { writer, output } => {
