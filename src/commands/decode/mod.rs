@@ -59,7 +59,7 @@ pub struct Options {
     pub no_progress: bool,
     /// Also draw the plot into this SVG file.
     pub plot: Option<PathBuf>,
-    /// Threads decoding a plain log file (1: the single-thread path; see parallel.rs for what stays on it).
+    /// Threads decoding candump text, files or standard input (1: the single-thread path; see parallel.rs).
     pub threads: usize,
     /// Input bytes per parallel chunk (default [`parallel::CHUNK_BYTES`]; tests make it tiny).
     pub chunk_bytes: Option<usize>,
