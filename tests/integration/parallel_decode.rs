@@ -64,15 +64,19 @@ fn assert_events_same(path: &Path, chunk_sizes: &[usize]) {
     // The SVG's path is in the messages: both runs write the same one, read after each.
     let dir = tempfile::tempdir().unwrap();
     let svg = dir.path().join("plot.svg");
-    let plot = ["--plot", svg.to_str().unwrap()];
-    let single = decode(path, 1, None, &plot);
-    let single_svg = std::fs::read(&svg).ok();
-    for &bytes in chunk_sizes {
+    // Beside the lines the workers write, beside the summary, and with the -t d lines this thread writes.
+    for mode in [&[][..], &["--summary"], &["--delta-stamps"]] {
+        let plot = [&["--plot", svg.to_str().unwrap()][..], mode].concat();
         let _ = std::fs::remove_file(&svg);
-        let parallel = decode(path, 3, Some(bytes), &plot);
-        let what = format!("{} --plot -j3 TRACERCTL_CHUNK_BYTES={bytes}", path.display());
-        assert_same(&single, &parallel, &what);
-        assert_eq!(std::fs::read(&svg).ok(), single_svg, "the SVG of {what}");
+        let single = decode(path, 1, None, &plot);
+        let single_svg = std::fs::read(&svg).ok();
+        for &bytes in chunk_sizes {
+            let _ = std::fs::remove_file(&svg);
+            let parallel = decode(path, 3, Some(bytes), &plot);
+            let what = format!("{} {plot:?} -j3 TRACERCTL_CHUNK_BYTES={bytes}", path.display());
+            assert_same(&single, &parallel, &what);
+            assert_eq!(std::fs::read(&svg).ok(), single_svg, "the SVG of {what}");
+        }
     }
 }
 
