@@ -1,5 +1,5 @@
 //! Property: `decode -j N` with any chunk size writes what `-j1` writes (stdout, stderr, exit status), on
-//! random logs of valid, bad, blank and awkward lines.
+//! random logs of valid, bad, blank and awkward lines; in every mode, the summary and `-t d` sums included.
 // Test diagnostics may print; the closed-stream rule (clippy.toml) is for the tool itself.
 #![allow(clippy::disallowed_macros)]
 
@@ -36,6 +36,21 @@ const LINES: &[&str] = &[
     "interface = can1, family = 29, type = 3, proto = 1",
     "<0x211> [8] 00 00 01 03 00 00 00 b1 ",
     "  can0  221   [8]  00 00 00 00 00 00 00 01",
+    " (000.020000)  can0  211   [8]  00 00 01 03 00 00 00 B2",
+    " (001.990000)  can1  221   [8]  00 96 00 00 00 00 00 00",
+    " (000.500000)  can0  211   [8]  00 00 ZZ 03 00 00 00 B2",
+    "(1700000003.000000) can0 211#00010103010000B3",
+    "(1700000001.000000) can0 251#0100020000000000",
+];
+
+/// The modes whose events the main thread replays: the summary (text and JSON, filtered) and `-t d`.
+const EVENT_MODES: &[&[&str]] = &[
+    &["--summary"],
+    &["--summary", "-f", "json"],
+    &["--summary", "--id", "0x211", "--strict"],
+    &["--delta-stamps"],
+    &["--delta-stamps", "-f", "json"],
+    &["--delta-stamps", "--summary", "-f", "json"],
 ];
 
 fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str]) -> Output {
@@ -72,6 +87,28 @@ proptest! {
         }
         let single = decode(&path, 1, None, &extra);
         let parallel = decode(&path, threads, Some(chunk_bytes), &extra);
+        prop_assert_eq!(String::from_utf8_lossy(&parallel.stdout), String::from_utf8_lossy(&single.stdout));
+        prop_assert_eq!(String::from_utf8_lossy(&parallel.stderr), String::from_utf8_lossy(&single.stderr));
+        prop_assert_eq!(parallel.status.code(), single.status.code());
+    }
+
+    #[test]
+    fn any_chunking_summarises_what_one_thread_summarises(
+        picks in prop::collection::vec(0..LINES.len(), 0..160),
+        final_newline in any::<bool>(),
+        chunk_bytes in 1usize..300,
+        threads in 2u16..5,
+        mode in prop::sample::select(EVENT_MODES.to_vec()),
+    ) {
+        let mut log = picks.iter().map(|&i| LINES[i]).collect::<Vec<_>>().join("\n");
+        if final_newline {
+            log.push('\n');
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("random.log");
+        std::fs::write(&path, &log).unwrap();
+        let single = decode(&path, 1, None, mode);
+        let parallel = decode(&path, threads, Some(chunk_bytes), mode);
         prop_assert_eq!(String::from_utf8_lossy(&parallel.stdout), String::from_utf8_lossy(&single.stdout));
         prop_assert_eq!(String::from_utf8_lossy(&parallel.stderr), String::from_utf8_lossy(&single.stderr));
         prop_assert_eq!(parallel.status.code(), single.status.code());

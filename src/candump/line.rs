@@ -818,6 +818,11 @@ impl LineParser {
         CarriedState { iface: self.iface.clone(), after_error_frame: self.after_error_frame }
     }
 
+    /// The running `-t d` sum (of this parser's lines only).
+    pub fn delta_sum(&self) -> DeltaSum {
+        self.delta_sum
+    }
+
     /// Continues as if the lines that left `state` had just been parsed.
     pub fn carry_on_from(&mut self, state: &CarriedState) {
         self.iface.clone_from(&state.iface);

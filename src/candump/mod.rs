@@ -67,5 +67,5 @@ pub use open::{open_log, Compression, FormatError, LogFormat, TextFormat};
 pub use reader::{LineReader, RawLine, DEFAULT_BUFFER_CAPACITY, DEFAULT_MAX_LINE_LEN};
 pub use reason::{FrameSyntaxError, LineError, Reason};
 pub use tally::{line_too_long, RejectTally, Rejected, Rejection, MAX_SHOWN_REJECTS};
-pub use timestamp::{Timestamp, TimestampKind, RELATIVE_LIMIT_SECS};
+pub use timestamp::{DeltaSum, Timestamp, TimestampKind, RELATIVE_LIMIT_SECS};
 pub use writer::{write_frame, write_log_line, write_log_record};

@@ -194,16 +194,30 @@ pub(crate) fn days_from_civil(year: i64, month: u32, day: u32) -> i64 {
     era * 146_097 + day_of_era - 719_468
 }
 
-/// Running sum of `-t d` deltas.
+/// Running sum of `-t d` deltas. Saturating addition of non-negative values is associative, so sums of
+/// consecutive runs of lines (a parallel decode's chunks) add up to exactly the sum of all of them.
 #[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct DeltaSum {
+pub struct DeltaSum {
     secs: u64,
     nanos: u32,
+    /// How many deltas were added (tells a summed stamp from a log line's own).
+    added: u64,
 }
 
 impl DeltaSum {
+    /// How many deltas were added.
+    pub fn added(&self) -> u64 {
+        self.added
+    }
+
+    /// The sum as a relative timestamp.
+    pub fn total(&self) -> Timestamp {
+        Timestamp { secs: self.secs, nanos: self.nanos, kind: TimestampKind::Relative }
+    }
+
     /// Adds one delta and returns the sum as a relative timestamp (saturating, never panicking).
-    pub(crate) fn add(&mut self, secs: u64, nanos: u32) -> Timestamp {
+    pub fn add(&mut self, secs: u64, nanos: u32) -> Timestamp {
+        self.added = self.added.wrapping_add(1);
         let mut total_nanos = self.nanos + nanos; // both < 10^9: no overflow
         let mut carry = 0;
         if total_nanos >= 1_000_000_000 {

@@ -1,5 +1,7 @@
-//! `decode -j N`: the parallel path writes exactly what one thread writes (stdout, stderr, exit status) on
-//! every fixture and on logs whose chunk boundaries are forced everywhere (`TRACERCTL_CHUNK_BYTES`).
+//! `decode -j N`: the parallel path writes exactly what one thread writes (stdout, stderr, exit status, and
+//! the `--plot` SVG) on every fixture and on logs whose chunk boundaries are forced everywhere
+//! (`TRACERCTL_CHUNK_BYTES`), in every mode: text, JSON, CSV, `--summary` (text and JSON), `--plot`,
+//! `--delta-stamps`, `--strict`.
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
@@ -38,6 +40,46 @@ fn assert_parallel_same(path: &Path, chunk_sizes: &[usize]) {
     }
 }
 
+/// The modes whose events are replayed in order by the main thread (see parallel.rs).
+const EVENT_MODES: &[&[&str]] = &[
+    &["--summary"],
+    &["--summary", "-f", "json"],
+    &["--summary", "--strict"],
+    &["--summary", "-f", "json", "--id", "0x211"],
+    &["--delta-stamps"],
+    &["--delta-stamps", "-f", "json", "--strict"],
+    &["--delta-stamps", "--summary", "-f", "json"],
+];
+
+/// [`assert_parallel_same`] for the summary, `-t d` sums and the plot (whose SVG is compared too).
+fn assert_events_same(path: &Path, chunk_sizes: &[usize]) {
+    for extra in EVENT_MODES {
+        let single = decode(path, 1, None, extra);
+        for &bytes in chunk_sizes {
+            let parallel = decode(path, 2, Some(bytes), extra);
+            let what = format!("{} {extra:?} -j2 TRACERCTL_CHUNK_BYTES={bytes}", path.display());
+            assert_same(&single, &parallel, &what);
+        }
+    }
+    // The SVG's path is in the messages: both runs write the same one, read after each.
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("plot.svg");
+    // Beside the lines the workers write, beside the summary, and with the -t d lines this thread writes.
+    for mode in [&[][..], &["--summary"], &["--delta-stamps"]] {
+        let plot = [&["--plot", svg.to_str().unwrap()][..], mode].concat();
+        let _ = std::fs::remove_file(&svg);
+        let single = decode(path, 1, None, &plot);
+        let single_svg = std::fs::read(&svg).ok();
+        for &bytes in chunk_sizes {
+            let _ = std::fs::remove_file(&svg);
+            let parallel = decode(path, 3, Some(bytes), &plot);
+            let what = format!("{} {plot:?} -j3 TRACERCTL_CHUNK_BYTES={bytes}", path.display());
+            assert_same(&single, &parallel, &what);
+            assert_eq!(std::fs::read(&svg).ok(), single_svg, "the SVG of {what}");
+        }
+    }
+}
+
 fn files_under(dir: &Path, found: &mut Vec<PathBuf>) {
     for entry in std::fs::read_dir(dir).unwrap() {
         let path = entry.unwrap().path();
@@ -57,6 +99,7 @@ fn every_fixture_decodes_the_same_with_threads() {
     assert!(files.len() > 40, "fixtures found: {}", files.len());
     for path in files {
         assert_parallel_same(&path, &[1, 29, 200]);
+        assert_events_same(&path, &[1, 200]);
     }
 }
 
@@ -97,6 +140,95 @@ fn chunk_boundaries_anywhere_change_nothing() {
     std::fs::write(&path, awkward_log()).unwrap();
     let sizes: Vec<usize> = (1..=200).step_by(7).chain([64 * 1024, 70_001]).collect();
     assert_parallel_same(&path, &sizes);
+    assert_events_same(&path, &sizes);
+}
+
+/// A session for the summary and the plot: 0x211 whose count byte wraps 0xFF -> 0x00 and then skips, a
+/// 3-second gap, mode and vehicle-state changes, faults coming and going, an E-stop, motion and motor frames,
+/// an invalid frame (a V1 0x151 after V1 traffic), bad lines, error frames with their text, CRLF endings.
+fn session_log() -> String {
+    let mut log = String::new();
+    let mut at = 1_700_000_000_000_000u64;
+    for tick in 0..400u32 {
+        at += if tick == 200 { 3_000_000 } else { 20_000 };
+        let stamp = format!("({}.{:06})", at / 1_000_000, at % 1_000_000);
+        // Count 250 .. 255, 0, 1, ... wraps; tick 300 skips two counts.
+        let count = (tick + 250 + u32::from(tick >= 300) * 2) % 256;
+        let (mode, state, fault) = (u32::from(tick >= 100), u32::from(tick % 150 > 140) * 2, (tick / 50) % 3);
+        log.push_str(&format!("{stamp} can0 211#{state:02X}{mode:02X}0103{fault:02X}0000{count:02X}\n"));
+        log.push_str(&format!("{stamp} can0 221#{:04X}0000000000{:02X}\r\n", tick * 3, tick % 256));
+        log.push_str(&format!("{stamp} can0 251#{:04X}{:04X}00000000\n", tick * 7, tick));
+        match tick % 37 {
+            0 => log.push_str(&format!("{stamp} can0 211#ZZ\n")),
+            5 => log.push_str(
+                " (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME\n\
+                 \tcontroller-problem{}\n\tbus-off\n",
+            ),
+            9 => log
+                .push_str(&format!("{stamp} can1 131#0000000000000000\n{stamp} can1 151#0000000000000000\n")),
+            _ => {}
+        }
+    }
+    log
+}
+
+#[test]
+fn the_summary_and_the_plot_are_one_pass_over_any_chunking() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("session.log");
+    let log = session_log();
+    std::fs::write(&path, &log).unwrap();
+    let single = decode(&path, 1, None, &["--summary"]);
+    let report = stdout(&single);
+    // The count-byte wrap 0xFF -> 0x00 is no skip, the jump by three is one (2 lost), the gap is 3 s.
+    let row = report.lines().find(|line| line.trim_start().starts_with("0x211")).unwrap();
+    assert!(row.ends_with("36.4    3.000 s  2 in 1 skips"), "{row}");
+    assert!(report.contains("decoded 1233 frames from 1266 lines; rejected 11 lines"), "{report}");
+    // Boundaries at every offset of the first kilobytes, then spread over the file.
+    let sizes: Vec<usize> = (1..=120).chain((150..log.len()).step_by(997)).collect();
+    for &bytes in &sizes {
+        let parallel = decode(&path, 2, Some(bytes), &["--summary"]);
+        assert_same(&single, &parallel, &format!("--summary TRACERCTL_CHUNK_BYTES={bytes}"));
+    }
+    assert_events_same(&path, &[1, 13, 64, 333, 4096]);
+}
+
+/// `-t d`: every stamp is the sum of all deltas before it, those of rejected lines too; a log line's own
+/// small stamp is not a delta.
+fn delta_log() -> String {
+    let mut log = String::new();
+    for n in 0..300u32 {
+        let delta = format!("({:03}.{:06})", n % 3, (n * 7919) % 1_000_000);
+        log.push_str(&format!(" {delta}  can0  211   [8]  00 00 01 03 00 00 00 {:02X}\n", n % 256));
+        match n % 11 {
+            0 => log.push_str(&format!(" {delta}  can0  221   [8]  00 ZZ 00 00 00 00 00 01\n")),
+            3 => log.push_str("(0.500000) can1 221#01F4000000000001\r\n"),
+            6 => log.push_str(
+                " (000.000100)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME\n\tbus-off\n",
+            ),
+            _ => {}
+        }
+    }
+    log
+}
+
+#[test]
+fn delta_stamps_sum_across_chunks() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("td.txt");
+    std::fs::write(&path, delta_log()).unwrap();
+    let single = decode(&path, 1, None, &["--delta-stamps"]);
+    let last = stdout(&single).lines().last().unwrap().to_string();
+    // 300 deltas of n % 3 seconds plus fractions, the 28 rejected lines' included: far past 300 s.
+    let secs: f64 = last.split_whitespace().next().unwrap().parse().unwrap();
+    assert!(secs > 300.0, "{last}");
+    for bytes in [1, 2, 50, 51, 52, 200, 1000, 9999] {
+        for threads in [2, 4] {
+            let parallel = decode(&path, threads, Some(bytes), &["--delta-stamps"]);
+            assert_same(&single, &parallel, &format!("-t d -j{threads} TRACERCTL_CHUNK_BYTES={bytes}"));
+        }
+    }
+    assert_events_same(&path, &[1, 77, 4096]);
 }
 
 /// 0x151 is decoded by what the traffic before it says: after a V1-only frame, as V1, so a checksum that does
@@ -161,4 +293,82 @@ fn strict_stops_at_the_same_line_with_the_same_message() {
 fn zero_threads_is_a_usage_error() {
     let output = tracerctl().args(["decode", "-j0"]).arg(data("decode/good14.log")).output().unwrap();
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
+}
+
+/// Standard input (a pipe) is chunked at whatever each read returns (at most the chunk size), and written
+/// exactly as one thread writes it, in every mode; compressed input on a pipe too.
+#[test]
+fn standard_input_decodes_the_same_with_threads() {
+    let modes: &[&[&str]] = &[
+        &["-f", "text"],
+        &["-f", "json"],
+        &["-f", "csv", "--strict"],
+        EVENT_MODES[0],
+        EVENT_MODES[1],
+        EVENT_MODES[5],
+    ];
+    let piped = |input: &[u8], threads: u16, bytes: Option<usize>, extra: &[&str]| {
+        let mut command = tracerctl();
+        command.arg("decode").arg(format!("-j{threads}")).args(extra).arg("-").write_stdin(input.to_vec());
+        if let Some(bytes) = bytes {
+            command.env("TRACERCTL_CHUNK_BYTES", bytes.to_string());
+        }
+        command.output().unwrap()
+    };
+    let zst = zstd::encode_all(session_log().as_bytes(), 3).unwrap();
+    for input in [awkward_log().into_bytes(), session_log().into_bytes(), delta_log().into_bytes(), zst] {
+        for extra in modes {
+            let single = piped(&input, 1, None, extra);
+            for bytes in [1, 61, 4096, 1 << 20] {
+                let parallel = piped(&input, 2, Some(bytes), extra);
+                assert_same(&single, &parallel, &format!("stdin {extra:?} TRACERCTL_CHUNK_BYTES={bytes}"));
+            }
+        }
+    }
+    let strict = piped(&std::fs::read(data("decode/bad_line15.log")).unwrap(), 3, Some(10), &["--strict"]);
+    assert_eq!(strict.status.code(), Some(3));
+    assert!(stderr(&strict).contains("<stdin>:15: "), "{}", stderr(&strict));
+}
+
+/// `candump | tracerctl decode -j2 -`: each line is written soon after it arrives, while the writer still
+/// runs (in `-t d` mode too, where the main thread writes the text).
+#[test]
+fn a_live_stream_is_written_line_by_line_with_threads() {
+    use std::io::{BufRead, Write};
+    use std::process::{Command, Stdio};
+    use std::time::Duration;
+    for (extra, line) in [
+        (&["-f", "json"][..], "(1700000000.000000) can0 211#00000103000000B1\n"),
+        (&["--delta-stamps"][..], " (000.250000)  can0  211   [8]  00 00 01 03 00 00 00 B1\n"),
+    ] {
+        let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["decode", "-j2", "--no-progress"])
+            .args(extra)
+            .arg("-")
+            .stdin(Stdio::piped())
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut stdin = child.stdin.take().unwrap();
+        let stdout = child.stdout.take().unwrap();
+        let (lines_tx, lines_rx) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            for line in std::io::BufReader::new(stdout).lines() {
+                let _ = lines_tx.send(line.unwrap());
+            }
+        });
+        for n in 1..=3 {
+            stdin.write_all(line.as_bytes()).unwrap();
+            stdin.flush().unwrap();
+            // The pipe stays open: the line must come out before the next is written.
+            let out = lines_rx.recv_timeout(Duration::from_secs(20)).expect("a line while the writer runs");
+            assert!(out.contains("0x211"), "{out}");
+            if extra == ["--delta-stamps"] {
+                assert!(out.starts_with(&format!("{:.6}", 0.25 * f64::from(n))), "{out}");
+            }
+        }
+        drop(stdin);
+        assert!(child.wait().unwrap().success());
+    }
 }

@@ -1,4 +1,5 @@
-//! `decode -j N`: a plain candump log file decoded by N threads, written byte for byte as one thread would.
+//! `decode -j N`: a candump log file (plain or compressed) decoded by N threads, written byte for byte as one
+//! thread would.
 //!
 //! A reader thread cuts the text into chunks that end after a `\n`; worker threads decode each chunk into its
 //! own output buffer with the line counts, rejections and stop (`--strict`) it found, numbered within the
@@ -6,19 +7,34 @@
 //! and messages with the chunk's first line number, which is known only then. Chunks travel in a fixed pool,
 //! so memory is bounded by the pool (threads x chunk size), whatever the size of the input.
 //!
+//! `--summary`, `--plot` and `--delta-stamps` (`-t d`) need state carried over every line before: there the
+//! workers parse, decode and filter their chunk into a compact list of events ([`Events`]: stamp, interface
+//! as an index into the chunk's names, direction, frame, what it decoded to), and this thread replays them in
+//! input order through [`Decoder::deliver`], the code one thread feeds them to. So the report (counts, rates,
+//! gaps and count-byte skips across chunk boundaries, fault timelines, first and last times) and the plot are
+//! exact by construction. `-t d` stamps are summed within the chunk from zero and the run's sum before the
+//! chunk is added here, in order (saturating sums of non-negative deltas are associative: exact too); with
+//! `-t d` this thread also writes the text, since every stamp depends on all the lines before.
+//!
 //! State one line leaves for the next is guessed at a chunk's start and checked in order: the protocol
 //! detector's verdict (which decodes the shared identifiers), the interface a Pengutronix header named and
 //! whether an error frame came last ([`CarriedState`]). A worker starts from the state this thread last
 //! published; a chunk decoded from a wrong guess is decoded again here, from the true state (rare: the
 //! verdict settles within the first frames). What cannot be checked this way stays on the single-thread
-//! path ([`Decoder::parallel_fits`]): `-t d` sums (`--delta-stamps`), ASC and trc files (header state),
-//! `--summary` and `--plot`, standard input and pipes (a live stream is written line by line as it comes).
-//! A compressed file is read through its decompressor like a plain one.
+//! path ([`Decoder::parallel_fits`]): ASC and trc files (header state).
+//!
+//! Standard input and pipes (plain or compressed) are cut at whatever each read returns, at the last `\n`
+//! (the rest is carried to the next chunk), so a live stream (`candump -L can0 | tracerctl decode -`) is
+//! written line by line as it comes, while bulk input still makes large chunks. The reader thread is not
+//! joined (a read of a quiet stream may block until the process exits); the workers and this thread wake
+//! every [`WAKE`] to see the end of decoding or a signal.
 
 use std::collections::BTreeMap;
 use std::io::{self, Read};
 use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::mpsc;
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::Arc;
+use std::time::Duration;
 
 use anyhow::Result;
 use memchr::{memchr, memrchr};
@@ -26,14 +42,14 @@ use parking_lot::Mutex;
 
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
 use crate::candump::{
-    self, CarriedState, Line, LineParser, LogFormat, Reason, Rejected, Rejection, TextFormat,
-    DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
+    self, CarriedState, DeltaSum, Direction, Line, LineParser, LogFormat, Reason, Rejected, Rejection,
+    TextFormat, Timestamp, DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
 };
 use crate::exit::Failure;
 use crate::output::filter::Filter;
 use crate::output::{Event, EventWriter, FrameRef};
 use crate::protocol::detect::ProtocolDetector;
-use crate::protocol::{CanFrame, ProtocolHint};
+use crate::protocol::{CanFrame, DecodeError, Decoded, ProtocolHint};
 
 /// Input bytes per chunk by default: large enough that the per-chunk work (a channel hop, one write) vanishes,
 /// small enough that the pool stays a few megabytes.
@@ -41,15 +57,14 @@ pub const CHUNK_BYTES: usize = 256 * 1024;
 /// More workers than this gain nothing (the reader and the writer are one thread each), and a `-j` of
 /// thousands would only fail to spawn.
 const MAX_THREADS: usize = 64;
+/// How often a thread waiting for chunks looks whether decoding ended or a signal came: a live stream may
+/// send nothing for hours.
+const WAKE: Duration = Duration::from_millis(50);
 
 impl Decoder {
     /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
     pub(super) fn parallel_fits(&self, format: LogFormat) -> bool {
-        self.threads > 1
-            && matches!(self.sink, Sink::Lines { .. })
-            && self.plot.is_none()
-            && !self.delta_stamps
-            && format.text == TextFormat::Candump
+        self.threads > 1 && format.text == TextFormat::Candump
     }
 }
 
@@ -74,7 +89,69 @@ struct Chunk {
     /// Reading failed after `input`.
     read_error: Option<io::Error>,
     output: Vec<u8>,
+    events: Events,
     outcome: Outcome,
+}
+
+/// `--summary`, `--plot` and `-t d`: a chunk's events that passed the filter, replayed by this thread in
+/// input order through the same code one thread feeds them to, so the merge is exact by construction.
+#[derive(Default)]
+struct Events {
+    list: Vec<Replay>,
+    /// The interface names the events point into, one after the other: a name is added each time it
+    /// changes (nearly never), so a line costs no allocation and no search.
+    names: String,
+    /// Where each name ends in `names`.
+    ends: Vec<usize>,
+    /// `-t d`: what all the chunk's deltas (rejected lines' too) add up to.
+    deltas: DeltaSum,
+}
+
+impl Events {
+    fn clear(&mut self) {
+        self.list.clear();
+        self.names.clear();
+        self.ends.clear();
+        self.deltas = DeltaSum::default();
+    }
+
+    /// The index of `iface`: the last name's, or a new one.
+    #[inline]
+    fn intern(&mut self, iface: &str) -> u32 {
+        let start = self.ends.len().checked_sub(2).map_or(0, |before| self.ends[before]);
+        let last = &self.names.as_bytes()[start..];
+        // Compared byte by byte: names are a few bytes, a call to memcmp cost more than the comparison.
+        let same = last.len() == iface.len() && last.iter().zip(iface.as_bytes()).all(|(a, b)| a == b);
+        if self.ends.is_empty() || !same {
+            self.names.push_str(iface);
+            self.ends.push(self.names.len());
+        }
+        // A chunk holds far fewer than 2^32 lines (it is a few hundred kilobytes).
+        (self.ends.len() - 1) as u32
+    }
+
+    fn name(&self, index: u32) -> &str {
+        let index = index as usize;
+        let start = index.checked_sub(1).map_or(0, |before| self.ends[before]);
+        &self.names[start..self.ends[index]]
+    }
+}
+
+/// What [`Decoder::deliver`] needs of one event.
+struct Replay {
+    stamp: Stamp,
+    iface: u32,
+    dir: Option<Direction>,
+    frame: CanFrame,
+    decoded: Result<Option<Decoded>, DecodeError>,
+}
+
+#[derive(Clone, Copy)]
+enum Stamp {
+    /// The line's own stamp, or none.
+    Given(Option<Timestamp>),
+    /// `-t d`: the sum of the chunk's deltas up to this line; the run's sum before the chunk is added in order.
+    Summed(Timestamp),
 }
 
 /// What decoding a chunk found besides its output; line numbers count from 1 within the chunk.
@@ -118,30 +195,35 @@ struct Stop {
 struct Settings {
     protocol: ProtocolHint,
     filter: Filter,
-    writer: EventWriter,
+    /// Workers write the output (not with `-t d`, whose stamps are sums over everything before).
+    writer: Option<EventWriter>,
+    /// Workers keep the events for this thread to replay.
+    record: bool,
+    delta_stamps: bool,
     strict: bool,
 }
 
-/// Decodes `reader` (the text of a regular file, decompressed, after [`candump::open_log`]) with the
-/// decoder's threads.
+/// Decodes `reader` (the text of a regular file or of standard input, decompressed, after
+/// [`candump::open_log`]) with the decoder's threads. A `stream` (standard input, a pipe) is cut into chunks
+/// at whatever each read returns, so a live stream's lines are written as soon as they arrive.
+// Long: the threads' set-up, each a few lines, reads best in one place.
 pub(super) fn decode(
     decoder: &mut Decoder,
     name: &str,
-    reader: impl Read + Send,
+    reader: impl Read + Send + 'static,
     size: Option<u64>,
+    stream: bool,
 ) -> Result<()> {
-    let Sink::Lines { writer, .. } = &decoder.sink else {
-        return decoder.candump(
-            name,
-            reader,
-            size,
-            LogFormat { text: TextFormat::Candump, compression: None },
-        );
+    let writer = match &decoder.sink {
+        Sink::Lines { writer, .. } if !decoder.delta_stamps => Some(*writer),
+        _ => None,
     };
     let settings = Settings {
         protocol: decoder.protocol,
         filter: decoder.filter.clone(),
-        writer: *writer,
+        writer,
+        record: writer.is_none() || decoder.plot.is_some(),
+        delta_stamps: decoder.delta_stamps,
         strict: decoder.strict,
     };
     let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), decoder.chunk_bytes.max(1));
@@ -151,32 +233,47 @@ pub(super) fn decode(
     let (work_tx, work_rx) = mpsc::channel::<Chunk>();
     let (done_tx, done_rx) = mpsc::channel::<Chunk>();
     let work_rx = Mutex::new(work_rx);
-    // Set when this thread stops taking chunks (the end, an error, --strict): the others stop too.
-    let finished = AtomicBool::new(false);
+    // Set when this thread stops taking chunks (the end, an error, --strict, a signal): the others stop too.
+    let finished = Arc::new(AtomicBool::new(false));
     for _ in 0..threads * 2 + 2 {
         let _ = pool_tx.send(Chunk::default());
     }
+    // The reader is not joined: a read of a quiet stream may block until the process exits.
+    let reader_finished = Arc::clone(&finished);
+    let cut = Cut { chunk_bytes, stream };
+    std::thread::spawn(move || split(reader, cut, pool_rx, work_tx, &reader_finished));
     let result = std::thread::scope(|scope| {
-        let finished_ref = &finished;
-        scope.spawn(move || split(reader, chunk_bytes, pool_rx, work_tx, finished_ref));
         for _ in 0..threads {
             let done_tx = done_tx.clone();
-            let (work_rx, guess, settings, finished) = (&work_rx, &guess, &settings, &finished);
+            let (work_rx, guess, settings, finished) = (&work_rx, &guess, &settings, &*finished);
             scope.spawn(move || loop {
-                let Ok(mut chunk) = work_rx.lock().recv() else { return };
+                let received = work_rx.lock().recv_timeout(WAKE);
+                let mut chunk = match received {
+                    Ok(chunk) => chunk,
+                    Err(RecvTimeoutError::Timeout) if !finished.load(Ordering::Relaxed) => continue,
+                    Err(_) => return,
+                };
                 if finished.load(Ordering::Relaxed) {
                     return;
                 }
                 let start = guess.lock().clone();
                 decode_chunk(settings, &start, &mut chunk);
+                publish_verdict(guess, &chunk.outcome);
                 if done_tx.send(chunk).is_err() {
                     return;
                 }
             });
         }
         drop(done_tx);
-        let result = Merger { decoder: &mut *decoder, name, settings: &settings, guess: &guess, size }
-            .run(&done_rx, &pool_tx);
+        let merger = Merger {
+            decoder: &mut *decoder,
+            name,
+            settings: &settings,
+            guess: &guess,
+            size,
+            deltas: DeltaSum::default(),
+        };
+        let result = merger.run(&done_rx, &pool_tx);
         // The reader stops at the flag or the closed pool, the workers at the flag or the closed queue.
         finished.store(true, Ordering::Relaxed);
         drop(pool_tx);
@@ -196,6 +293,8 @@ struct Merger<'a> {
     settings: &'a Settings,
     guess: &'a Mutex<Start>,
     size: Option<u64>,
+    /// `-t d`: the sum of the deltas of the chunks merged so far.
+    deltas: DeltaSum,
 }
 
 impl Merger<'_> {
@@ -203,7 +302,15 @@ impl Merger<'_> {
         let bar = self.decoder.progress_bar(self.size);
         let mut waiting = BTreeMap::new();
         let (mut next, mut consumed, mut carried) = (0u64, 0u64, CarriedState::default());
-        for chunk in done {
+        loop {
+            let chunk = match done.recv_timeout(WAKE) {
+                Ok(chunk) => chunk,
+                Err(RecvTimeoutError::Timeout) if self.decoder.signals.received().is_some() => {
+                    return Err(io::Error::other(Interrupted).into());
+                }
+                Err(RecvTimeoutError::Timeout) => continue,
+                Err(RecvTimeoutError::Disconnected) => break,
+            };
             waiting.insert(chunk.index, chunk);
             while let Some(mut chunk) = waiting.remove(&next) {
                 if self.decoder.signals.received().is_some() {
@@ -233,10 +340,17 @@ impl Merger<'_> {
             v2_seen: detector.v2_frames > 0,
         };
         settle(self.settings, chunk, &truth);
-        let decoder = &mut *self.decoder;
-        if let Sink::Lines { output, .. } = &decoder.sink {
+        if let (Sink::Lines { output, .. }, Some(_)) = (&self.decoder.sink, self.settings.writer) {
             output.borrow_mut().write_through(&chunk.output)?;
         }
+        if self.settings.record {
+            self.replay(&chunk.events)?;
+            if let (Sink::Lines { output, .. }, None) = (&self.decoder.sink, self.settings.writer) {
+                // Lines this thread wrote (-t d) leave with their chunk, as a live stream's must.
+                output.borrow_mut().flush()?;
+            }
+        }
+        let decoder = &mut *self.decoder;
         let base = decoder.stats.lines;
         let outcome = &chunk.outcome;
         let stats = &mut decoder.stats;
@@ -258,11 +372,14 @@ impl Merger<'_> {
         *carried = outcome.end.clone();
         // The next chunks' guess: the settled verdict and interface; an error frame rarely ends a chunk.
         let detector = &self.decoder.detector;
-        *self.guess.lock() = Start {
+        let mut guess = self.guess.lock();
+        *guess = Start {
             carried: CarriedState { iface: carried.iface.clone(), after_error_frame: false },
-            v1_seen: detector.v1_frames > 0,
-            v2_seen: detector.v2_frames > 0,
+            // A worker may have seen further ahead (see publish_verdict).
+            v1_seen: detector.v1_frames > 0 || guess.v1_seen,
+            v2_seen: detector.v2_frames > 0 || guess.v2_seen,
         };
+        drop(guess);
         if let Some(stop) = &outcome.stop {
             let message = match stop.line {
                 Some(line) => format!("{}:{}: {}", self.name, base + line, stop.message),
@@ -274,6 +391,40 @@ impl Merger<'_> {
             Some(error) => Err(read_error(error, self.name)),
             None => Ok(()),
         }
+    }
+
+    /// The chunk's events, delivered as one thread delivers them (the workers counted and filtered them).
+    fn replay(&mut self, events: &Events) -> Result<()> {
+        let decoder = &mut *self.decoder;
+        let workers_wrote = self.settings.writer.is_some();
+        // Events nearly all share one interface: its name is looked up when it changes.
+        let (mut named, mut name) = (u32::MAX, "");
+        for replay in &events.list {
+            if replay.iface != named {
+                (named, name) = (replay.iface, events.name(replay.iface));
+            }
+            let ts = match replay.stamp {
+                Stamp::Given(ts) => ts,
+                Stamp::Summed(sum) => Some({ self.deltas }.add(sum.secs, sum.nanos)),
+            };
+            let frame = FrameRef::Can(&replay.frame);
+            let event = Event { ts, iface: name, dir: replay.dir, frame, decoded: replay.decoded };
+            match &mut decoder.sink {
+                Sink::Summary(summary) => summary.event(&event),
+                // The workers wrote the output: only the plot is left.
+                Sink::Lines { .. } if workers_wrote => {}
+                Sink::Lines { .. } => {
+                    decoder.deliver(&event)?;
+                    continue;
+                }
+            }
+            if let Some(plot) = &mut decoder.plot {
+                plot.event(&event);
+            }
+        }
+        let sum = events.deltas.total();
+        self.deltas.add(sum.secs, sum.nanos);
+        Ok(())
     }
 
     /// The chunk's rejections, said and counted as if they had come one by one.
@@ -307,6 +458,19 @@ impl Merger<'_> {
     }
 }
 
+/// A worker's part of the guess: V1-only or V2-only frames in its chunk were seen before every chunk taken
+/// after it (chunks are taken in order), so those start with the right verdict before this chunk is merged
+/// (without it, every chunk taken before the first merge would be decoded twice). A guess is only a guess:
+/// [`settle`] checks it.
+fn publish_verdict(guess: &Mutex<Start>, outcome: &Outcome) {
+    let (v1, v2) = (outcome.v1_frames > 0, outcome.v2_frames > 0);
+    if v1 || v2 {
+        let mut guess = guess.lock();
+        guess.v1_seen |= v1;
+        guess.v2_seen |= v2;
+    }
+}
+
 /// Decodes the chunk again from `truth` when it was decoded from another start. Returns whether it did.
 fn settle(settings: &Settings, chunk: &mut Chunk, truth: &Start) -> bool {
     if chunk.outcome.start == *truth {
@@ -316,11 +480,19 @@ fn settle(settings: &Settings, chunk: &mut Chunk, truth: &Start) -> bool {
     true
 }
 
+/// Where the reader cuts chunks.
+#[derive(Clone, Copy)]
+struct Cut {
+    chunk_bytes: usize,
+    /// After every read that ends a line, not only after `chunk_bytes` (a stream).
+    stream: bool,
+}
+
 /// The reader: chunks of about `chunk_bytes` ending after a `\n` (or at the end), numbered in order. A line
 /// longer than the line limit is kept only up to one byte past it, with its true length beside.
 fn split(
     mut reader: impl Read,
-    chunk_bytes: usize,
+    cut: Cut,
     pool: mpsc::Receiver<Chunk>,
     work: mpsc::Sender<Chunk>,
     finished: &AtomicBool,
@@ -339,7 +511,7 @@ fn split(
         chunk.long_lines.clear();
         chunk.input.extend_from_slice(&carry);
         let mut long = carry_long.take();
-        let (last_newline, eof) = fill(&mut reader, &mut chunk, chunk_bytes, &mut long);
+        let (last_newline, eof) = fill(&mut reader, &mut chunk, cut, &mut long);
         carry.clear();
         if eof {
             if let Some(length) = long.take() {
@@ -364,13 +536,13 @@ fn split(
 fn fill(
     reader: &mut impl Read,
     chunk: &mut Chunk,
-    chunk_bytes: usize,
+    cut: Cut,
     long: &mut Option<usize>,
 ) -> (Option<usize>, bool) {
-    let keep = DEFAULT_MAX_LINE_LEN + 1;
+    let (keep, chunk_bytes) = (DEFAULT_MAX_LINE_LEN + 1, cut.chunk_bytes);
     let mut last_newline: Option<usize> = None;
     let mut eof = false;
-    while !(last_newline.is_some() && chunk.input.len() >= chunk_bytes) {
+    while !(last_newline.is_some() && (cut.stream || chunk.input.len() >= chunk_bytes)) {
         let old = chunk.input.len();
         chunk.input.resize(old + chunk_bytes, 0);
         let read = match reader.read(&mut chunk.input[old..]) {
@@ -424,16 +596,20 @@ fn fill(
     (last_newline, eof)
 }
 
-/// Decodes one chunk from `start` into its output, as [`Decoder::candump`] decodes lines.
+// Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
+/// Decodes one chunk from `start` into its output (or events), as [`Decoder::candump`] decodes lines.
 fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     chunk.output.clear();
+    chunk.events.clear();
     let mut lines = ChunkLines {
         settings,
         detector: ProtocolDetector { v1_frames: start.v1_seen.into(), v2_frames: start.v2_seen.into() },
         output: &mut chunk.output,
+        events: &mut chunk.events,
         outcome: Outcome { start: start.clone(), ..Outcome::default() },
     };
-    let mut parser = LineParser::new();
+    let parser = LineParser::new();
+    let mut parser = if settings.delta_stamps { parser.with_delta_timestamps() } else { parser };
     parser.carry_on_from(&start.carried);
     let input = &chunk.input;
     let mut long_lines = chunk.long_lines.iter().peekable();
@@ -453,10 +629,25 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
             let message = candump::line_too_long(length);
             lines.rejected(number, message, Reason::LineTooLong.as_str(), Some(length as u64));
         } else {
+            let deltas_before = parser.delta_sum().added();
             match parser.parse(text) {
+                Ok(Line::Frame(record)) if settings.record => {
+                    lines.outcome.decoded_lines += 1;
+                    // Interned first: the record borrows the parser, which is asked about its sum next.
+                    let iface = Iface::Interned(lines.events.intern(record.iface));
+                    let (ts, dir, frame) = (record.ts, record.dir, record.frame);
+                    let stamp = match ts {
+                        Some(sum) if parser.delta_sum().added() != deltas_before => Stamp::Summed(sum),
+                        ts => Stamp::Given(ts),
+                    };
+                    if let Some(message) = lines.frame(stamp, iface, dir, &frame) {
+                        lines.outcome.stop = Some(Stop { line: Some(number), message });
+                    }
+                }
                 Ok(Line::Frame(record)) => {
                     lines.outcome.decoded_lines += 1;
-                    if let Some(message) = lines.frame(record.ts, record.iface, record.dir, &record.frame) {
+                    let (ts, iface, dir) = (Stamp::Given(record.ts), Iface::Name(record.iface), record.dir);
+                    if let Some(message) = lines.frame(ts, iface, dir, &record.frame) {
                         lines.outcome.stop = Some(Stop { line: Some(number), message });
                     }
                 }
@@ -472,6 +663,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     outcome.v1_frames = lines.detector.v1_frames - u64::from(start.v1_seen);
     outcome.v2_frames = lines.detector.v2_frames - u64::from(start.v2_seen);
     outcome.end = parser.carried();
+    chunk.events.deltas = parser.delta_sum();
     chunk.outcome = outcome;
 }
 
@@ -480,7 +672,15 @@ struct ChunkLines<'a> {
     settings: &'a Settings,
     detector: ProtocolDetector,
     output: &'a mut Vec<u8>,
+    events: &'a mut Events,
     outcome: Outcome,
+}
+
+/// An event's interface: the name, or (when the events are kept) its index among the chunk's names.
+#[derive(Clone, Copy)]
+enum Iface<'a> {
+    Name(&'a str),
+    Interned(u32),
 }
 
 impl ChunkLines<'_> {
@@ -488,24 +688,46 @@ impl ChunkLines<'_> {
     #[inline]
     fn frame(
         &mut self,
-        ts: Option<candump::Timestamp>,
-        iface: &str,
-        dir: Option<candump::Direction>,
+        stamp: Stamp,
+        iface: Iface<'_>,
+        dir: Option<Direction>,
         frame: &CanFrame,
     ) -> Option<String> {
         self.outcome.frames += 1;
         let decoded = self.detector.observe_and_decode(frame, self.settings.protocol);
-        let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
-        if let Err(error) = event.decoded {
+        if let Err(error) = decoded {
             self.outcome.invalid_frames += 1;
             if self.settings.strict {
                 return Some(format!("invalid frame: {error}"));
             }
         }
-        if self.settings.filter.passes(&event) {
-            self.settings.writer.write(self.output, &event);
+        let ts = match stamp {
+            Stamp::Given(ts) => ts,
+            Stamp::Summed(sum) => Some(sum),
+        };
+        let name = match iface {
+            Iface::Name(name) => name,
+            Iface::Interned(index) => self.events.name(index),
+        };
+        let event = Event { ts, iface: name, dir, frame: FrameRef::Can(frame), decoded };
+        if !self.settings.filter.passes(&event) {
+            return None;
+        }
+        if let Some(writer) = self.settings.writer {
+            writer.write(self.output, &event);
+        }
+        if let Iface::Interned(iface) = iface {
+            self.events.list.push(Replay { stamp, iface, dir, frame: *frame, decoded });
         }
         None
+    }
+
+    /// `iface` as [`Self::frame`] takes it: interned when the events are kept.
+    fn iface<'n>(&mut self, iface: &'n str) -> Iface<'n> {
+        match self.settings.record {
+            true => Iface::Interned(self.events.intern(iface)),
+            false => Iface::Name(iface),
+        }
     }
 
     /// As [`Decoder::skipped_line`].
@@ -539,7 +761,8 @@ impl ChunkLines<'_> {
         match candump::parse_cansend(bare) {
             Ok(frame) => {
                 self.outcome.decoded_lines += 1;
-                if let Some(message) = self.frame(None, "-", None, &frame) {
+                let iface = self.iface("-");
+                if let Some(message) = self.frame(Stamp::Given(None), iface, None, &frame) {
                     // The single thread says this one without the place, too.
                     self.outcome.stop = Some(Stop { line: None, message });
                 }
@@ -583,9 +806,48 @@ mod tests {
         Settings {
             protocol: ProtocolHint::Auto,
             filter: Filter::default(),
-            writer: EventWriter::new(Format::Json, false),
+            writer: Some(EventWriter::new(Format::Json, false)),
+            record: false,
+            delta_stamps: false,
             strict: false,
         }
+    }
+
+    #[test]
+    fn interface_names_are_kept_once_per_change() {
+        let mut events = Events::default();
+        let indexes: Vec<u32> =
+            ["can0", "can0", "vcan12", "can0", "can0", "-"].iter().map(|name| events.intern(name)).collect();
+        assert_eq!(indexes, [0, 0, 1, 2, 2, 3]);
+        let names: Vec<&str> = (0..4).map(|index| events.name(index)).collect();
+        assert_eq!(names, ["can0", "vcan12", "can0", "-"]);
+        events.clear();
+        assert_eq!(events.intern("can1"), 0);
+        assert_eq!(events.name(0), "can1");
+    }
+
+    /// `-t d`: a chunk's stamps are its own sums from zero; added to the sum before, they are one thread's.
+    #[test]
+    fn chunk_delta_sums_add_up_to_the_single_sum() {
+        let text = b" (000.600000)  can0  211   [8]  00 00 01 03 00 00 00 B1\n\
+                     (001.700000)  can0  211   [8]  00 00 ZZ 03 00 00 00 B1\n\
+                     (0.500000) can0 221#01F4000000000001\n\
+                     (000.900000)  can0  221   [8]  01 F4 00 00 00 00 00 01\n";
+        let settings = Settings { writer: None, record: true, delta_stamps: true, ..settings() };
+        let mut chunk = chunk(text);
+        decode_chunk(&settings, &Start::default(), &mut chunk);
+        let stamps: Vec<(bool, u64, u32)> = chunk
+            .events
+            .list
+            .iter()
+            .map(|replay| match replay.stamp {
+                Stamp::Summed(ts) => (true, ts.secs, ts.nanos),
+                Stamp::Given(ts) => (false, ts.map_or(0, |ts| ts.secs), ts.map_or(0, |ts| ts.nanos)),
+            })
+            .collect();
+        // The rejected line's delta counts; the log line's own stamp is not a delta.
+        assert_eq!(stamps, [(true, 0, 600_000_000), (false, 0, 500_000_000), (true, 3, 200_000_000)]);
+        assert_eq!(chunk.events.deltas.total().as_nanos(), 3_200_000_000);
     }
 
     fn chunk(text: &[u8]) -> Chunk {
@@ -631,7 +893,8 @@ mod tests {
         for _ in 0..10_000 {
             pool_tx.send(Chunk::default()).unwrap();
         }
-        split(text, chunk_bytes, pool_rx, work_tx, &AtomicBool::new(false));
+        let cut = Cut { chunk_bytes, stream: false };
+        split(text, cut, pool_rx, work_tx, &AtomicBool::new(false));
         work_rx.iter().collect()
     }
 
