@@ -50,8 +50,11 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;decode' {
-            [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format')
-            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format')
+            [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread')
+            [CompletionResult]::new('-o', '-o', [CompletionResultType]::ParameterName, 'Write the output to FILE instead of standard output (a .mcap name means --format mcap)')
+            [CompletionResult]::new('--output', '--output', [CompletionResultType]::ParameterName, 'Write the output to FILE instead of standard output (a .mcap name means --format mcap)')
+            [CompletionResult]::new('--mcap-compression', '--mcap-compression', [CompletionResultType]::ParameterName, 'Chunk compression of MCAP output')
             [CompletionResult]::new('--id', '--id', [CompletionResultType]::ParameterName, 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)')
             [CompletionResult]::new('--msg', '--msg', [CompletionResultType]::ParameterName, 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame')
             [CompletionResult]::new('--plot', '--plot', [CompletionResultType]::ParameterName, 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file')

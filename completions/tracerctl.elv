@@ -46,8 +46,11 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'tracerctl;decode'= {
-            cand -f 'Output format'
-            cand --format 'Output format'
+            cand -f 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread'
+            cand --format 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread'
+            cand -o 'Write the output to FILE instead of standard output (a .mcap name means --format mcap)'
+            cand --output 'Write the output to FILE instead of standard output (a .mcap name means --format mcap)'
+            cand --mcap-compression 'Chunk compression of MCAP output'
             cand --id 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)'
             cand --msg 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame'
             cand --plot 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file'

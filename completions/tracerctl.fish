@@ -68,9 +68,14 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d '
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
-csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
+csv\t'Comma-separated values with a fixed header (for spreadsheets)'
+mcap\t'An MCAP file for Foxglove and PlotJuggler (docs/foxglove.md); needs -o FILE'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s o -l output -d 'Write the output to FILE instead of standard output (a .mcap name means --format mcap)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l mcap-compression -d 'Chunk compression of MCAP output' -r -f -a "zstd\t''
+lz4\t''
+none\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r -f
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r -f -a "motion_command\t''
 light_command\t''
