@@ -152,7 +152,7 @@ raw\t''
 invalid\t''
 error_frame\t''
 remote_request\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line; a .mcap name writes MCAP instead (docs/foxglove.md), flushed every second' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s; up to 30 days); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long (0 to 1h; 0: never)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s t -l timestamp -d 'Time column of text lines, as candump -t: a, d, z or A (default: absolute)' -r -f -a "absolute\t'(a) seconds since the epoch, 6 decimals (9 when the link stamps nanoseconds)'
@@ -458,7 +458,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l accel 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE; a .mcap name writes MCAP (Foxglove, PlotJuggler: docs/foxglove.md)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l key-timeout -d 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
@@ -498,7 +498,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l accel -d 'L
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE; a .mcap name writes MCAP (Foxglove, PlotJuggler: docs/foxglove.md)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l key-timeout -d 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'

@@ -209,16 +209,11 @@ impl From<McapCompressionArg> for crate::output::mcap::Compression {
     }
 }
 
-/// Whether a path names an MCAP file (by its extension).
-pub fn is_mcap_path(path: &std::path::Path) -> bool {
-    path.extension().is_some_and(|extension| extension.eq_ignore_ascii_case("mcap"))
-}
-
 impl DecodeArgs {
     fn options(self, serial: Vec<PathBuf>) -> anyhow::Result<commands::decode::Options> {
         let output = self.output.filter(|path| path.as_os_str() != "-");
         let inferred = match output.as_deref() {
-            Some(path) if is_mcap_path(path) => DecodeFormatArg::Mcap,
+            Some(path) if crate::output::mcap::is_mcap_path(path) => DecodeFormatArg::Mcap,
             _ => DecodeFormatArg::Text,
         };
         let format = self.format.unwrap_or(inferred);
@@ -299,7 +294,8 @@ pub struct MonitorArgs {
     #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = Completing { parse: parse_msg_name, values: msg_values }, hide_possible_values = true, long_help = msg_long_help())]
     pub messages: Vec<&'static str>,
 
-    /// Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line
+    /// Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line; a
+    /// .mcap name writes MCAP instead (docs/foxglove.md), flushed every second
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
 
@@ -716,7 +712,8 @@ pub struct DashboardArgs {
     #[arg(long)]
     pub watch: bool,
 
-    /// Write a candump log of the session (frames received and sent) to FILE
+    /// Write a candump log of the session (frames received and sent) to FILE; a .mcap name writes MCAP
+    /// (Foxglove, PlotJuggler: docs/foxglove.md)
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
 

@@ -17,7 +17,7 @@ use mcap::records::{MessageHeader, Metadata};
 use strum::IntoEnumIterator;
 
 use super::json::{push_message_fields, push_name_or_null, push_string};
-use super::number::push_int;
+use super::number::{push_decimal, push_int};
 use super::{direction_name, Event, Shape};
 use crate::protocol::message::{
     control_mode_name, vehicle_state_name, Message, MessageKind, Wire, VEHICLE_ESTOP,
@@ -43,6 +43,12 @@ impl Compression {
             Compression::None => None,
         }
     }
+}
+
+/// Whether a path names an MCAP file (by its extension): `decode -o`, `monitor --log` and
+/// `dashboard --record` then write MCAP.
+pub fn is_mcap_path(path: &std::path::Path) -> bool {
+    path.extension().is_some_and(|extension| extension.eq_ignore_ascii_case("mcap"))
 }
 
 /// What the file's `tracerctl` metadata record says besides the protocol.
@@ -99,6 +105,9 @@ impl<W: Write + Seek> McapWriter<W> {
         let library = format!("tracerctl {}", env!("CARGO_PKG_VERSION"));
         let mut writer = mcap::WriteOptions::new()
             .compression(compression.mcap())
+            // Compressed on this thread: on a shared two-core machine a zstd worker thread measured slower
+            // (docs/performance.md, "MCAP output").
+            .compression_threads(0)
             .profile("")
             .library(library)
             .create(out)?;
@@ -143,6 +152,11 @@ impl<W: Write + Seek> McapWriter<W> {
             status: StatusTracker::default(),
             provenance,
         })
+    }
+
+    /// The input names the metadata record lists (a live recording knows its interface only once started).
+    pub fn set_sources(&mut self, sources: Vec<String>) {
+        self.provenance.sources = sources;
     }
 
     /// Frames written so far (the `/tracer/raw` count).
@@ -468,9 +482,11 @@ fn push_time(out: &mut Vec<u8>, ns: u64) {
 }
 
 fn push_float(out: &mut Vec<u8>, value: f64) {
-    // Display never uses an exponent and is the shortest round-trip text: valid JSON for finite values.
-    let value = if value.is_finite() { value } else { 0.0 };
-    let _ = write!(out, "{value}");
+    // Nine decimals (nanometres, 1e-9 of a quaternion) as an exact decimal: no float formatting on the hot
+    // path, and always valid JSON (a non-finite value cannot come from finite odometers; it is written 0).
+    let scaled = (value * 1e9).round();
+    let raw = if scaled.is_finite() { scaled as i64 } else { 0 };
+    push_decimal(out, raw, 9);
 }
 
 fn push_vector(out: &mut Vec<u8>, x: f64, y: f64, z: f64) {
