@@ -220,7 +220,7 @@ impl DecodeArgs {
         if format == DecodeFormatArg::Mcap {
             if output.is_none() {
                 return Err(usage(
-                    "--format mcap writes a file that is seeked back into (its index): give -o FILE.mcap, \
+                    "--format mcap needs a file it can seek in (the index is written last): give -o FILE.mcap, \
                      not standard output",
                 ));
             }

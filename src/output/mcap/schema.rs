@@ -314,6 +314,15 @@ mod tests {
     }
 
     #[test]
+    fn every_topic_and_schema_is_in_the_table_of_docs_foxglove_md() {
+        let doc = include_str!("../../../docs/foxglove.md");
+        for (topic, schema) in fixed_topics() {
+            let row = format!("| `{topic}` | `{schema}` |");
+            assert!(doc.contains(&row), "docs/foxglove.md lacks the row {row}");
+        }
+    }
+
+    #[test]
     fn every_fixed_topic_has_a_schema() {
         let topics = fixed_topics();
         assert!(topics.iter().any(|(topic, _)| topic == "/tracer/motor/2/low_speed"));
