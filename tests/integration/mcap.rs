@@ -424,3 +424,95 @@ fn a_recording_killed_with_sigkill_reads_back_up_to_its_last_flushed_chunk() {
     assert!(raw >= 640, "{raw} frames readable ({printed} printed before the kill)");
     eprintln!("killed after 2.5 s: {raw} frames readable, {printed} printed");
 }
+
+/// SIGTERM (and so SIGINT, SIGHUP) ends a live recording normally: the file is finished, with its summary
+/// and metadata.
+#[test]
+fn a_recording_ended_by_sigterm_is_finished() {
+    let path = check_path("sim_sigterm", "mcap");
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+        .args(["--sim", "monitor", "--format", "json", "--log"])
+        .arg(&path)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(1500));
+    unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
+    assert_eq!(child.wait().unwrap().code(), Some(143));
+    let read = read_mcap(&path);
+    assert_eq!(read.metadata["tracerctl"]["command"], "monitor");
+    assert!(read.count("/tracer/raw") > 300, "{}", read.count("/tracer/raw"));
+    assert_eq!(read.count("/tracer/pose"), read.count("/tracer/odometry"));
+}
+
+/// An input error ends decode, and the MCAP is still finished: after decoded frames, and also when the first
+/// input already failed (an empty, finished file with its channels and metadata).
+#[test]
+fn an_input_error_still_finishes_the_file() {
+    let log = data("tracer_session.log");
+    let path = check_path("input_error", "mcap");
+    let output =
+        tracerctl().args(["decode", "-o"]).arg(&path).arg(&log).arg("no-such-file.log").output().unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert!(stderr(&output).contains("no-such-file.log: no such file"), "{}", stderr(&output));
+    let read = read_mcap(&path);
+    assert_eq!(read.count("/tracer/raw"), crate::util::decode_json(&[log.to_str().unwrap()]).len());
+
+    let path = check_path("input_error_first", "mcap");
+    let output = tracerctl().args(["decode", "-o"]).arg(&path).arg("no-such-file.log").output().unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let read = read_mcap(&path);
+    assert_eq!(read.messages.len(), 0);
+    assert_eq!(read.metadata["tracerctl"]["protocol"], "unknown");
+    assert!(read.channels.contains_key("/tracer/system_state"));
+}
+
+/// `tracerctl --sim --fault battery-warning@1s dashboard --record x.mcap` in tmux, armed, Up held for two
+/// seconds, then q: the file is finished with `command` dashboard, holds the motion commands sent and the
+/// warning set, and the pose moved forward.
+#[test]
+fn a_dashboard_drive_recorded_as_mcap_holds_the_commands_the_fault_and_the_path() {
+    use crate::dashboard::{arm, Session};
+    use std::time::{Duration, Instant};
+    let path = check_path("sim_dashboard", "mcap");
+    let _ = std::fs::remove_file(&path);
+    let command = format!(
+        "{} --sim --fault battery-warning@1s dashboard --record {}; echo \"exit status $?\"; sleep 30",
+        assert_cmd::cargo::cargo_bin("tracerctl").display(),
+        path.display()
+    );
+    let session = Session::start(&format!("tracerctl-mcap-{}", std::process::id()), &command);
+    let (up, screen) =
+        session.wait_for(Duration::from_secs(10), |s| s.contains("tracerctl") && s.contains("sim"));
+    assert!(up, "{screen}");
+    arm(&session);
+    let pressed = Instant::now();
+    while pressed.elapsed() < Duration::from_millis(2000) {
+        session.keys(&["Up"]);
+        std::thread::sleep(Duration::from_millis(33));
+    }
+    std::thread::sleep(Duration::from_millis(500));
+    session.keys(&["q"]);
+    let (ended, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("exit status"));
+    assert!(ended && screen.contains("exit status 0"), "{screen}");
+
+    let read = read_mcap(&path);
+    assert_eq!(read.metadata["tracerctl"]["command"], "dashboard");
+    assert_eq!(read.metadata["tracerctl"]["protocol"], "can-v2");
+    let commands = read.on("/tracer/motion_command");
+    assert!(
+        commands.iter().any(|command| command["linear_velocity"].as_f64() > Some(0.1)),
+        "{}",
+        commands.len()
+    );
+    let events: Vec<&str> =
+        read.on("/tracer/events").iter().map(|event| event["message"].as_str().unwrap()).collect();
+    assert!(events.iter().any(|event| event.starts_with("fault set: battery")), "{events:?}");
+    let last = read.on("/tracer/pose").last().copied().cloned().expect("poses");
+    assert!(last["pose"]["position"]["x"].as_f64().unwrap() > 0.1, "{last}");
+    let raw = read.on("/tracer/raw");
+    assert_eq!(raw.len(), read.messages.iter().filter(|(topic, _, _)| topic == "/tracer/raw").count());
+    let times: Vec<u64> = read.messages.iter().map(|(_, time, _)| *time).collect();
+    assert!(times.windows(2).all(|pair| pair[0] <= pair[1]));
+}

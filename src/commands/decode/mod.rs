@@ -137,7 +137,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         Err(error) => {
             // Everything decoded before the error is written first; the error is the last word. A
             // summary or plot of nothing (the first input was refused) would only hide the error.
-            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. }) {
+            // An MCAP file is finished (summary, index) whatever came before the error.
+            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. } | Sink::Mcap(_)) {
                 decoder.write_out_or_say(args);
             }
             Err(error)
