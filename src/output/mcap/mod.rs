@@ -511,3 +511,36 @@ fn push_quaternion(out: &mut Vec<u8>, x: f64, y: f64, z: f64, w: f64) {
     push_float(out, w);
     out.push(b'}');
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn times_and_coordinates_are_exact_json_numbers() {
+        let mut out = Vec::new();
+        push_time(&mut out, 1_700_000_000_020_000_001);
+        assert_eq!(out, b"{\"sec\":1700000000,\"nsec\":20000001}");
+        out.clear();
+        push_vector(&mut out, 1.0, -0.000_000_001, f64::NAN);
+        assert_eq!(String::from_utf8(out).unwrap(), "{\"x\":1,\"y\":-0.000000001,\"z\":0}");
+    }
+
+    #[test]
+    fn transitions_are_worded_with_their_levels() {
+        use crate::protocol::transitions::Change;
+        let mut text = String::new();
+        let estop = Transition::VehicleState(Change { previous: Some(0), current: VEHICLE_ESTOP });
+        assert_eq!(describe(&mut text, &estop), ERROR);
+        assert_eq!(text, "vehicle state normal -> estop: E-stop on");
+        let released = Transition::VehicleState(Change { previous: Some(VEHICLE_ESTOP), current: 0 });
+        assert_eq!(describe(&mut text, &released), INFO);
+        assert_eq!(text, "vehicle state estop -> normal: E-stop off");
+        let info = crate::protocol::FlagTable::DriverState.info(0);
+        assert_eq!(describe(&mut text, &Transition::BitCleared { motor: Some(2), info }), INFO);
+        assert_eq!(text, format!("motor 2 driver fault cleared: {} ({})", info.name, info.severity));
+        let mode = Transition::ControlMode(Change { previous: None, current: (0x7F, Wire::CanV2) });
+        assert_eq!(describe(&mut text, &mode), INFO);
+        assert_eq!(text, "control mode unknown (0x7F) (first status)");
+    }
+}
