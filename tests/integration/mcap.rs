@@ -457,9 +457,13 @@ fn an_input_error_still_finishes_the_file() {
     assert_eq!(output.status.code(), Some(1));
     assert!(stderr(&output).contains("no-such-file.log: no such file"), "{}", stderr(&output));
     let read = read_mcap(&path);
-    assert_eq!(read.count("/tracer/raw"), crate::util::decode_json(&[log.to_str().unwrap()]).len());
+    let lines = crate::util::decode_json(&[log.to_str().unwrap()]);
+    assert_eq!(read.count("/tracer/raw"), lines.len());
+    let jsonl: String = lines.iter().map(|line| format!("{line}\n")).collect();
+    std::fs::write(check_path("input_error", "jsonl"), jsonl).unwrap();
 
     let path = check_path("input_error_first", "mcap");
+    std::fs::write(check_path("input_error_first", "jsonl"), "").unwrap();
     let output = tracerctl().args(["decode", "-o"]).arg(&path).arg("no-such-file.log").output().unwrap();
     assert_eq!(output.status.code(), Some(1));
     let read = read_mcap(&path);
