@@ -68,9 +68,14 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d '
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format' -r -f -a "text\t'One readable line per frame'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
-csv\t'Comma-separated values with a fixed header (for spreadsheets)'"
+csv\t'Comma-separated values with a fixed header (for spreadsheets)'
+mcap\t'An MCAP file for Foxglove and PlotJuggler (docs/foxglove.md); needs -o FILE'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s o -l output -d 'Write the output to FILE instead of standard output (a .mcap name means --format mcap)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l mcap-compression -d 'Chunk compression of MCAP output' -r -f -a "zstd\t''
+lz4\t''
+none\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l id -d 'Only frames with these identifiers (hex, comma-separated: 0x211,221, or AA01 for serial)' -r -f
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l msg -d 'Only these messages (comma-separated), e.g. system_state,odometry; also raw, invalid, error_frame' -r -f -a "motion_command\t''
 light_command\t''
@@ -147,7 +152,7 @@ raw\t''
 invalid\t''
 error_frame\t''
 remote_request\t''"
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l log -d 'Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line; a .mcap name writes MCAP instead (docs/foxglove.md), flushed every second' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l duration -d 'Stop after this long (e.g. 10s; up to 30 days); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l silence -d 'Warn when the bus is silent this long (0 to 1h; 0: never)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s t -l timestamp -d 'Time column of text lines, as candump -t: a, d, z or A (default: absolute)' -r -f -a "absolute\t'(a) seconds since the epoch, 6 decimals (9 when the link stamps nanoseconds)'
@@ -453,7 +458,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l accel 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l record -d 'Write a candump log of the session (frames received and sent) to FILE; a .mcap name writes MCAP (Foxglove, PlotJuggler: docs/foxglove.md)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l key-timeout -d 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
@@ -493,7 +498,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l accel -d 'L
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-accel -d 'Angular acceleration of the ramp, rad/s²' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l decel -d 'Braking (slowing down, reversing), m/s²; at least --accel. From 0.15 m/s to zero in 0.1 s' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l record -d 'Write a candump log of the session (frames received and sent) to FILE; a .mcap name writes MCAP (Foxglove, PlotJuggler: docs/foxglove.md)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l key-timeout -d 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'

@@ -125,9 +125,18 @@ pub struct DecodeArgs {
     #[arg(value_name = "INPUT")]
     pub inputs: Vec<String>,
 
-    /// Output format
-    #[arg(long, short = 'f', value_enum, default_value_t = FormatArg::Text)]
-    pub format: FormatArg,
+    /// Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE
+    /// and is written by one thread
+    #[arg(long, short = 'f', value_enum)]
+    pub format: Option<DecodeFormatArg>,
+
+    /// Write the output to FILE instead of standard output (a .mcap name means --format mcap)
+    #[arg(long, short = 'o', value_name = "FILE", value_hint = clap::ValueHint::FilePath)]
+    pub output: Option<PathBuf>,
+
+    /// Chunk compression of MCAP output
+    #[arg(long, value_enum, default_value_t = McapCompressionArg::Zstd, value_name = "METHOD")]
+    pub mcap_compression: McapCompressionArg,
 
     /// Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance
     #[arg(long, short = 's')]
@@ -169,12 +178,65 @@ fn chunk_bytes_from_env() -> Option<usize> {
     std::env::var("TRACERCTL_CHUNK_BYTES").ok()?.parse().ok().filter(|&bytes: &usize| bytes > 0)
 }
 
+/// `--format` of decode: monitor's formats and MCAP.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum DecodeFormatArg {
+    /// One readable line per frame.
+    Text,
+    /// One JSON object per line (schema in docs/json.md).
+    Json,
+    /// Comma-separated values with a fixed header (for spreadsheets).
+    Csv,
+    /// An MCAP file for Foxglove and PlotJuggler (docs/foxglove.md); needs -o FILE.
+    Mcap,
+}
+
+/// `--mcap-compression`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum McapCompressionArg {
+    Zstd,
+    Lz4,
+    None,
+}
+
+impl From<McapCompressionArg> for crate::output::mcap::Compression {
+    fn from(value: McapCompressionArg) -> Self {
+        match value {
+            McapCompressionArg::Zstd => Self::Zstd,
+            McapCompressionArg::Lz4 => Self::Lz4,
+            McapCompressionArg::None => Self::None,
+        }
+    }
+}
+
 impl DecodeArgs {
-    fn options(self, serial: Vec<PathBuf>) -> commands::decode::Options {
-        commands::decode::Options {
+    fn options(self, serial: Vec<PathBuf>) -> anyhow::Result<commands::decode::Options> {
+        let output = self.output.filter(|path| path.as_os_str() != "-");
+        let inferred = match output.as_deref() {
+            Some(path) if crate::output::mcap::is_mcap_path(path) => DecodeFormatArg::Mcap,
+            _ => DecodeFormatArg::Text,
+        };
+        let format = self.format.unwrap_or(inferred);
+        if format == DecodeFormatArg::Mcap {
+            if output.is_none() {
+                return Err(usage(
+                    "--format mcap needs a file it can seek in (the index is written last): give -o FILE.mcap, \
+                     not standard output",
+                ));
+            }
+            if self.summary || self.plot.is_some() {
+                return Err(usage("--format mcap writes every frame: leave out --summary and --plot"));
+            }
+        }
+        let mcap = (format == DecodeFormatArg::Mcap).then(|| self.mcap_compression.into());
+        Ok(commands::decode::Options {
             inputs: self.inputs,
             serial,
-            format: self.format.into(),
+            format: match format {
+                DecodeFormatArg::Json => Format::Json,
+                DecodeFormatArg::Csv => Format::Csv,
+                DecodeFormatArg::Text | DecodeFormatArg::Mcap => Format::Text,
+            },
             summary: self.summary,
             strict: self.strict,
             ids: self.ids,
@@ -187,7 +249,9 @@ impl DecodeArgs {
                 None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
             },
             chunk_bytes: chunk_bytes_from_env(),
-        }
+            output,
+            mcap,
+        })
     }
 }
 
@@ -230,7 +294,8 @@ pub struct MonitorArgs {
     #[arg(long = "msg", value_name = "NAMES", value_delimiter = ',', value_parser = Completing { parse: parse_msg_name, values: msg_values }, hide_possible_values = true, long_help = msg_long_help())]
     pub messages: Vec<&'static str>,
 
-    /// Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line
+    /// Also write every frame to FILE in candump -L format (replayable with canplayer), flushed per line; a
+    /// .mcap name writes MCAP instead (docs/foxglove.md), flushed every second
     #[arg(long, value_name = "FILE")]
     pub log: Option<PathBuf>,
 
@@ -647,7 +712,8 @@ pub struct DashboardArgs {
     #[arg(long)]
     pub watch: bool,
 
-    /// Write a candump log of the session (frames received and sent) to FILE
+    /// Write a candump log of the session (frames received and sent) to FILE; a .mcap name writes MCAP
+    /// (Foxglove, PlotJuggler: docs/foxglove.md)
     #[arg(long, value_name = "FILE")]
     pub record: Option<PathBuf>,
 
@@ -1035,7 +1101,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         Command::Decode(args) => {
             link.refuse_live()?;
             let serial = link.serial.clone();
-            commands::decode::run(&offline(), &args.options(serial))
+            commands::decode::run(&offline(), &args.options(serial)?)
         }
         Command::Completions(args) => commands::completions::run(
             &offline(),

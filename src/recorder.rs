@@ -2,38 +2,61 @@
 //! a thread of its own behind a bounded queue, so neither the 50 Hz sender nor a reader ever waits for the
 //! disk. Nothing is lost silently: a frame that could not be queued (the disk is slower than the bus) or
 //! written (a full disk, ENOSPC) is counted with the reason, for the screen and the exit report.
+//!
+//! A `.mcap` file is written as MCAP instead (output::mcap, decoded on the recorder's thread), its current
+//! chunk closed and flushed at least every [`MCAP_FLUSH`], so a recording killed outright (SIGKILL) stays
+//! readable up to then; a normal end (any signal but SIGKILL) finishes it with its summary and index.
 
 use std::fs::File;
-use std::io::Write;
+use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::sync::Arc;
 use std::thread::JoinHandle;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use parking_lot::Mutex;
 
 use crate::candump;
 use crate::link::{LinkFrame, Received};
-use crate::output::number;
+use crate::output::mcap::{is_mcap_path, Compression, McapWriter, Provenance};
+use crate::output::{number, Event, FrameRef};
+use crate::protocol::detect::{ProtocolDetector, Verdict};
+use crate::protocol::ProtocolHint;
 
 /// Frames the queue holds before further ones are counted as lost (seconds of a busy bus).
 pub const QUEUE_FRAMES: usize = 8192;
 /// The writer takes up to this many queued frames per write.
 const BATCH_FRAMES: usize = 256;
+/// An MCAP recording's chunk is closed and written out at least this often: what a SIGKILL can lose.
+pub const MCAP_FLUSH: Duration = Duration::from_secs(1);
 
 /// The recording's file: created (and so checked) before anything starts.
 pub struct LogFile {
     file: File,
     path: PathBuf,
+    /// Set for a `.mcap` name: written as MCAP, frames decoded with `hint`.
+    mcap: Option<(McapWriter<BufWriter<File>>, ProtocolHint)>,
 }
 
 impl LogFile {
-    pub fn create(path: &Path) -> Result<Self> {
+    /// Creates the file; a `.mcap` name is an MCAP recording whose metadata names `command` (monitor,
+    /// dashboard), with frames decoded as `hint` says.
+    pub fn create(path: &Path, command: &'static str, hint: ProtocolHint) -> Result<Self> {
         let file =
             File::create(path).with_context(|| format!("cannot create the log file {}", path.display()))?;
-        Ok(Self { file, path: path.to_path_buf() })
+        let mcap = if is_mcap_path(path) {
+            let out = BufWriter::new(file.try_clone().context("cannot open the recording twice")?);
+            let provenance = Provenance { command, sources: Vec::new() };
+            let writer = McapWriter::new(out, Compression::default(), provenance)
+                .map_err(|error| anyhow::anyhow!("cannot write {}: {error}", path.display()))?;
+            Some((writer, hint))
+        } else {
+            None
+        };
+        Ok(Self { file, path: path.to_path_buf(), mcap })
     }
 
     pub fn path(&self) -> &Path {
@@ -186,6 +209,9 @@ impl Drop for Recorder {
 
 /// Takes what is queued in batches, one write each; a failed write loses its batch, counted with the error.
 fn write_loop(mut file: LogFile, iface: &str, inbox: &Receiver<Item>, losses: &Losses) {
+    if let Some((writer, hint)) = file.mcap.take() {
+        return McapRecording::new(writer, hint, iface).run(inbox, losses);
+    }
     let mut lines = Vec::with_capacity(BATCH_FRAMES * 48);
     let mut open = true;
     while open {
@@ -211,6 +237,93 @@ fn write_loop(mut file: LogFile, iface: &str, inbox: &Receiver<Item>, losses: &L
     }
 }
 
+/// An MCAP recording on the recorder's thread: each frame decoded into an [`Event`] as decode does.
+struct McapRecording<'a> {
+    writer: McapWriter<BufWriter<File>>,
+    hint: ProtocolHint,
+    detector: ProtocolDetector,
+    serial: bool,
+    iface: &'a str,
+    /// The first write error: the file is unusable after it, every later frame is counted lost.
+    failed: Option<String>,
+}
+
+impl<'a> McapRecording<'a> {
+    fn new(mut writer: McapWriter<BufWriter<File>>, hint: ProtocolHint, iface: &'a str) -> Self {
+        writer.set_sources(vec![iface.to_string()]);
+        Self { writer, hint, detector: ProtocolDetector::default(), serial: false, iface, failed: None }
+    }
+
+    fn run(mut self, inbox: &Receiver<Item>, losses: &Losses) {
+        let mut flushed = Instant::now();
+        loop {
+            // Wakes up to close the chunk of a quiet bus too.
+            let item = match inbox.recv_timeout(MCAP_FLUSH) {
+                Ok(item) => Some(item),
+                Err(mpsc::RecvTimeoutError::Timeout) => None,
+                Err(mpsc::RecvTimeoutError::Disconnected) => Some(Item::Close),
+            };
+            match item {
+                Some(Item::Frame(received)) => self.frame(&received, losses),
+                Some(Item::Close) => break,
+                None => {}
+            }
+            if flushed.elapsed() >= MCAP_FLUSH {
+                flushed = Instant::now();
+                if let Err(error) = self.writer.flush() {
+                    self.failed.get_or_insert_with(|| error.to_string());
+                }
+            }
+        }
+        self.finish(losses);
+    }
+
+    fn frame(&mut self, received: &Received, losses: &Losses) {
+        if let Some(reason) = &self.failed {
+            losses.add(1, || reason.clone());
+            return;
+        }
+        let ts = Some(received.ts);
+        let event = match &received.frame {
+            LinkFrame::Can(frame) => {
+                let decoded = self.detector.observe_and_decode(frame, self.hint);
+                Event { ts, iface: self.iface, dir: None, frame: FrameRef::Can(frame), decoded }
+            }
+            LinkFrame::Serial(frame) => {
+                self.serial = true;
+                let decoded = Ok(crate::protocol::serial::decode(frame));
+                Event { ts, iface: self.iface, dir: None, frame: FrameRef::Serial(frame), decoded }
+            }
+        };
+        if let Err(error) = self.writer.event(&event) {
+            let reason = error.to_string();
+            losses.add(1, || reason.clone());
+            self.failed = Some(reason);
+        }
+    }
+
+    /// The metadata, summary and index; a failure is counted as the loss of the file's last chunk.
+    fn finish(self, losses: &Losses) {
+        let protocol = match self.detector.verdict() {
+            _ if self.serial => "serial",
+            Verdict::V1 => "can-v1",
+            Verdict::V2 => "can-v2",
+            Verdict::Unknown | Verdict::Mixed => "unknown",
+        };
+        if self.failed.is_some() {
+            return;
+        }
+        match self.writer.finish(protocol) {
+            Ok(mut out) => {
+                if let Err(error) = out.flush() {
+                    losses.add(1, || format!("cannot finish the MCAP file: {error}"));
+                }
+            }
+            Err(error) => losses.add(1, || format!("cannot finish the MCAP file: {error}")),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -228,8 +341,11 @@ mod tests {
     fn every_frame_is_written_in_order() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bus.log");
-        let mut recorder =
-            Recorder::start(LogFile::create(&path).unwrap(), "a-very-long-interface-name").unwrap();
+        let mut recorder = Recorder::start(
+            LogFile::create(&path, "monitor", ProtocolHint::Auto).unwrap(),
+            "a-very-long-interface-name",
+        )
+        .unwrap();
         let queue = recorder.queue();
         for n in 0..100 {
             queue.push(frame(n));
@@ -242,8 +358,36 @@ mod tests {
     }
 
     #[test]
+    fn a_mcap_name_records_mcap_finished_with_its_metadata_on_close() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("bus.MCAP");
+        let file = LogFile::create(&path, "dashboard", ProtocolHint::Auto).unwrap();
+        let mut recorder = Recorder::start(file, "can0").unwrap();
+        for n in 0..100 {
+            recorder.push(frame(n));
+        }
+        assert_eq!(recorder.close(), None);
+        let bytes = std::fs::read(&path).unwrap();
+        let summary = ::mcap::Summary::read(&bytes).unwrap().expect("finished: a summary");
+        let index = &summary.metadata_indexes[0];
+        let metadata = ::mcap::read::metadata(&bytes, index).unwrap().metadata;
+        assert_eq!(metadata["command"], "dashboard");
+        assert_eq!(metadata["sources"], "[\"can0\"]");
+        assert_eq!(metadata["protocol"], "can-v2");
+        let raw = ::mcap::MessageStream::new(&bytes)
+            .unwrap()
+            .filter(|message| message.as_ref().unwrap().channel.topic == "/tracer/raw")
+            .count();
+        assert_eq!(raw, 100);
+    }
+
+    #[test]
     fn a_full_disk_is_counted_with_its_reason() {
-        let mut recorder = Recorder::start(LogFile::create(Path::new("/dev/full")).unwrap(), "can0").unwrap();
+        let mut recorder = Recorder::start(
+            LogFile::create(Path::new("/dev/full"), "monitor", ProtocolHint::Auto).unwrap(),
+            "can0",
+        )
+        .unwrap();
         let queue = recorder.queue();
         for n in 0..50 {
             queue.push(frame(n));
@@ -261,7 +405,12 @@ mod tests {
     fn a_full_queue_never_blocks_and_counts_what_it_drops() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("bus.log");
-        let mut recorder = Recorder::with_capacity(LogFile::create(&path).unwrap(), "can0", 4).unwrap();
+        let mut recorder = Recorder::with_capacity(
+            LogFile::create(&path, "monitor", ProtocolHint::Auto).unwrap(),
+            "can0",
+            4,
+        )
+        .unwrap();
         let queue = recorder.queue();
         let start = std::time::Instant::now();
         for n in 0..=255 {

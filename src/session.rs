@@ -162,7 +162,8 @@ impl Session {
             stop: AtomicBool::new(false),
         });
         let recorder = match record {
-            Some(path) => Some(Recorder::start(LogFile::create(path)?, &link.name)?),
+            // Only the dashboard records through a session (`dashboard --record`).
+            Some(path) => Some(Recorder::start(LogFile::create(path, "dashboard", hint)?, &link.name)?),
             None => None,
         };
         let tx: Arc<dyn FrameTx> = match &recorder {

@@ -86,7 +86,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         LinkChoice::Replay { .. } => None,
         _ => Some(1.0),
     };
-    let log = args.log.as_deref().map(LogFile::create).transpose()?;
+    let log =
+        args.log.as_deref().map(|path| LogFile::create(path, "monitor", global.protocol)).transpose()?;
     let (link, simulator) = session::open_link(&choice, global.sim_config())?;
     let flag = signals::listen(|_| {})?;
     let options = Settings {
@@ -1133,7 +1134,9 @@ mod tests {
         let mut opts = options(Format::Text);
         opts.filter = Filter::new(&[FrameId::Standard(0x999)], &[]);
         let mut monitor = Monitor::starting_at("can0", "can0", false, opts, Vec::new(), start);
-        monitor.log = Some(Recorder::start(LogFile::create(&path).unwrap(), "can0").unwrap());
+        monitor.log = Some(
+            Recorder::start(LogFile::create(&path, "monitor", ProtocolHint::Auto).unwrap(), "can0").unwrap(),
+        );
         monitor.frame(&can(0x211, &STATE, T0), start).unwrap();
         // Written by the recorder's thread, whatever standard output does.
         assert_eq!(monitor.log.as_mut().unwrap().close(), None);
@@ -1141,7 +1144,9 @@ mod tests {
             std::fs::read_to_string(&path).unwrap(),
             "(1700000000.000000) can0 211#00000103000000B1\n"
         );
-        let error = LogFile::create(&dir.path().join("missing/bus.log")).err().unwrap();
+        let error = LogFile::create(&dir.path().join("missing/bus.log"), "monitor", ProtocolHint::Auto)
+            .err()
+            .unwrap();
         assert!(format!("{error:#}").contains("missing/bus.log"), "{error:#}");
     }
 
@@ -1150,8 +1155,13 @@ mod tests {
         let start = Instant::now();
         let mut monitor =
             Monitor::starting_at("can0", "can0", false, options(Format::Text), Vec::new(), start);
-        monitor.log =
-            Some(Recorder::start(LogFile::create(Path::new("/dev/full")).unwrap(), "can0").unwrap());
+        monitor.log = Some(
+            Recorder::start(
+                LogFile::create(Path::new("/dev/full"), "monitor", ProtocolHint::Auto).unwrap(),
+                "can0",
+            )
+            .unwrap(),
+        );
         for i in 0..10 {
             monitor.frame(&can(0x211, &STATE, T0 + f64::from(i) * 0.02), start).unwrap();
         }

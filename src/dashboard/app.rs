@@ -18,6 +18,7 @@ use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WA
 use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
+use crate::protocol::pose::DeadReckoning;
 use crate::protocol::{FrameId, Wire};
 use crate::recorder::RecordLoss;
 use crate::session::RobotStatus;
@@ -34,9 +35,6 @@ pub const RATE_WINDOW: Duration = Duration::from_secs(1);
 pub const STATUS_STALE: Duration = Duration::from_millis(100);
 /// How long a one-line message stays on screen.
 pub const MESSAGE_TTL: Duration = Duration::from_secs(10);
-/// Faster than this a wheel cannot go (TRACER: 2.3 m/s no-load); a bigger odometer step is a reset or a
-/// wrap of a restarted robot, and is skipped rather than integrated into the pose.
-const MAX_WHEEL_SPEED: f64 = 5.0;
 
 /// What the terminal glue hands over at each update.
 pub struct Snapshot<'a> {
@@ -266,57 +264,26 @@ pub struct Shown {
     pub ids: Vec<IdView>,
 }
 
-/// Pose from odometer deltas: differential drive, midpoint heading.
+/// Pose from odometer deltas ([`DeadReckoning`]), timed by the clock of the updates.
 #[derive(Clone, Copy, Debug, Default)]
-struct DeadReckoning {
-    last: Option<(Odometry, Instant)>,
-    trip_m: f64,
-    x: f64,
-    y: f64,
-    /// rad, kept in -pi..=pi.
-    heading: f64,
-    /// Odometer steps too big to be driving (a reset), skipped.
-    jumps: u64,
+struct Odometer {
+    pose: DeadReckoning,
+    at: Option<Instant>,
 }
 
-impl DeadReckoning {
+impl Odometer {
     fn step(&mut self, odometry: Odometry, now: Instant) {
-        let Some((previous, at)) = self.last.replace((odometry, now)) else {
-            return;
-        };
-        // The odometers are i32 mm that wrap.
-        let left = f64::from(odometry.left_mm.wrapping_sub(previous.left_mm)) / 1000.0;
-        let right = f64::from(odometry.right_mm.wrapping_sub(previous.right_mm)) / 1000.0;
-        let plausible = MAX_WHEEL_SPEED * now.saturating_duration_since(at).as_secs_f64() + 0.5;
-        if left.abs() > plausible || right.abs() > plausible {
-            self.jumps += 1;
-            return;
-        }
-        let distance = (left + right) / 2.0;
-        let turn = (right - left) / TRACK_M;
-        let mid = self.heading + turn / 2.0;
-        self.x += distance * mid.cos();
-        self.y += distance * mid.sin();
-        self.heading = normalize_angle(self.heading + turn);
-        self.trip_m += distance.abs();
+        let elapsed = self.at.replace(now).map_or(0.0, |at| now.saturating_duration_since(at).as_secs_f64());
+        self.pose.step(odometry, elapsed);
     }
 
     fn view(&self) -> Option<PoseView> {
-        self.last.map(|_| PoseView {
-            x_cm: (self.x * 100.0).round() as i64,
-            y_cm: (self.y * 100.0).round() as i64,
-            heading_decideg: (self.heading.to_degrees() * 10.0).round() as i64,
+        let pose = &self.pose;
+        pose.started().then(|| PoseView {
+            x_cm: (pose.x * 100.0).round() as i64,
+            y_cm: (pose.y * 100.0).round() as i64,
+            heading_decideg: (pose.heading.to_degrees() * 10.0).round() as i64,
         })
-    }
-}
-
-/// -pi..=pi.
-fn normalize_angle(angle: f64) -> f64 {
-    let wrapped = (angle + std::f64::consts::PI).rem_euclid(std::f64::consts::TAU) - std::f64::consts::PI;
-    if wrapped <= -std::f64::consts::PI {
-        wrapped + std::f64::consts::TAU
-    } else {
-        wrapped
     }
 }
 
@@ -410,7 +377,7 @@ pub struct App {
     /// Frames the `--record` recording lost, and why: shown until the end.
     pub(super) recording_loss: Option<RecordLoss>,
     battery_sampled: Option<Instant>,
-    odometry: DeadReckoning,
+    odometry: Odometer,
     rates: Rates,
     /// When the source was first seen ended: the robot's values are aged up to then, never beyond.
     ended_at: Option<Instant>,
@@ -429,7 +396,7 @@ impl App {
             message: None,
             recording_loss: None,
             battery_sampled: None,
-            odometry: DeadReckoning::default(),
+            odometry: Odometer::default(),
             rates: Rates::default(),
             ended_at: None,
         }
@@ -518,7 +485,7 @@ impl App {
         }
         let shown = &mut self.shown;
         shown.odometer_mm = status.odometry.map(|o| (o.left_mm, o.right_mm));
-        shown.trip_cm = (self.odometry.trip_m * 100.0).round() as u64;
+        shown.trip_cm = (self.odometry.pose.trip_m * 100.0).round() as u64;
         shown.pose = self.odometry.view();
     }
 
@@ -661,12 +628,13 @@ impl App {
 
     /// The dead-reckoned pose in m, m, rad (full precision), once odometry has been seen.
     pub fn pose(&self) -> Option<(f64, f64, f64)> {
-        self.odometry.last.map(|_| (self.odometry.x, self.odometry.y, self.odometry.heading))
+        let pose = &self.odometry.pose;
+        pose.started().then_some((pose.x, pose.y, pose.heading))
     }
 
     /// Distance driven since the start, m.
     pub fn trip_m(&self) -> f64 {
-        self.odometry.trip_m
+        self.odometry.pose.trip_m
     }
 
     /// Everything shown from the robot and the sender.
@@ -796,14 +764,7 @@ mod tests {
         // A jump of 100 m in 50 ms is a reset, not driving.
         let app = odometry_run(&[(0, 0), (100_000, 100_000), (100_050, 100_050)]);
         assert!((app.pose().unwrap().0 - 0.05).abs() < 1e-9);
-        assert_eq!(app.odometry.jumps, 1);
-    }
-
-    #[test]
-    fn heading_stays_within_half_a_turn() {
-        assert!((normalize_angle(3.0 * std::f64::consts::PI) - std::f64::consts::PI).abs() < 1e-12);
-        assert!((normalize_angle(-std::f64::consts::PI) - std::f64::consts::PI).abs() < 1e-12);
-        assert!((normalize_angle(-0.5) + 0.5).abs() < 1e-12);
+        assert_eq!(app.odometry.pose.jumps, 1);
     }
 
     #[test]

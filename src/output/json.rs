@@ -3,7 +3,7 @@
 use super::number::*;
 use super::text::{push_name, push_version};
 use super::{direction_name, Event, Shape};
-use crate::protocol::{for_each_field, Value};
+use crate::protocol::{for_each_field, Decoded, Value};
 
 pub fn write(out: &mut Vec<u8>, event: &Event) {
     push_header(out, event);
@@ -42,7 +42,7 @@ fn push_header(out: &mut Vec<u8>, event: &Event) {
 
 /// A name known not to need escaping, quoted, or `null`.
 #[inline]
-fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
+pub fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
     match name {
         Some(name) => {
             out.push(b'"');
@@ -59,17 +59,7 @@ fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
 fn push_fields(out: &mut Vec<u8>, event: &Event) {
     match event.shape() {
         Shape::Message(decoded) => {
-            let mut first = true;
-            for_each_field(&decoded, |field| {
-                if !first {
-                    out.push(b',');
-                }
-                first = false;
-                out.push(b'"');
-                out.extend_from_slice(field.name.as_bytes());
-                out.extend_from_slice(b"\":");
-                push_value(out, &field.value);
-            });
+            push_message_fields(out, &decoded);
             out.push(b'}');
         }
         Shape::Invalid(error) => {
@@ -107,6 +97,22 @@ fn push_fields(out: &mut Vec<u8>, event: &Event) {
             out.push(b'}');
         }
     }
+}
+
+/// `"name":value,...` for every field of a message, without braces (also the MCAP message channels' body).
+#[inline]
+pub fn push_message_fields(out: &mut Vec<u8>, decoded: &Decoded) {
+    let mut first = true;
+    for_each_field(decoded, |field| {
+        if !first {
+            out.push(b',');
+        }
+        first = false;
+        out.push(b'"');
+        out.extend_from_slice(field.name.as_bytes());
+        out.extend_from_slice(b"\":");
+        push_value(out, &field.value);
+    });
 }
 
 /// A field value as JSON: numbers for quantities and codes, strings for names, arrays for flags.

@@ -6,6 +6,7 @@
 pub mod csv;
 pub mod filter;
 pub mod json;
+pub mod mcap;
 pub mod number;
 pub mod queue;
 pub mod stamp;

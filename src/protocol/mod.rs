@@ -13,7 +13,9 @@ pub mod id;
 pub mod message;
 pub mod mode;
 pub mod payload;
+pub mod pose;
 pub mod serial;
+pub mod transitions;
 
 pub use can::{decode, DecodeError, ProtocolHint};
 pub use codec::{ClearTarget, Codec, LinkFrame};

@@ -22,6 +22,7 @@ mod generated;
 mod help_layout;
 mod layers;
 mod long_functions;
+mod mcap;
 mod monitor;
 mod monitor_modes;
 mod parallel_decode;

@@ -23,9 +23,10 @@ use crate::candump::{
 };
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
+use crate::output::mcap::{Compression as McapCompression, McapWriter, Provenance};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::can::EXAMPLE_FRAME;
-use crate::protocol::detect::ProtocolDetector;
+use crate::protocol::detect::{ProtocolDetector, Verdict};
 use crate::protocol::{self, CanFrame, ProtocolHint};
 use crate::signals::SignalFlag;
 use summary::Summary;
@@ -63,6 +64,10 @@ pub struct Options {
     pub threads: usize,
     /// Input bytes per parallel chunk (default [`parallel::CHUNK_BYTES`]; tests make it tiny).
     pub chunk_bytes: Option<usize>,
+    /// Write to this file instead of standard output.
+    pub output: Option<PathBuf>,
+    /// MCAP output (into `output`, a seekable file) with this chunk compression, instead of `format`.
+    pub mcap: Option<McapCompression>,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -71,14 +76,22 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let signals = interrupt::listen()?;
     let stdout = io::stdout();
     let stdout_is_terminal = stdout.is_terminal();
-    let color = color.enabled(stdout_is_terminal);
+    let color = color.enabled(stdout_is_terminal && args.output.is_none());
     let sink = if args.summary {
         Sink::Summary(Box::default())
+    } else if let (Some(compression), Some(path)) = (args.mcap, &args.output) {
+        Sink::Mcap(Some(Box::new(McapOutput::create(path, compression, &args.inputs, serial)?)))
     } else {
         let writer = EventWriter::new(args.format, color);
         let mut buffer = Vec::with_capacity(FLUSH_AT * 2);
         writer.header(&mut buffer);
-        let output = Output { buffer, out: Box::new(stdout.lock()), line_buffered: stdout_is_terminal };
+        let output = match &args.output {
+            Some(path) => {
+                let file = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+                Output { buffer, out: Box::new(io::BufWriter::new(file)), line_buffered: false }
+            }
+            None => Output { buffer, out: Box::new(stdout.lock()), line_buffered: stdout_is_terminal },
+        };
         Sink::Lines { writer, output: Rc::new(RefCell::new(output)) }
     };
     let mut decoder = Decoder {
@@ -124,7 +137,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         Err(error) => {
             // Everything decoded before the error is written first; the error is the last word. A
             // summary or plot of nothing (the first input was refused) would only hide the error.
-            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. }) {
+            // An MCAP file is finished (summary, index) whatever came before the error.
+            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. } | Sink::Mcap(_)) {
                 decoder.write_out_or_say(args);
             }
             Err(error)
@@ -182,8 +196,42 @@ impl Output {
 }
 
 enum Sink {
-    Lines { writer: EventWriter, output: Rc<RefCell<Output>> },
+    Lines {
+        writer: EventWriter,
+        output: Rc<RefCell<Output>>,
+    },
     Summary(Box<Summary>),
+    /// `None` once finished.
+    Mcap(Option<Box<McapOutput>>),
+}
+
+/// `--format mcap`: the writer and the file's name for messages.
+struct McapOutput {
+    writer: McapWriter<io::BufWriter<File>>,
+    path: PathBuf,
+}
+
+impl McapOutput {
+    fn create(
+        path: &Path,
+        compression: McapCompression,
+        inputs: &[String],
+        serial: &[PathBuf],
+    ) -> Result<Self> {
+        let file = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+        let mut sources = inputs.to_vec();
+        sources.extend(serial.iter().map(|path| path.display().to_string()));
+        let provenance = Provenance { command: "decode", sources };
+        let writer = McapWriter::new(io::BufWriter::new(file), compression, provenance)
+            .map_err(|error| mcap_error(path, error))?;
+        Ok(Self { writer, path: path.to_path_buf() })
+    }
+}
+
+/// A failed write of the MCAP file, with its path (what was written before stays readable up to the last
+/// complete chunk).
+fn mcap_error(path: &Path, error: ::mcap::McapError) -> anyhow::Error {
+    anyhow::anyhow!("cannot write {}: {error}", path.display())
 }
 
 /// A write of the output failed inside a read of the input (see [`LiveInput`]).
@@ -356,7 +404,7 @@ impl Decoder {
     fn live<R: Read>(&self, inner: R) -> LiveInput<R> {
         let output = match &self.sink {
             Sink::Lines { output, .. } => Some(Rc::clone(output)),
-            Sink::Summary(_) => None,
+            Sink::Summary(_) | Sink::Mcap(_) => None,
         };
         LiveInput { inner, output, signals: self.signals.clone() }
     }
@@ -574,6 +622,10 @@ impl Decoder {
                 }
             }
             Sink::Summary(summary) => summary.event(event),
+            Sink::Mcap(Some(mcap)) => {
+                mcap.writer.event(event).map_err(|error| mcap_error(&mcap.path, error))?
+            }
+            Sink::Mcap(None) => {}
         }
         if let Some(plot) = &mut self.plot {
             plot.event(event);
@@ -633,15 +685,42 @@ impl Decoder {
                 } else {
                     summary.report(&self.stats, &self.seen)
                 };
-                let mut out = io::stdout().lock();
-                out.write_all(report.as_bytes())?;
-                out.flush()?;
+                match &args.output {
+                    Some(path) => std::fs::write(path, report.as_bytes())
+                        .with_context(|| format!("cannot write {}", path.display()))?,
+                    None => {
+                        let mut out = io::stdout().lock();
+                        out.write_all(report.as_bytes())?;
+                        out.flush()?;
+                    }
+                }
+            }
+            Sink::Mcap(mcap) => {
+                if let Some(mcap) = mcap.take() {
+                    let protocol = self.protocol_name();
+                    let path = mcap.path;
+                    let mut file = mcap.writer.finish(protocol).map_err(|error| mcap_error(&path, error))?;
+                    file.flush().with_context(|| format!("cannot write {}", path.display()))?;
+                }
             }
         }
         if let (Some(plot), Some(path)) = (self.plot.take(), &args.plot) {
             plot.write(path)?;
         }
         Ok(())
+    }
+
+    /// The protocol the inputs showed, as the MCAP metadata names it.
+    fn protocol_name(&self) -> &'static str {
+        let mut seen = self.seen;
+        seen.v1_frames += self.detector.v1_frames;
+        seen.v2_frames += self.detector.v2_frames;
+        match seen.verdict() {
+            Verdict::V1 => "can-v1",
+            Verdict::V2 => "can-v2",
+            Verdict::Unknown if !self.stats.serial.is_empty() => "serial",
+            Verdict::Unknown | Verdict::Mixed => "unknown",
+        }
     }
 
     /// [`Self::write_out`] when another outcome decides the exit status: a failed write is only said

@@ -17,6 +17,7 @@ use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ERROR_CLASSES;
 use crate::protocol::frame::{ERR_FLAG, SFF_MAX};
 use crate::protocol::message::{control_mode_name, vehicle_state_name, Message, SystemState, Wire};
+use crate::protocol::transitions::StatusTracker;
 use crate::protocol::{Decoded, FrameId, FrameKind};
 
 /// At most this many mode and vehicle-state events are listed; the rest are counted.
@@ -348,8 +349,8 @@ pub struct Summary {
     ids: Vec<IdStats>,
     interfaces: Interfaces,
     last_iface: String,
-    mode: Option<(u8, Wire)>,
-    vehicle: Option<u8>,
+    /// Control-mode and vehicle-state changes (the same tracker as the MCAP event channel).
+    status: StatusTracker,
     events: Vec<(At, String)>,
     events_not_listed: u64,
     /// [table][bit] for the two system-state layouts, then [motor 1, motor 2, other] x 8 driver bits.
@@ -380,8 +381,7 @@ impl Default for Summary {
             ids: Vec::new(),
             interfaces: Interfaces::default(),
             last_iface: String::new(),
-            mode: None,
-            vehicle: None,
+            status: StatusTracker::default(),
             events: Vec::new(),
             events_not_listed: 0,
             system_faults: [[FaultSeen::default(); 16]; 2],
@@ -579,22 +579,20 @@ impl Summary {
     }
 
     fn note_mode_change(&mut self, control_mode: u8, wire: Wire, at: At) {
-        let mode = (control_mode, wire);
-        if self.mode.is_some_and(|previous| previous.0 != mode.0) || self.mode.is_none() {
+        if let Some(change) = self.status.control_mode(control_mode, wire) {
             let name = |(value, wire): (u8, Wire)| mode_text(wire, value);
-            let text = match self.mode {
-                Some(previous) => format!("control mode {} -> {}", name(previous), name(mode)),
-                None => format!("control mode {} (first status)", name(mode)),
+            let text = match change.previous {
+                Some(previous) => format!("control mode {} -> {}", name(previous), name(change.current)),
+                None => format!("control mode {} (first status)", name(change.current)),
             };
             self.note(at, text);
         }
-        self.mode = Some(mode);
     }
 
     fn note_vehicle_change(&mut self, state: &SystemState, at: At) {
-        if self.vehicle != Some(state.vehicle_state) {
+        if let Some(change) = self.status.vehicle_state(state.vehicle_state) {
             let name = vehicle_state_name(state.vehicle_state).unwrap_or("unknown");
-            let text = match self.vehicle {
+            let text = match change.previous {
                 Some(previous) => format!(
                     "vehicle state {} -> {name}{}",
                     vehicle_state_name(previous).unwrap_or("unknown"),
@@ -604,7 +602,6 @@ impl Summary {
             };
             self.note(at, text);
         }
-        self.vehicle = Some(state.vehicle_state);
     }
 
     /// Motor `number` (1 or 2): the largest speed and current seen.
