@@ -413,7 +413,8 @@ impl Merger<'_> {
                 Sink::Summary(summary) => summary.event(&event),
                 // The workers wrote the output: only the plot is left.
                 Sink::Lines { .. } if workers_wrote => {}
-                Sink::Lines { .. } => {
+                // MCAP: the workers parse and decode, this thread writes the container (and the plot).
+                Sink::Lines { .. } | Sink::Mcap(_) => {
                     decoder.deliver(&event)?;
                     continue;
                 }
