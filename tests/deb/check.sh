@@ -61,7 +61,7 @@ grep -qx decode <<<"$words" || fail "bash completion of 'tracerctl dec' offers: 
 pass "bash completion: 'tracerctl dec<TAB>' offers decode"
 
 for file in /usr/share/zsh/vendor-completions/_tracerctl /usr/share/fish/vendor_completions.d/tracerctl.fish \
-    /usr/share/doc/tracerctl/tracer.dbc /usr/share/doc/tracerctl/README.md /usr/share/doc/tracerctl/json.md; do
+    /usr/share/doc/tracerctl/tracer.dbc /usr/share/doc/tracerctl/README.md /usr/share/doc/tracerctl/json.md /usr/share/doc/tracerctl/foxglove.md /usr/share/doc/tracerctl/foxglove-layout.json; do
     [ -f "$file" ] || fail "$file not installed"
 done
 pass "zsh and fish completions, the DBC and the docs are installed"

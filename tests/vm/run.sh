@@ -356,6 +356,12 @@ if [ -n "$robot_pid" ]; then
         log "serial_stalled_peer judged on the host from $robot_log and $arts/scn/ser.*"
     fi
 fi
+if grep -q '^HOST-CHECK mcap_session:' "$console" && [ $self_test = 1 ]; then
+    echo "CHECK mcap_session: PASS not judged in the self-test (the fake writes no MCAP)" >>"$host_checks"
+elif grep -q '^HOST-CHECK mcap_session:' "$console"; then
+    python3 "$here/../mcap/vm_session.py" "$arts/scn" >>"$host_checks" 2>&1 || true
+    log "mcap_session judged on the host from $arts/scn/session.mcap and mcap_bus.log"
+fi
 echo
 echo "================ VM suite summary ($suite)"
 grep -hE '^CHECK [a-z0-9_]+: (PASS|FAIL)' "$console" "$host_checks" || true

@@ -545,24 +545,28 @@ fn fill(
     let mut eof = false;
     while !(last_newline.is_some() && (cut.stream || chunk.input.len() >= chunk_bytes)) {
         let old = chunk.input.len();
-        chunk.input.resize(old + chunk_bytes, 0);
-        let read = match reader.read(&mut chunk.input[old..]) {
-            Ok(read) => read,
-            Err(error) if error.kind() == io::ErrorKind::Interrupted => {
-                chunk.input.truncate(old);
-                continue;
-            }
-            Err(error) => {
-                // As the line reader: the lines read before the error count, the unfinished one does not.
-                chunk.input.truncate(last_newline.map_or(0, |at| at + 1));
-                chunk.read_error = Some(error);
-                *long = None;
-                eof = true;
-                break;
-            }
+        let read = if cut.stream {
+            // Whatever one read returns: a live stream's lines go out as they come.
+            chunk.input.resize(old + chunk_bytes, 0);
+            let read = reader.read(&mut chunk.input[old..]);
+            chunk.input.truncate(old + *read.as_ref().unwrap_or(&0));
+            read
+        } else {
+            // A file: up to a chunk at once, read into the buffer's spare room without zeroing it first
+            // (zeroing 256 KiB per chunk cost as much as the reading).
+            let mut limited = Read::take(&mut *reader, chunk_bytes as u64);
+            limited.read_to_end(&mut chunk.input)
         };
-        chunk.input.truncate(old + read);
+        // Bytes read before an error are taken as a read of their own, then the error ends the input.
+        let (read, error) = match read {
+            Ok(_) => (chunk.input.len() - old, None),
+            Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
+            Err(error) => (chunk.input.len() - old, Some(error)),
+        };
         if read == 0 {
+            if let Some(error) = error {
+                read_failed(chunk, last_newline, long, error);
+            }
             eof = true;
             break;
         }
@@ -580,6 +584,11 @@ fn fill(
                 None => {
                     *length += read;
                     chunk.input.truncate(cut);
+                    if let Some(error) = error {
+                        read_failed(chunk, last_newline, long, error);
+                        eof = true;
+                        break;
+                    }
                     continue;
                 }
             }
@@ -593,8 +602,20 @@ fn fill(
             *long = Some(chunk.input.len() - open);
             chunk.input.truncate(open + keep);
         }
+        if let Some(error) = error {
+            read_failed(chunk, last_newline, long, error);
+            eof = true;
+            break;
+        }
     }
     (last_newline, eof)
+}
+
+/// As the line reader: the lines read before the error count, the unfinished one does not.
+fn read_failed(chunk: &mut Chunk, last_newline: Option<usize>, long: &mut Option<usize>, error: io::Error) {
+    chunk.input.truncate(last_newline.map_or(0, |at| at + 1));
+    chunk.read_error = Some(error);
+    *long = None;
 }
 
 // Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
@@ -853,6 +874,52 @@ mod tests {
 
     fn chunk(text: &[u8]) -> Chunk {
         Chunk { input: text.to_vec(), ..Chunk::default() }
+    }
+
+    /// Gives its bytes `step` at a time, then fails (a disk that goes away mid-file).
+    struct FailingAfter {
+        data: &'static [u8],
+        at: usize,
+        step: usize,
+    }
+
+    impl Read for FailingAfter {
+        fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+            if self.at == self.data.len() {
+                return Err(io::Error::other("the disk went away"));
+            }
+            let n = self.step.min(buf.len()).min(self.data.len() - self.at);
+            buf[..n].copy_from_slice(&self.data[self.at..self.at + n]);
+            self.at += n;
+            Ok(n)
+        }
+    }
+
+    /// As the line reader: whole lines read before an error count, the unfinished one does not, whether the
+    /// bytes came in one read or many (files are read a chunk at a time, streams a read at a time).
+    #[test]
+    fn a_read_error_keeps_the_whole_lines_read_before_it() {
+        for stream in [false, true] {
+            for step in [1, 5, 64, 4096] {
+                let mut reader = FailingAfter { data: b"a 1\nb 2\nc 3\npartial", at: 0, step };
+                let mut chunk = Chunk::default();
+                let mut long = None;
+                let cut = Cut { chunk_bytes: 1 << 16, stream };
+                let mut ended = false;
+                let mut input = Vec::new();
+                while !ended {
+                    // As `split`: a chunk ends after its last newline, the rest opens the next one.
+                    let (last_newline, eof) = fill(&mut reader, &mut chunk, cut, &mut long);
+                    let end = if eof { chunk.input.len() } else { last_newline.map_or(0, |at| at + 1) };
+                    input.extend_from_slice(&chunk.input[..end]);
+                    chunk.input.drain(..end);
+                    ended = eof;
+                }
+                assert_eq!(input, b"a 1\nb 2\nc 3\n", "stream {stream}, step {step}");
+                let error = chunk.read_error.as_ref().map(|error| error.to_string());
+                assert_eq!(error.as_deref(), Some("the disk went away"), "stream {stream}, step {step}");
+            }
+        }
     }
 
     /// 0x151 decodes by the verdict on the traffic before it: a chunk decoded from a wrong guess differs,
