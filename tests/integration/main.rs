@@ -26,6 +26,7 @@ mod mcap;
 mod monitor;
 mod monitor_modes;
 mod parallel_decode;
+mod parallel_summary;
 mod plot;
 mod recording;
 mod robot_commands;

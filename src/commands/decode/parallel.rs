@@ -7,12 +7,16 @@
 //! and messages with the chunk's first line number, which is known only then. Chunks travel in a fixed pool,
 //! so memory is bounded by the pool (threads x chunk size), whatever the size of the input.
 //!
-//! `--summary`, `--plot` and `--delta-stamps` (`-t d`) need state carried over every line before: there the
+//! `--summary`, `--plot` and `--delta-stamps` (`-t d`) need state carried over every line before. For
+//! `--summary` alone each worker feeds its chunk's events into a partial [`Summary`] of its own, and this
+//! thread merges the partials in input order ([`Summary::absorb`]): what depends on the frames before the
+//! chunk (gaps and count-byte steps across the boundary, the first status against the one before, odometer
+//! steps, positions) is kept raw in the partial and resolved there, so the report is the single pass's. A
+//! partial that cannot be merged exactly (more interface names or identifiers than the report lists,
+//! [`Summary::can_absorb`]) is decoded again here into events and replayed. With `--plot` or `-t d` the
 //! workers parse, decode and filter their chunk into a compact list of events ([`Events`]: stamp, interface
 //! as an index into the chunk's names, direction, frame, what it decoded to), and this thread replays them in
-//! input order through [`Decoder::deliver`], the code one thread feeds them to. So the report (counts, rates,
-//! gaps and count-byte skips across chunk boundaries, fault timelines, first and last times) and the plot are
-//! exact by construction. `-t d` stamps are summed within the chunk from zero and the run's sum before the
+//! input order through [`Decoder::deliver`], the code one thread feeds them to: exact by construction. `-t d` stamps are summed within the chunk from zero and the run's sum before the
 //! chunk is added here, in order (saturating sums of non-negative deltas are associative: exact too); with
 //! `-t d` this thread also writes the text, since every stamp depends on all the lines before.
 //!
@@ -40,6 +44,7 @@ use anyhow::Result;
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
+use super::summary::Summary;
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
 use crate::candump::{
     self, CarriedState, DeltaSum, Direction, Line, LineParser, LogFormat, Reason, Rejected, Rejection,
@@ -90,6 +95,8 @@ struct Chunk {
     read_error: Option<io::Error>,
     output: Vec<u8>,
     events: Events,
+    /// `--summary` (without `--plot` or `-t d`): the chunk's own summary, merged here in order.
+    summary: Box<Summary>,
     outcome: Outcome,
 }
 
@@ -199,6 +206,8 @@ struct Settings {
     writer: Option<EventWriter>,
     /// Workers keep the events for this thread to replay.
     record: bool,
+    /// Workers summarize their chunk into a partial summary for this thread to merge (`--summary`).
+    partial: bool,
     delta_stamps: bool,
     strict: bool,
 }
@@ -218,11 +227,14 @@ pub(super) fn decode(
         Sink::Lines { writer, .. } if !decoder.delta_stamps => Some(*writer),
         _ => None,
     };
+    // Partial summaries merge exactly; the plot and `-t d` stamps need every event in order.
+    let partial = matches!(decoder.sink, Sink::Summary(_)) && decoder.plot.is_none() && !decoder.delta_stamps;
     let settings = Settings {
         protocol: decoder.protocol,
         filter: decoder.filter.clone(),
         writer,
-        record: writer.is_none() || decoder.plot.is_some(),
+        record: (writer.is_none() || decoder.plot.is_some()) && !partial,
+        partial,
         delta_stamps: decoder.delta_stamps,
         strict: decoder.strict,
     };
@@ -343,6 +355,9 @@ impl Merger<'_> {
         if let (Sink::Lines { output, .. }, Some(_)) = (&self.decoder.sink, self.settings.writer) {
             output.borrow_mut().write_through(&chunk.output)?;
         }
+        if self.settings.partial {
+            self.absorb(chunk, &truth)?;
+        }
         if self.settings.record {
             self.replay(&chunk.events)?;
             if let (Sink::Lines { output, .. }, None) = (&self.decoder.sink, self.settings.writer) {
@@ -391,6 +406,20 @@ impl Merger<'_> {
             Some(error) => Err(read_error(error, self.name)),
             None => Ok(()),
         }
+    }
+
+    /// The chunk's partial summary merged into the run's; one that cannot be merged exactly (see
+    /// [`Summary::can_absorb`]: rare) is decoded again here into events and replayed.
+    fn absorb(&mut self, chunk: &mut Chunk, truth: &Start) -> Result<()> {
+        if let Sink::Summary(summary) = &mut self.decoder.sink {
+            if summary.can_absorb(&chunk.summary) {
+                summary.absorb(&chunk.summary);
+                return Ok(());
+            }
+        }
+        let settings = Settings { record: true, partial: false, ..self.settings.clone() };
+        decode_chunk(&settings, truth, chunk);
+        self.replay(&chunk.events)
     }
 
     /// The chunk's events, delivered as one thread delivers them (the workers counted and filtered them).
@@ -623,11 +652,15 @@ fn read_failed(chunk: &mut Chunk, last_newline: Option<usize>, long: &mut Option
 fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     chunk.output.clear();
     chunk.events.clear();
+    if settings.partial {
+        *chunk.summary = Summary::partial();
+    }
     let mut lines = ChunkLines {
         settings,
         detector: ProtocolDetector { v1_frames: start.v1_seen.into(), v2_frames: start.v2_seen.into() },
         output: &mut chunk.output,
         events: &mut chunk.events,
+        summary: &mut chunk.summary,
         outcome: Outcome { start: start.clone(), ..Outcome::default() },
     };
     let parser = LineParser::new();
@@ -695,6 +728,7 @@ struct ChunkLines<'a> {
     detector: ProtocolDetector,
     output: &'a mut Vec<u8>,
     events: &'a mut Events,
+    summary: &'a mut Summary,
     outcome: Outcome,
 }
 
@@ -737,6 +771,9 @@ impl ChunkLines<'_> {
         }
         if let Some(writer) = self.settings.writer {
             writer.write(self.output, &event);
+        }
+        if self.settings.partial {
+            self.summary.event(&event);
         }
         if let Iface::Interned(iface) = iface {
             self.events.list.push(Replay { stamp, iface, dir, frame: *frame, decoded });
@@ -830,6 +867,7 @@ mod tests {
             filter: Filter::default(),
             writer: Some(EventWriter::new(Format::Json, false)),
             record: false,
+            partial: false,
             delta_stamps: false,
             strict: false,
         }

@@ -1,6 +1,7 @@
 //! `decode --summary`: the report a technician reads. Memory is bounded: per-ID tables, capped event lists.
 
 mod json;
+mod merge;
 mod report;
 mod text;
 
@@ -102,6 +103,19 @@ impl OtherRows {
             hasher.write_u64(key);
             self.multiplier = hasher.finish() | 1;
         }
+        self.probe(key)
+    }
+
+    /// Whether `key` has a row (without allocating the table).
+    fn contains(&self, key: RowKey) -> bool {
+        if self.slots.is_empty() {
+            return false;
+        }
+        matches!(self.slots.get(self.probe(key.packed())), Some(&(_, row)) if row != 0)
+    }
+
+    #[inline]
+    fn probe(&self, key: u64) -> usize {
         let mut slot = (key.wrapping_mul(self.multiplier) >> (64 - OTHER_SLOT_BITS)) as usize;
         loop {
             match self.slots.get(slot) {
@@ -137,6 +151,13 @@ impl OtherRows {
 struct At {
     ts: Option<Timestamp>,
     frame: u64,
+}
+
+impl At {
+    /// A partial summary's position counted from the run's start.
+    fn after(self, frames_before: u64) -> Self {
+        Self { frame: self.frame + frames_before, ..self }
+    }
 }
 
 /// What one row of the per-identifier table counts. The variants' order is the table's: standard then
@@ -219,6 +240,8 @@ struct IdStats {
     worst_gap_ns: u128,
     worst_gap_at: Option<Timestamp>,
     last_counter: Option<u8>,
+    /// The first count byte: a partial summary's continuity with the frames before it is judged at the merge.
+    first_counter: Option<u8>,
     counter_skips: u64,
     frames_lost: u64,
     counter_repeats: u64,
@@ -237,6 +260,7 @@ impl IdStats {
             worst_gap_ns: 0,
             worst_gap_at: None,
             last_counter: None,
+            first_counter: None,
             counter_skips: 0,
             frames_lost: 0,
             counter_repeats: 0,
@@ -274,8 +298,34 @@ impl IdStats {
                     self.frames_lost += u64::from(step - 1);
                 }
             }
+        } else {
+            self.first_counter = Some(count);
         }
         self.last_counter = Some(count);
+    }
+
+    /// The frames of `later` (the same row, from the next chunk) after this row's, as one pass counts them.
+    fn absorb(&mut self, later: &Self) {
+        self.count += later.count;
+        self.name = later.name;
+        self.invalid += later.invalid;
+        if let Some(first) = later.first {
+            // The gap across the boundary comes before the later chunk's own gaps.
+            self.see_time(first);
+            if later.worst_gap_ns > self.worst_gap_ns {
+                self.worst_gap_ns = later.worst_gap_ns;
+                self.worst_gap_at = later.worst_gap_at;
+            }
+            self.last = later.last;
+            self.last_ns = later.last_ns;
+        }
+        if let Some(first) = later.first_counter {
+            self.count_byte(first);
+            self.counter_skips += later.counter_skips;
+            self.frames_lost += later.frames_lost;
+            self.counter_repeats += later.counter_repeats;
+            self.last_counter = later.last_counter;
+        }
     }
 }
 
@@ -284,6 +334,16 @@ struct FaultSeen {
     first: Option<At>,
     last: Option<At>,
     frames: u64,
+}
+
+impl FaultSeen {
+    fn absorb(&mut self, later: &Self, frames_before: u64) {
+        if later.frames > 0 {
+            self.first = self.first.or(later.first.map(|at| at.after(frames_before)));
+            self.last = later.last.map(|at| at.after(frames_before));
+            self.frames += later.frames;
+        }
+    }
 }
 
 /// Records `at` for every bit set in `bits`, one slot per bit (bits beyond the slots are ignored). Visits
@@ -313,6 +373,24 @@ fn keep_max_abs(slot: &mut Option<Extreme>, value: i64, at: At) {
     }
 }
 
+/// `later`'s extreme (from the next chunk) if `better` than the one so far: a tie keeps the earlier one.
+fn absorb_extreme(
+    slot: &mut Option<Extreme>,
+    later: Option<Extreme>,
+    frames_before: u64,
+    better: impl Fn(i64, i64) -> bool,
+) {
+    if let Some(later) = later {
+        if slot.is_none_or(|best| better(later.value, best.value)) {
+            *slot = Some(Extreme { value: later.value, at: later.at.after(frames_before) });
+        }
+    }
+}
+
+fn larger_abs(value: i64, best: i64) -> bool {
+    value.abs() > best.abs()
+}
+
 #[derive(Debug, Default)]
 struct Wheel {
     first: Option<i64>,
@@ -334,6 +412,16 @@ impl Wheel {
         self.first.get_or_insert(mm);
         self.last = Some(mm);
     }
+
+    /// The odometer of the next chunk: the step across the boundary, then its own travel and resets.
+    fn absorb(&mut self, later: &Self) {
+        if let Some(first) = later.first {
+            self.update(first);
+            self.travelled_mm += later.travelled_mm;
+            self.resets += later.resets;
+            self.last = later.last;
+        }
+    }
 }
 
 /// Aggregates events into the report.
@@ -353,6 +441,10 @@ pub struct Summary {
     status: StatusTracker,
     events: Vec<(At, String)>,
     events_not_listed: u64,
+    /// A partial summary (one chunk of `decode -j`): its first status is not a change from nothing but is
+    /// kept here, to be compared with the status before the chunk when it is merged.
+    partial: bool,
+    first_status: Option<(SystemState, Wire, At)>,
     /// [table][bit] for the two system-state layouts, then [motor 1, motor 2, other] x 8 driver bits.
     system_faults: [[FaultSeen; 16]; 2],
     driver_faults: [[FaultSeen; 8]; 3],
@@ -384,6 +476,8 @@ impl Default for Summary {
             status: StatusTracker::default(),
             events: Vec::new(),
             events_not_listed: 0,
+            partial: false,
+            first_status: None,
             system_faults: [[FaultSeen::default(); 16]; 2],
             driver_faults: [[FaultSeen::default(); 8]; 3],
             battery_min: None,
@@ -564,8 +658,14 @@ impl Summary {
     }
 
     fn system_state(&mut self, state: &SystemState, wire: Wire, at: At) {
-        self.note_mode_change(state.control_mode, wire, at);
-        self.note_vehicle_change(state, at);
+        if self.partial && self.first_status.is_none() {
+            self.first_status = Some((*state, wire, at));
+            let _ = self.status.control_mode(state.control_mode, wire);
+            let _ = self.status.vehicle_state(state.vehicle_state);
+        } else {
+            self.note_mode_change(state.control_mode, wire, at);
+            self.note_vehicle_change(state, at);
+        }
         let table = usize::from(wire != Wire::CanV2);
         see_bits(&mut self.system_faults[table], state.fault_code, at);
         let volts = i64::from(state.battery_decivolts);

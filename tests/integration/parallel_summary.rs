@@ -1,0 +1,59 @@
+//! `decode -j N --summary` merges per-chunk partial summaries (issue 14); a chunk whose partial cannot be
+//! merged exactly (more interface names or identifiers than the report lists) is replayed instead. Either
+//! way the report is `-j1`'s, byte for byte.
+
+use std::fmt::Write as _;
+use std::path::Path;
+use std::process::Output;
+
+use crate::util::{stderr, stdout, tracerctl};
+
+fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str]) -> Output {
+    let mut command = tracerctl();
+    command.arg("decode").arg(format!("-j{threads}")).arg("--summary").args(extra).arg(path);
+    if let Some(bytes) = chunk_bytes {
+        command.env("TRACERCTL_CHUNK_BYTES", bytes.to_string());
+    }
+    command.output().unwrap()
+}
+
+/// 12,000 lines: system states changing mode and E-stop, then past line 3000 names from 100 interfaces and
+/// 5000 distinct extended identifiers (past the 64 names and 4096 rows the report lists one by one).
+fn crowded_log() -> String {
+    let mut log = String::new();
+    for n in 0..12_000u32 {
+        let stamp = format!("({}.{:06})", 1_700_000_000 + n / 100, (n % 100) * 10_000);
+        let iface = if n < 3000 { format!("can{}", n % 3) } else { format!("can{}", (n * 37) % 100) };
+        if n % 2 == 0 {
+            let (mode, state) = ((n / 500) % 3, u32::from(n % 1700 < 20));
+            writeln!(log, "{stamp} {iface} 211#{state:02X}{mode:02X}0103000000{:02X}", n % 256).unwrap();
+        } else {
+            let id = if n < 3000 { 0x1000 + n % 40 } else { 0x10_0000 + (n * 7919) % 5000 };
+            writeln!(log, "{stamp} {iface} {id:08X}#{:02X}", n % 256).unwrap();
+        }
+    }
+    log
+}
+
+#[test]
+fn partial_summaries_and_replayed_chunks_give_the_single_pass_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("crowded.log");
+    std::fs::write(&path, crowded_log()).unwrap();
+    for extra in [&[][..], &["-f", "json"]] {
+        let single = decode(&path, 1, None, extra);
+        let report = stdout(&single);
+        assert!(single.status.success(), "{}", stderr(&single));
+        if extra.is_empty() {
+            assert!(report.contains("decoded 12000 frames from 12000 lines"), "{report}");
+            assert!(report.contains("other ids (beyond 4096)"), "{report}");
+        }
+        for bytes in [97, 4000, 65_536, 1 << 20] {
+            let parallel = decode(&path, 2, Some(bytes), extra);
+            let what = format!("{extra:?} TRACERCTL_CHUNK_BYTES={bytes}");
+            assert_eq!(stdout(&parallel), report, "stdout of {what}");
+            assert_eq!(stderr(&parallel), stderr(&single), "stderr of {what}");
+            assert_eq!(parallel.status.code(), single.status.code(), "exit status of {what}");
+        }
+    }
+}
