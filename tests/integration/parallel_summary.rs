@@ -38,7 +38,7 @@ fn crowded_log() -> String {
         } else {
             let id = match n {
                 ..3000 => 0x1000 + n % 40,
-                ..12_000 => 0x10_0000 + (n / 2 * 7919) % 9000,
+                3000..12_000 => 0x10_0000 + (n / 2 * 7919) % 9000,
                 // Past the rows: seven identifiers taking turns, all counted in the overflow row.
                 _ => 0x20_0000 + n % 7,
             };

@@ -27,7 +27,8 @@ impl Summary {
                 new_other += 1;
             }
         }
-        self.other_index.len() + new_other <= MAX_OTHER_IDS
+        // Once the rows overflowed, a partial of known identifiers still merges.
+        new_other == 0 || self.other_index.len() + new_other <= MAX_OTHER_IDS
     }
 
     /// The partial summary of the next chunk (see [`Self::can_absorb`]), merged as if its events had come
@@ -395,5 +396,12 @@ mod tests {
         assert!(!run.can_absorb(&one_more));
         run.absorb(&fits);
         assert_eq!((run.ids.len(), run.ids[3995].count), (4096, 2));
+        // Past the rows, known identifiers still merge; a new one (the overflow row's) does not.
+        run.event(&event(&extended[4096]));
+        let (mut known, mut new) = (Summary::partial(), Summary::partial());
+        known.event(&event(&extended[7]));
+        new.event(&event(&extended[4096]));
+        assert!(run.can_absorb(&known));
+        assert!(!run.can_absorb(&new));
     }
 }
