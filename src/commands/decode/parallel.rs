@@ -16,9 +16,10 @@
 //! [`Summary::can_absorb`]) is decoded again here into events and replayed. With `--plot` or `-t d` the
 //! workers parse, decode and filter their chunk into a compact list of events ([`Events`]: stamp, interface
 //! as an index into the chunk's names, direction, frame, what it decoded to), and this thread replays them in
-//! input order through [`Decoder::deliver`], the code one thread feeds them to: exact by construction. `-t d` stamps are summed within the chunk from zero and the run's sum before the
-//! chunk is added here, in order (saturating sums of non-negative deltas are associative: exact too); with
-//! `-t d` this thread also writes the text, since every stamp depends on all the lines before.
+//! input order through [`Decoder::deliver`], the code one thread feeds them to: exact by construction. `-t d`
+//! stamps are summed within the chunk from zero and the run's sum before the chunk is added here, in order
+//! (saturating sums of non-negative deltas are associative: exact too); with `-t d` this thread also writes
+//! the text, since every stamp depends on all the lines before.
 //!
 //! State one line leaves for the next is guessed at a chunk's start and checked in order: the protocol
 //! detector's verdict (which decodes the shared identifiers), the interface a Pengutronix header named and

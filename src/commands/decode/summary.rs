@@ -368,7 +368,7 @@ struct Extreme {
 }
 
 fn keep_max_abs(slot: &mut Option<Extreme>, value: i64, at: At) {
-    if slot.is_none_or(|best| value.abs() > best.value.abs()) {
+    if slot.is_none_or(|best| larger_abs(value, best.value)) {
         *slot = Some(Extreme { value, at });
     }
 }
