@@ -48,7 +48,10 @@ impl Batch {
 enum Job {
     Batch(Batch),
     /// A channel registered after the start (a motor beyond the fixed ones); its id is sent back.
-    AddChannel { schema_id: u16, topic: String },
+    AddChannel {
+        schema_id: u16,
+        topic: String,
+    },
     Flush,
     Finish(Metadata),
 }
@@ -190,6 +193,26 @@ fn write_jobs<W: Write + Seek>(
     spare: &SyncSender<Batch>,
     channel_ids: &mpsc::Sender<u16>,
 ) -> McapResult<Option<W>> {
+    let result = do_jobs(&mut writer, jobs, spare, channel_ids);
+    match result {
+        Ok(true) => Ok(Some(writer.into_inner())),
+        Ok(false) => Ok(None),
+        Err(error) => {
+            // The crate's drop tries to finish the file, which can panic after a failed write: the error
+            // that stopped us is the one to report.
+            let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(move || drop(writer)));
+            Err(error)
+        }
+    }
+}
+
+/// Whether the file was finished.
+fn do_jobs<W: Write + Seek>(
+    writer: &mut mcap::Writer<W>,
+    jobs: &Receiver<Job>,
+    spare: &SyncSender<Batch>,
+    channel_ids: &mpsc::Sender<u16>,
+) -> McapResult<bool> {
     for job in jobs {
         match job {
             Job::Batch(mut batch) => {
@@ -209,9 +232,119 @@ fn write_jobs<W: Write + Seek>(
             Job::Finish(metadata) => {
                 writer.write_metadata(&metadata)?;
                 writer.finish()?;
-                return Ok(Some(writer.into_inner()));
+                return Ok(true);
             }
         }
     }
-    Ok(None)
+    Ok(false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Cursor;
+
+    fn writer<W: Write + Seek>(out: W, chunk_size: u64) -> (mcap::Writer<W>, u16) {
+        let mut writer =
+            mcap::WriteOptions::new().compression(None).chunk_size(Some(chunk_size)).create(out).unwrap();
+        let schema = writer.add_schema("n", schema::SCHEMA_ENCODING, b"{}").unwrap();
+        let channel =
+            writer.add_channel(schema, "/first", schema::MESSAGE_ENCODING, &BTreeMap::new()).unwrap();
+        (writer, channel)
+    }
+
+    fn header(channel_id: u16, n: u32) -> MessageHeader {
+        MessageHeader { channel_id, sequence: n, log_time: u64::from(n), publish_time: u64::from(n) }
+    }
+
+    fn push(pipe: &mut Pipe<impl Write + Seek + Send + 'static>, channel: u16, n: u32) -> McapResult<()> {
+        let out = pipe.body();
+        out.extend_from_slice(n.to_string().as_bytes());
+        pipe.message(header(channel, n))
+    }
+
+    #[test]
+    fn every_message_arrives_in_order_across_batches_and_a_late_channel() {
+        let (writer, first) = writer(Cursor::new(Vec::new()), 64 * 1024);
+        let mut pipe = Pipe::start(writer).unwrap();
+        let total = 5 * BATCH_MESSAGES as u32;
+        for n in 0..total / 2 {
+            push(&mut pipe, first, n).unwrap();
+        }
+        let late = pipe.add_channel(0, "/late".into()).unwrap();
+        assert_ne!(late, first);
+        for n in total / 2..total {
+            push(&mut pipe, late, n).unwrap();
+        }
+        pipe.flush().unwrap();
+        let metadata = Metadata { name: "end".into(), metadata: BTreeMap::new() };
+        let bytes = pipe.finish(metadata).unwrap().into_inner();
+        let messages: Vec<_> = mcap::MessageStream::new(&bytes).unwrap().map(Result::unwrap).collect();
+        assert_eq!(messages.len(), total as usize);
+        for (n, message) in (0..total).zip(&messages) {
+            assert_eq!(message.sequence, n);
+            assert_eq!(message.log_time, u64::from(n));
+            assert_eq!(*message.data, *n.to_string().as_bytes());
+            let topic = if n < total / 2 { "/first" } else { "/late" };
+            assert_eq!(message.channel.topic, topic);
+        }
+        let summary = mcap::Summary::read(&bytes).unwrap().expect("finished: a summary");
+        assert_eq!(summary.metadata_indexes[0].name, "end");
+    }
+
+    /// A file that takes `room` bytes, then fails like a full disk.
+    struct Full {
+        file: Cursor<Vec<u8>>,
+        room: u64,
+    }
+
+    impl Write for Full {
+        fn write(&mut self, buf: &[u8]) -> io::Result<usize> {
+            if self.file.position() + buf.len() as u64 > self.room {
+                return Err(io::Error::new(io::ErrorKind::StorageFull, "the disk is full"));
+            }
+            self.file.write(buf)
+        }
+
+        fn flush(&mut self) -> io::Result<()> {
+            Ok(())
+        }
+    }
+
+    impl Seek for Full {
+        fn seek(&mut self, to: io::SeekFrom) -> io::Result<u64> {
+            self.file.seek(to)
+        }
+    }
+
+    #[test]
+    fn a_write_error_on_the_writer_thread_is_returned_by_a_later_call_and_every_call_after() {
+        let (writer, channel) = writer(Full { file: Cursor::new(Vec::new()), room: 8192 }, 1024);
+        let mut pipe = Pipe::start(writer).unwrap();
+        let failed = (0..20 * BATCH_MESSAGES as u32).find_map(|n| push(&mut pipe, channel, n).err());
+        let error = failed.expect("the error comes back within a few batches");
+        assert!(
+            matches!(&error, McapError::Io(error) if error.to_string().contains("the disk is full")),
+            "{error:?}"
+        );
+        assert!(push(&mut pipe, channel, 0).is_err() || pipe.flush().is_err());
+        let metadata = Metadata { name: "end".into(), metadata: BTreeMap::new() };
+        let end = pipe.finish(metadata).err().expect("finish fails too");
+        assert!(format!("{end:?}").contains("stopped after an earlier error"), "{end:?}");
+    }
+
+    #[test]
+    fn dropped_unfinished_everything_formatted_is_written_and_the_file_finished() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("dropped.mcap");
+        let (writer, channel) = writer(std::fs::File::create(&path).unwrap(), 64 * 1024);
+        let mut pipe = Pipe::start(writer).unwrap();
+        for n in 0..3000 {
+            push(&mut pipe, channel, n).unwrap();
+        }
+        drop(pipe);
+        let bytes = std::fs::read(&path).unwrap();
+        assert!(mcap::Summary::read(&bytes).unwrap().is_some(), "finished by the crate's drop");
+        assert_eq!(mcap::MessageStream::new(&bytes).unwrap().count(), 3000);
+    }
 }
