@@ -3,9 +3,10 @@
 //! disk. Nothing is lost silently: a frame that could not be queued (the disk is slower than the bus) or
 //! written (a full disk, ENOSPC) is counted with the reason, for the screen and the exit report.
 //!
-//! A `.mcap` file is written as MCAP instead (output::mcap, decoded on the recorder's thread), its current
-//! chunk closed and flushed at least every [`MCAP_FLUSH`], so a recording killed outright (SIGKILL) stays
-//! readable up to then; a normal end (any signal but SIGKILL) finishes it with its summary and index.
+//! A `.mcap` file is written as MCAP instead (output::mcap, decoded and formatted on the recorder's thread,
+//! written by the MCAP writer's own thread), its current chunk closed and flushed at least every
+//! [`MCAP_FLUSH`], so a recording killed outright (SIGKILL) stays readable up to then; a normal end (any
+//! signal but SIGKILL) finishes it with its summary and index.
 
 use std::fs::File;
 use std::io::{BufWriter, Write};

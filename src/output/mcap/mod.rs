@@ -7,6 +7,7 @@
 //! previous log time (0 before any), and log time never decreases (`max(stamp, previous)`), while the
 //! message's own `ts_ns` keeps the stamp as captured.
 
+mod pipe;
 pub mod schema;
 
 use std::collections::BTreeMap;
@@ -14,6 +15,8 @@ use std::fmt::Write as _;
 use std::io::{Seek, Write};
 
 use mcap::records::{MessageHeader, Metadata};
+
+use self::pipe::Pipe;
 use strum::IntoEnumIterator;
 
 use super::json::{push_message_fields, push_name_or_null, push_string};
@@ -83,13 +86,15 @@ struct Channels {
 }
 
 /// Writes events into an MCAP file. Call [`McapWriter::finish`] at the end: it writes the metadata, the
-/// summary and the index. Dropped unfinished, the file is readable up to its last complete chunk.
-pub struct McapWriter<W: Write + Seek> {
-    writer: mcap::Writer<W>,
+/// summary and the index. Dropped unfinished, the file is still finished (without the metadata record).
+///
+/// The calling thread formats the message bodies into batches; a writer thread of its own owns the
+/// `mcap::Writer` (see [`pipe`]). A write error there is returned by the next call that hands over a batch
+/// (every few thousand messages), by [`McapWriter::flush`] or by [`McapWriter::finish`].
+pub struct McapWriter<W: Write + Seek + Send + 'static> {
+    pipe: Pipe<W>,
     channels: Channels,
     sequences: Vec<u32>,
-    /// One message body at a time; reused.
-    body: Vec<u8>,
     text: String,
     log_time: u64,
     /// Frames written to `/tracer/raw`.
@@ -100,13 +105,14 @@ pub struct McapWriter<W: Write + Seek> {
     provenance: Provenance,
 }
 
-impl<W: Write + Seek> McapWriter<W> {
+impl<W: Write + Seek + Send + 'static> McapWriter<W> {
     pub fn new(out: W, compression: Compression, provenance: Provenance) -> mcap::McapResult<Self> {
         let library = format!("tracerctl {}", env!("CARGO_PKG_VERSION"));
         let mut writer = mcap::WriteOptions::new()
             .compression(compression.mcap())
-            // Compressed on this thread: on a shared two-core machine a zstd worker thread measured slower,
-            // and zstd level 1 faster than the default 3 and no larger (docs/performance.md, "MCAP output").
+            // Compressed on the writer thread (the pipe's): a zstd worker thread of the crate's own on top
+            // measured slower on two cores, and zstd level 1 faster than the default 3 and no larger
+            // (docs/performance.md, "MCAP output").
             .compression_threads(0)
             .compression_level(1)
             .profile("")
@@ -141,10 +147,9 @@ impl<W: Write + Seek> McapWriter<W> {
             tf: topic(schema::TF_TOPIC),
         };
         Ok(Self {
-            writer,
+            pipe: Pipe::start(writer)?,
             channels,
             sequences: vec![0; 64],
-            body: Vec::with_capacity(1024),
             text: String::with_capacity(256),
             log_time: 0,
             frames: 0,
@@ -221,15 +226,15 @@ impl<W: Write + Seek> McapWriter<W> {
         }
     }
 
+    /// Ends the body begun with [`Pipe::body`] as a message on `channel_id`.
     fn write_body(&mut self, channel_id: u16) -> mcap::McapResult<()> {
         let header = self.header(channel_id);
-        self.writer.write_to_known_channel(&header, &self.body)
+        self.pipe.message(header)
     }
 
     /// `{"ts_ns":..,"iface":..,"id":..,"data":..,"dir":..,"msg":..,"wire":..}`
     fn raw(&mut self, event: &Event, stamp: Option<u64>) -> mcap::McapResult<()> {
-        let out = &mut self.body;
-        out.clear();
+        let out = self.pipe.body();
         out.extend_from_slice(b"{\"ts_ns\":");
         match stamp {
             Some(ns) => push_int(out, ns),
@@ -259,11 +264,11 @@ impl<W: Write + Seek> McapWriter<W> {
             Message::MotorLowSpeed(motor) => self.motor_channel(1, motor.motor)?,
             message => self.channels.messages[message.kind() as usize],
         };
-        let out = &mut self.body;
-        out.clear();
+        let out = self.pipe.body();
+        let start = out.len();
         out.push(b'{');
         push_message_fields(out, decoded);
-        if out.len() > 1 {
+        if out.len() > start + 1 {
             out.push(b',');
         }
         out.extend_from_slice(b"\"iface\":");
@@ -282,7 +287,7 @@ impl<W: Write + Seek> McapWriter<W> {
         let kind = [MessageKind::MotorHighSpeed, MessageKind::MotorLowSpeed][slot];
         let topic = schema::motor_topic(kind, motor);
         let schema_id = self.channels.motor_schemas[slot];
-        let id = self.writer.add_channel(schema_id, &topic, schema::MESSAGE_ENCODING, &BTreeMap::new())?;
+        let id = self.pipe.add_channel(schema_id, topic)?;
         self.channels.motors[slot][usize::from(motor)] = Some(id);
         Ok(id)
     }
@@ -316,8 +321,7 @@ impl<W: Write + Seek> McapWriter<W> {
 
     /// A foxglove.Log of `self.text`; `line` is the frame's number on `/tracer/raw` (1-based).
     fn log(&mut self, level: u8, iface: &str) -> mcap::McapResult<()> {
-        let out = &mut self.body;
-        out.clear();
+        let out = self.pipe.body();
         out.extend_from_slice(b"{\"timestamp\":");
         push_time(out, self.log_time);
         out.extend_from_slice(b",\"level\":");
@@ -335,8 +339,7 @@ impl<W: Write + Seek> McapWriter<W> {
     fn write_pose(&mut self) -> mcap::McapResult<()> {
         let (qx, qy, qz, qw) = self.pose.orientation();
         let (x, y) = (self.pose.x, self.pose.y);
-        let out = &mut self.body;
-        out.clear();
+        let out = self.pipe.body();
         out.extend_from_slice(b"{\"timestamp\":");
         push_time(out, self.log_time);
         out.extend_from_slice(b",\"frame_id\":\"");
@@ -347,8 +350,7 @@ impl<W: Write + Seek> McapWriter<W> {
         push_quaternion(out, qx, qy, qz, qw);
         out.extend_from_slice(b"}}");
         self.write_body(self.channels.pose)?;
-        let out = &mut self.body;
-        out.clear();
+        let out = self.pipe.body();
         out.extend_from_slice(b"{\"timestamp\":");
         push_time(out, self.log_time);
         out.extend_from_slice(b",\"parent_frame_id\":\"");
@@ -364,12 +366,14 @@ impl<W: Write + Seek> McapWriter<W> {
     }
 
     /// Closes the current chunk and flushes it to the file: a reader (or a crash) then sees everything so far.
+    /// Asynchronous: the writer thread flushes once it has written what came before; a failure is returned
+    /// by a later call.
     pub fn flush(&mut self) -> mcap::McapResult<()> {
-        self.writer.flush()
+        self.pipe.flush()
     }
 
     /// Writes the `tracerctl` metadata record (with the detected `protocol`), the summary and the index.
-    pub fn finish(mut self, protocol: &str) -> mcap::McapResult<W> {
+    pub fn finish(self, protocol: &str) -> mcap::McapResult<W> {
         let sources = serde_json::to_string(&self.provenance.sources).unwrap_or_else(|_| "[]".into());
         let metadata = BTreeMap::from([
             ("version".to_string(), env!("CARGO_PKG_VERSION").to_string()),
@@ -377,9 +381,7 @@ impl<W: Write + Seek> McapWriter<W> {
             ("protocol".to_string(), protocol.to_string()),
             ("command".to_string(), self.provenance.command.to_string()),
         ]);
-        self.writer.write_metadata(&Metadata { name: "tracerctl".into(), metadata })?;
-        self.writer.finish()?;
-        Ok(self.writer.into_inner())
+        self.pipe.finish(Metadata { name: "tracerctl".into(), metadata })
     }
 }
 
