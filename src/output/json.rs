@@ -5,6 +5,19 @@ use super::text::{push_name, push_version};
 use super::{direction_name, Event, Shape};
 use crate::protocol::{for_each_field, Decoded, Value};
 
+/// `"iface":"can0","id":"0x211","data":"00000103000000B1"`: where a frame came from and its bytes, as the
+/// per-frame object and MCAP's `/tracer/raw` messages both write them.
+#[inline]
+pub fn push_frame_keys(out: &mut Vec<u8>, event: &Event) {
+    out.extend_from_slice(b"\"iface\":");
+    push_string(out, event.iface);
+    out.extend_from_slice(b",\"id\":\"");
+    event.push_id(out);
+    out.extend_from_slice(b"\",\"data\":\"");
+    event.push_data(out);
+    out.push(b'"');
+}
+
 pub fn write(out: &mut Vec<u8>, event: &Event) {
     push_header(out, event);
     out.extend_from_slice(b",\"fields\":{");
@@ -26,13 +39,9 @@ fn push_header(out: &mut Vec<u8>, event: &Event) {
         }
         None => out.extend_from_slice(b"null,\"ts_ns\":null"),
     }
-    out.extend_from_slice(b",\"iface\":");
-    push_string(out, event.iface);
-    out.extend_from_slice(b",\"id\":\"");
-    event.push_id(out);
-    out.extend_from_slice(b"\",\"data\":\"");
-    event.push_data(out);
-    out.extend_from_slice(b"\",\"msg\":\"");
+    out.push(b',');
+    push_frame_keys(out, event);
+    out.extend_from_slice(b",\"msg\":\"");
     out.extend_from_slice(event.msg_name().as_bytes());
     out.extend_from_slice(b"\",\"wire\":");
     push_name_or_null(out, event.wire_name());

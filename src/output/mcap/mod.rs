@@ -19,7 +19,7 @@ use mcap::records::{MessageHeader, Metadata};
 use self::pipe::Pipe;
 use strum::IntoEnumIterator;
 
-use super::json::{push_message_fields, push_name_or_null, push_string};
+use super::json::{push_frame_keys, push_message_fields, push_name_or_null, push_string};
 use super::number::{push_decimal, push_int};
 use super::{direction_name, Event, Shape};
 use crate::protocol::message::{
@@ -240,13 +240,9 @@ impl<W: Write + Seek + Send + 'static> McapWriter<W> {
             Some(ns) => push_int(out, ns),
             None => out.extend_from_slice(b"null"),
         }
-        out.extend_from_slice(b",\"iface\":");
-        push_string(out, event.iface);
-        out.extend_from_slice(b",\"id\":\"");
-        event.push_id(out);
-        out.extend_from_slice(b"\",\"data\":\"");
-        event.push_data(out);
-        out.extend_from_slice(b"\",\"dir\":");
+        out.push(b',');
+        push_frame_keys(out, event);
+        out.extend_from_slice(b",\"dir\":");
         push_name_or_null(out, event.dir.map(direction_name));
         out.extend_from_slice(b",\"msg\":\"");
         out.extend_from_slice(event.msg_name().as_bytes());
