@@ -53,6 +53,18 @@ const EVENT_MODES: &[&[&str]] = &[
     &["--delta-stamps", "--summary", "-f", "json"],
 ];
 
+/// The picked lines as a log file (in a directory that lives as long as the returned guard).
+fn write_log(picks: &[usize], final_newline: bool) -> (tempfile::TempDir, std::path::PathBuf) {
+    let mut log = picks.iter().map(|&i| LINES[i]).collect::<Vec<_>>().join("\n");
+    if final_newline {
+        log.push('\n');
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("random.log");
+    std::fs::write(&path, &log).unwrap();
+    (dir, path)
+}
+
 fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str]) -> Output {
     let mut command = Command::cargo_bin("tracerctl").unwrap();
     command.env_remove("NO_COLOR").arg("decode").arg(format!("-j{threads}")).args(extra).arg(path);
@@ -74,13 +86,7 @@ proptest! {
         format in prop::sample::select(vec!["text", "json", "csv"]),
         strict in any::<bool>(),
     ) {
-        let mut log = picks.iter().map(|&i| LINES[i]).collect::<Vec<_>>().join("\n");
-        if final_newline {
-            log.push('\n');
-        }
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("random.log");
-        std::fs::write(&path, &log).unwrap();
+        let (_dir, path) = write_log(&picks, final_newline);
         let mut extra = vec!["-f", format];
         if strict {
             extra.push("--strict");
@@ -100,13 +106,7 @@ proptest! {
         threads in 2u16..5,
         mode in prop::sample::select(EVENT_MODES.to_vec()),
     ) {
-        let mut log = picks.iter().map(|&i| LINES[i]).collect::<Vec<_>>().join("\n");
-        if final_newline {
-            log.push('\n');
-        }
-        let dir = tempfile::tempdir().unwrap();
-        let path = dir.path().join("random.log");
-        std::fs::write(&path, &log).unwrap();
+        let (_dir, path) = write_log(&picks, final_newline);
         let single = decode(&path, 1, None, mode);
         let parallel = decode(&path, threads, Some(chunk_bytes), mode);
         prop_assert_eq!(String::from_utf8_lossy(&parallel.stdout), String::from_utf8_lossy(&single.stdout));
