@@ -240,10 +240,18 @@ fn parse_angle_frame(text: &[u8], start: usize) -> Result<CanFrame, PosError> {
 /// errors), leaving the line to the general path, which must give the same result for lines accepted here.
 #[inline]
 fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Record<'a>> {
+    // A line holds no `\n`, so the line ends where the text does.
+    parse_log_line_at(line, last_iface).map(|(record, _)| record)
+}
+
+/// [`parse_log_fast`] on the line at the start of `line`, which may go on past the line's `\n`: the line is
+/// found by parsing it, so a buffer of lines needs no search for each line's end. Returns the record and
+/// the line's length without its `\n`.
+#[inline]
+fn parse_log_line_at<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<(Record<'a>, usize)> {
     if line.first() != Some(&b'(') {
         return None;
     }
-    let line = line.strip_suffix(b"\r").unwrap_or(line);
     let (secs, nanos, after_ts) = parse_numeric(line, 1).ok()?;
     if line.get(after_ts) != Some(&b' ') {
         return None;
@@ -289,14 +297,14 @@ fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Reco
     let mut len = 0;
     // A full 8-byte payload (most frames) in one step; anything else byte by byte below.
     if let Some(digits) = line.get(pos..pos + 2 * CC_MAX_LEN) {
-        if matches!(line.get(pos + 2 * CC_MAX_LEN), None | Some(b' ')) {
+        if matches!(line.get(pos + 2 * CC_MAX_LEN), None | Some(b' ' | b'\r' | b'\n')) {
             data = hex_bytes_8(digits.try_into().ok()?)?;
             len = CC_MAX_LEN;
             pos += 2 * CC_MAX_LEN;
         }
     }
     while let Some(&hi) = line.get(pos) {
-        if hi == b' ' {
+        if matches!(hi, b' ' | b'\r' | b'\n') {
             break;
         }
         if len == CC_MAX_LEN {
@@ -306,14 +314,26 @@ fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Reco
         len += 1;
         pos += 2;
     }
-    let dir = match line.get(pos..)? {
-        [] => None,
-        b" R" => Some(Direction::Rx),
-        b" T" => Some(Direction::Tx),
-        _ => return None,
-    };
+    let (dir, length) = log_line_end(line, pos)?;
     let frame = data_frame_fixed(id, extended, &data, len)?;
-    Some(Record { ts: Some(Timestamp::from_numeric(secs, nanos)), iface, frame, dir })
+    Some((Record { ts: Some(Timestamp::from_numeric(secs, nanos)), iface, frame, dir }, length))
+}
+
+/// The end of a fast-path line after its data at `pos`: an optional direction and an optional `\r`, then the
+/// text's end or a `\n`. Returns the direction and the line's length without the `\n`.
+#[inline(always)]
+fn log_line_end(line: &[u8], pos: usize) -> Option<(Option<Direction>, usize)> {
+    let (dir, rest) = match line.get(pos..)? {
+        [b' ', b'R', rest @ ..] => (Some(Direction::Rx), rest),
+        [b' ', b'T', rest @ ..] => (Some(Direction::Tx), rest),
+        rest => (None, rest),
+    };
+    let after = line.len() - rest.len();
+    match rest {
+        [] | [b'\n', ..] => Some((dir, after)),
+        [b'\r'] | [b'\r', b'\n', ..] => Some((dir, after + 1)),
+        _ => None,
+    }
 }
 
 /// The interface `name` as text, through `last` (the previous line's): equal names (the usual case) need no
@@ -821,6 +841,19 @@ impl LineParser {
     /// The running `-t d` sum (of this parser's lines only).
     pub fn delta_sum(&self) -> DeltaSum {
         self.delta_sum
+    }
+
+    /// The common candump log line at the start of `text` (a buffer of whole lines), parsed where it stands:
+    /// the record and the line's length without its `\n`, as [`LineParser::parse`] reads that line. `None`
+    /// for any other line (and for every line of ASC or trc files): find its end and call `parse`.
+    #[inline]
+    pub fn parse_log_line_at<'a>(&'a mut self, text: &'a [u8]) -> Option<(Record<'a>, usize)> {
+        if self.format != TextFormat::Candump {
+            return None;
+        }
+        let parsed = parse_log_line_at(text, &mut self.last_iface)?;
+        self.after_error_frame = false;
+        Some(parsed)
     }
 
     /// Continues as if the lines that left `state` had just been parsed.

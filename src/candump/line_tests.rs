@@ -598,6 +598,81 @@ mod fast_path_props {
                 prop_assert_eq!(fast, general, "{:?}", line);
             }
         }
+
+        /// Lines read where they stand in a buffer (`\n` or `\r\n` after each) end at their newline and read
+        /// as `parse` reads each line alone; lines not taken there are left whole to `parse`.
+        #[test]
+        fn lines_parsed_in_a_buffer_agree_with_lines_parsed_alone(
+            lines in vec(prop_oneof![
+                "\\([0-9]{1,10}\\.[0-9]{1,6}\\) {1,2}(can0|vcan1|c) ([0-9A-F]{3}|[0-9A-F]{8})#([0-9A-Fa-f]{2}){0,9}( R| T| X)?\r?",
+                "[ -~\t\r]{0,40}",
+            ], 1..12),
+            crlf in any::<bool>(),
+        ) {
+            let newline = if crlf { "\r\n" } else { "\n" };
+            let text = lines.join(newline);
+            let mut in_buffer = super::LineParser::new();
+            let mut alone = super::LineParser::new();
+            let mut at = 0;
+            while at < text.len() {
+                let rest = &text.as_bytes()[at..];
+                let end = rest.iter().position(|&b| b == b'\n').unwrap_or(rest.len());
+                let expected = match alone.parse(&rest[..end]) {
+                    Ok(super::Line::Frame(record)) => Some(format!("{record:?}")),
+                    _ => None,
+                };
+                if let Some((record, length)) = in_buffer.parse_log_line_at(rest) {
+                    prop_assert_eq!(length, end, "{:?}", text);
+                    prop_assert_eq!(Some(format!("{record:?}")), expected, "{:?}", text);
+                } else {
+                    let _ = in_buffer.parse(&rest[..end]);
+                }
+                at += end + 1;
+            }
+        }
+    }
+}
+
+/// A buffer of lines read where each line stands: the line's length is found by parsing it, and the record
+/// is the one `parse` gives for that line alone, whatever follows it (the next line, `\r\n`, the end).
+#[test]
+fn log_lines_parsed_where_they_stand_end_where_their_newline_is() {
+    let lines = [
+        "(1700000000.002500) can0 211#00000103000000B1",
+        "(1700000000.002500) can0 211#00000103000000B1 R",
+        "(1700000000.002500) can0 211#00000103000000B1\r",
+        "(1700000000.002500) can0 211#00000103000000B1 T\r",
+        "(000.100000) vcan12 00000123#1122 T",
+        "(1.5) can0 421#",
+        "(1.5) can0 421#\r",
+        "(1.5) can0 421#00",
+        "(1.5) can0 421#00 R",
+    ];
+    for line in lines {
+        for after in ["", "\n", "\n(1700000000.002500) can0 211#00", "\n\n", "\n0000000000000000 R"] {
+            let text = format!("{line}{after}");
+            let mut parser = LineParser::new();
+            let (record, length) = parser.parse_log_line_at(text.as_bytes()).expect(&text);
+            let (ts, iface, frame, dir) = (record.ts, record.iface.to_owned(), record.frame, record.dir);
+            assert_eq!(length, line.len(), "{text:?}");
+            let alone = frame_with(&mut LineParser::new(), line);
+            assert_eq!((ts, iface, frame, dir), (alone.ts, alone.iface, alone.frame, alone.dir), "{text:?}");
+        }
+    }
+    // Lines the general path reads (or rejects): not taken, whatever follows.
+    for line in [
+        "(1700000000.002500) can0 211#00 X",
+        "(1700000000.002500) can0 211#00\r\r",
+        "(1700000000.002500) can0 211#00\r R",
+        "(1700000000.002500) can0 211#0",
+        "(1700000000.002500) can0 211#00.11",
+        "can0  211   [2]  00 11",
+        "# comment",
+    ] {
+        for after in ["", "\n", "\n(1700000000.002500) can0 211#00"] {
+            let text = format!("{line}{after}");
+            assert!(LineParser::new().parse_log_line_at(text.as_bytes()).is_none(), "{text:?}");
+        }
     }
 }
 

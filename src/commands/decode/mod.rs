@@ -62,7 +62,7 @@ pub struct Options {
     pub plot: Option<PathBuf>,
     /// Threads decoding candump text, files or standard input (1: the single-thread path; see parallel.rs).
     pub threads: usize,
-    /// Input bytes per parallel chunk (default [`parallel::CHUNK_BYTES`]; tests make it tiny).
+    /// Input bytes per parallel chunk (default: by mode, see [`parallel::CHUNK_BYTES`]; tests make it tiny).
     pub chunk_bytes: Option<usize>,
     /// Write to this file instead of standard output.
     pub output: Option<PathBuf>,
@@ -107,7 +107,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         plot: args.plot.as_ref().map(|_| Box::default()),
         signals,
         threads: args.threads,
-        chunk_bytes: args.chunk_bytes.unwrap_or(parallel::CHUNK_BYTES),
+        chunk_bytes: args.chunk_bytes,
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
@@ -384,7 +384,8 @@ pub struct Decoder {
     plot: Option<Box<plot::Plot>>,
     signals: SignalFlag,
     threads: usize,
-    chunk_bytes: usize,
+    /// Chosen by the mode unless a test set it ([`parallel::CHUNK_BYTES`], [`parallel::SUMMARY_CHUNK_BYTES`]).
+    chunk_bytes: Option<usize>,
 }
 
 impl Decoder {
