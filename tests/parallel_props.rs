@@ -41,6 +41,12 @@ const LINES: &[&str] = &[
     " (000.500000)  can0  211   [8]  00 00 ZZ 03 00 00 00 B2",
     "(1700000003.000000) can0 211#00010103010000B3",
     "(1700000001.000000) can0 251#0100020000000000",
+    // Ends that the parser finds in the chunk itself (no search for the newline first).
+    "(1700000001.020000) can0 211#00000103000000B4 R",
+    "(1700000001.040000) can0 221#0011 T\r",
+    "(1700000001.060000) can0 221#0011 X",
+    "(1700000001.080000) can0 221#0011\r\r",
+    "(1700000001.100000) can0 221#",
 ];
 
 /// The modes whose events the main thread replays: the summary (text and JSON, filtered) and `-t d`.

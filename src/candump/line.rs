@@ -851,9 +851,12 @@ impl LineParser {
         if self.format != TextFormat::Candump {
             return None;
         }
-        let parsed = parse_log_line_at(text, &mut self.last_iface)?;
-        self.after_error_frame = false;
-        Some(parsed)
+        // Returned as it came (not taken apart and rebuilt): a rebuilt record was copied (measured).
+        let parsed = parse_log_line_at(text, &mut self.last_iface);
+        if parsed.is_some() {
+            self.after_error_frame = false;
+        }
+        parsed
     }
 
     /// Continues as if the lines that left `state` had just been parsed.
