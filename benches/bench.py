@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Reproduces the decode table in docs/performance.md ("Decode against the tools (issue 14)").
 
-    python3 benches/bench.py [--sizes 1000000,100000000] [--runs 5] [--big-runs 1]
+    python3 benches/bench.py [--sizes 1000000,100000000] [--runs 5] [--big-runs 3]
                              [--slow-max-lines 1000000] [--bin PATH] [--no-build] [--out FILE]
 
 Builds the release binary and the log generator (unless --no-build or --bin), generates TRACER candump logs
@@ -11,10 +11,12 @@ python-can's CanutilsLogReader (parse only), can-utils' log2asc (a C converter, 
 `tracerctl decode` with one thread (`-j1`) and all cores (`-jN`) for --summary, json, text and csv.
 `-jN` is measured only when `tracerctl decode --help` lists `--threads` (n/a otherwise).
 
-Wall time is the best of --runs runs (--big-runs for logs above 10 M lines; cantools and python-can run
-once: they take minutes), output to /dev/null; peak memory is the maximum resident set size from
-/usr/bin/time. cantools and python-can are skipped on logs above --slow-max-lines lines (cantools would
-take hours on 100 M lines). Prints one Markdown table: lines/s, time relative to `wc -l` in the same run,
+Wall time is the best of --runs runs (--big-runs for logs above 10 M lines), output to /dev/null; the runs
+are interleaved (one run of every tool, then the next round), so a slow spell of a shared machine slows
+every tool of a round alike instead of one tool's runs. cantools, python-can and log2asc run once after the
+rounds (they take minutes and are far from the ratios that matter). Peak memory is the maximum resident set
+size from /usr/bin/time. cantools and python-can are skipped on logs above --slow-max-lines lines (cantools
+would take hours on 100 M lines). Prints one Markdown table: lines/s, time relative to `wc -l` in the same run,
 peak memory per size, and whether memory stays flat (largest / smallest log within 1.2x).
 Needs: cargo, /usr/bin/time; optional: pip install cantools python-can; apt-get install can-utils.
 """
@@ -45,11 +47,6 @@ def run_once(command, stdin_path=None):
     return elapsed, int(done.stderr.decode().strip().splitlines()[-1])
 
 
-def best_of(command, runs, stdin_path=None):
-    results = [run_once(command, stdin_path) for _ in range(max(1, runs))]
-    return min(r[0] for r in results), max(r[1] for r in results)
-
-
 def log_with(lines):
     path = os.path.join(DATA, f"tracer-{lines}.log")
     if not os.path.exists(path):
@@ -74,33 +71,37 @@ def python_version(module):
     return done.stdout.strip()
 
 
+# How a row is run: in every round, once after the rounds, or once and only on logs up to --slow-max-lines.
+ROUNDS, ONCE, ONCE_SMALL = "rounds", "once", "once on small logs"
+
+
 def contenders(binary, cores, jobs):
-    """(tool, mode, command(path) or a reason it is not measured, slow) for every row of the table."""
-    rows = [("wc -l", "count lines", lambda p: ["wc", "-l", p], False)]
+    """(tool, mode, command(path) or a reason it is not measured, how it runs) for every row of the table."""
+    rows = [("wc -l", "count lines", lambda p: ["wc", "-l", p], ROUNDS)]
     for label, args in MODES:
         one = ["-j1"] if jobs else []
         rows.append(("tracerctl -j1", label, lambda p, a=args, o=one: [binary, "decode", "--no-progress", *o, *a, p],
-                     False))
+                     ROUNDS))
         if jobs:
             command = lambda p, a=args: [binary, "decode", "--no-progress", f"-j{cores}", *a, p]  # noqa: E731
         else:
             command = "n/a (no --threads in this build)"
-        rows.append((f"tracerctl -j{cores}", label, command, False))
+        rows.append((f"tracerctl -j{cores}", label, command, ROUNDS))
     if shutil.which("log2asc"):
         rows.append(("can-utils log2asc", "log -> ASC, no decoding",
-                     lambda p: ["log2asc", "-I", p, "-O", "/dev/null", "can0"], False))
+                     lambda p: ["log2asc", "-I", p, "-O", "/dev/null", "can0"], ONCE))
     else:
-        rows.append(("can-utils log2asc", "log -> ASC", "not installed", False))
+        rows.append(("can-utils log2asc", "log -> ASC", "not installed", ONCE))
     if python_has("cantools"):
         rows.append((f"cantools {python_version('cantools')}", "decode --single-line",
-                     lambda p: [sys.executable, "-m", "cantools", "decode", "--single-line", DBC], True))
+                     lambda p: [sys.executable, "-m", "cantools", "decode", "--single-line", DBC], ONCE_SMALL))
     else:
-        rows.append(("cantools", "decode", "not installed", True))
+        rows.append(("cantools", "decode", "not installed", ONCE_SMALL))
     if python_has("can"):
         rows.append((f"python-can {python_version('can')}", "CanutilsLogReader, parse only",
-                     lambda p: [sys.executable, "-c", PYTHON_CAN_READER, p], True))
+                     lambda p: [sys.executable, "-c", PYTHON_CAN_READER, p], ONCE_SMALL))
     else:
-        rows.append(("python-can", "CanutilsLogReader", "not installed", True))
+        rows.append(("python-can", "CanutilsLogReader", "not installed", ONCE_SMALL))
     return rows
 
 
@@ -110,14 +111,23 @@ def measure(rows, sizes, options):
     for size in sizes:
         path = log_with(size)
         runs = options.runs if size <= BIG else options.big_runs
-        for index, (tool, mode, command, slow) in enumerate(rows):
+        for index, (_, _, command, how) in enumerate(rows):
             if isinstance(command, str):
                 results[index, size] = command
-            elif slow and size > options.slow_max_lines:
+            elif how == ONCE_SMALL and size > options.slow_max_lines:
                 results[index, size] = "skipped (--slow-max-lines)"
-            else:
+        # Rounds: every tool once per round, the best time and the largest memory kept.
+        in_rounds = [i for i, row in enumerate(rows) if row[3] == ROUNDS and (i, size) not in results]
+        for round_number in range(max(1, runs)):
+            for index in in_rounds:
+                seconds, rss = run_once(rows[index][2](path))
+                best = results.get((index, size), (seconds, rss))
+                results[index, size] = (min(best[0], seconds), max(best[1], rss))
+            print(f"{size:>12,} round {round_number + 1} of {runs} done", file=sys.stderr, flush=True)
+        for index, (tool, mode, command, how) in enumerate(rows):
+            if (index, size) not in results:
                 stdin_path = path if tool.startswith("cantools") else None
-                results[index, size] = best_of(command(path), 1 if slow else runs, stdin_path)
+                results[index, size] = run_once(command(path), stdin_path)
             print(f"{size:>12,} {tool} {mode}: {results[index, size]}", file=sys.stderr, flush=True)
     return results
 
@@ -157,7 +167,7 @@ def main():
     parser.add_argument("--sizes", default="1000000,100000000",
                         help="comma-separated log sizes in lines (default 1000000,100000000)")
     parser.add_argument("--runs", type=int, default=5, help="runs per measurement, best kept (default 5)")
-    parser.add_argument("--big-runs", type=int, default=1, help=f"runs on logs above {BIG:,} lines (default 1)")
+    parser.add_argument("--big-runs", type=int, default=3, help=f"runs on logs above {BIG:,} lines (default 3)")
     parser.add_argument("--slow-max-lines", type=int, default=1_000_000,
                         help="run cantools and python-can only on logs up to this many lines (default 1000000)")
     parser.add_argument("--bin", help="the tracerctl binary to time (default: build target/release/tracerctl)")
@@ -178,8 +188,8 @@ def main():
     out.append("")
     out.append(f"How to reproduce: `python3 benches/bench.py --sizes {','.join(str(s) for s in sizes)} "
                f"--runs {options.runs}` ({cores} cores; best of {options.runs} runs, "
-               f"{options.big_runs} on logs above {BIG // 1_000_000} M lines, cantools and python-can once; "
-               "output to /dev/null).")
+               f"{options.big_runs} on logs above {BIG // 1_000_000} M lines, interleaved; log2asc, cantools and "
+               "python-can once; output to /dev/null).")
     print("\n".join(out))
     with open(options.out, "w") as f:
         f.write("\n".join(out) + "\n")
