@@ -8,6 +8,7 @@ use super::hex::{
     decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, same_bytes, skip_spaces, token_end,
 };
 use super::open::{LogFormat, TextFormat};
+use super::reader::DEFAULT_MAX_LINE_LEN;
 use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
 use super::trc::{self, TrcState};
 use super::{LineError, Reason, Timestamp, TimestampKind};
@@ -845,7 +846,8 @@ impl LineParser {
 
     /// The common candump log line at the start of `text` (a buffer of whole lines), parsed where it stands:
     /// the record and the line's length without its `\n`, as [`LineParser::parse`] reads that line. `None`
-    /// for any other line (and for every line of ASC or trc files): find its end and call `parse`.
+    /// for any other line (and for every line of ASC or trc files, and a line longer than
+    /// [`DEFAULT_MAX_LINE_LEN`]): find its end and call `parse` (or reject it as too long).
     #[inline]
     pub fn parse_log_line_at<'a>(&'a mut self, text: &'a [u8]) -> Option<(Record<'a>, usize)> {
         if self.format != TextFormat::Candump {
@@ -853,8 +855,12 @@ impl LineParser {
         }
         // Returned as it came (not taken apart and rebuilt): a rebuilt record was copied (measured).
         let parsed = parse_log_line_at(text, &mut self.last_iface);
-        if parsed.is_some() {
-            self.after_error_frame = false;
+        match &parsed {
+            // Spaces after the stamp can make a line of this shape any length; past the limit every reader
+            // rejects the line whole, unparsed (and it leaves the parser's state as it was).
+            Some((_, length)) if *length > DEFAULT_MAX_LINE_LEN => return None,
+            Some(_) => self.after_error_frame = false,
+            None => {}
         }
         parsed
     }

@@ -659,6 +659,14 @@ fn log_lines_parsed_where_they_stand_end_where_their_newline_is() {
             assert_eq!((ts, iface, frame, dir), (alone.ts, alone.iface, alone.frame, alone.dir), "{text:?}");
         }
     }
+    // A line of this shape past the reader's limit (spaces after the stamp) is left to the caller, who
+    // rejects it whole, and leaves the parser as it was (an error frame's text may follow).
+    let long = format!("(1700000000.002500){}can0 211#00\n", " ".repeat(super::DEFAULT_MAX_LINE_LEN));
+    let mut parser = LineParser::new();
+    let error_frame = " (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME";
+    assert!(matches!(parser.parse(error_frame.as_bytes()), Ok(Line::Frame(_))));
+    assert!(parser.parse_log_line_at(long.as_bytes()).is_none());
+    assert_eq!(parser.parse(b"\tbus-off"), Ok(Line::ErrorText));
     // Lines the general path reads (or rejects): not taken, whatever follows.
     for line in [
         "(1700000000.002500) can0 211#00 X",

@@ -105,7 +105,8 @@ fn every_fixture_decodes_the_same_with_threads() {
 
 /// Every awkward line kind, with chunk boundaries falling before, inside and after each: CRLF endings,
 /// bad lines, an error frame's continuation text, a count-byte wrap of 0x211, DROPCOUNT, a Pengutronix
-/// header, an over-long line, blank lines, and a last line without a newline.
+/// header, over-long lines (one a log line padded with spaces, after an error frame), blank lines, and a
+/// last line without a newline.
 fn awkward_log() -> String {
     let mut log = String::new();
     for count in 250..=262u32 {
@@ -129,6 +130,11 @@ fn awkward_log() -> String {
     }
     log.push_str(&"x".repeat(70_000));
     log.push('\n');
+    // A log line past the line limit (spaces after its stamp) right after an error frame: rejected whole as
+    // too long, never parsed, so the TAB line after it is still the error frame's text.
+    log.push_str(" (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME\n");
+    log.push_str(&format!("(1700000000.777777){}can0 211#00000103000000B1\n", " ".repeat(70_000)));
+    log.push_str("\tbus-off\n");
     log.push_str("(1700000000.999999) can0 311#0000000A00000014");
     log
 }
