@@ -21,6 +21,8 @@ lines = {
  "log_ext": "(1700000000.000000) can0 00000123#11",
  "log_xl": "(1700000000.000000) can0 45123#81:00:12345678#112233",
  "log_crlf": "(1700000000.010000) can0 111#012C000000000000\r",
+ "buffer_two_lines": "(1700000000.002500) can0 211#00000103000000B1 R\r\n(1700000000.004500) can0 221#0011\n",
+ "buffer_padded": "(1700000000.002500)" + " " * 40 + "can0 211#0011\n(1.0) can0 1#\n",
  "bare_no_stamp": "can0 421#01",
  "dropcount": "DROPCOUNT: dropped 3 CAN frames on 'can0' socket (total drops 7)",
  "comment": "# recorded on the bench",

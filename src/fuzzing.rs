@@ -80,6 +80,7 @@ pub fn candump_line(data: &[u8]) {
             Ok(_) => {}
         }
     }
+    in_place_line(data);
     // The other dialects `decode` and `--replay` read: no panic, and errors inside the line.
     let trc = [10, 11, 12, 13, 20, 21].map(|version| TextFormat::PeakTrc { version });
     for text in [TextFormat::VectorAsc].into_iter().chain(trc) {
@@ -93,6 +94,23 @@ pub fn candump_line(data: &[u8]) {
                 data.len()
             );
         }
+    }
+}
+
+/// The input as a buffer of lines for the in-place parser of `decode -j`: it takes the first line only
+/// where that line ends (at the first `\n`), within the line limit, and reads it as `parse` reads the line
+/// alone.
+fn in_place_line(data: &[u8]) {
+    let end = memchr::memchr(b'\n', data).unwrap_or(data.len());
+    let mut alone = LineParser::new();
+    let expected = match alone.parse(&data[..end]) {
+        Ok(Line::Frame(record)) if end <= candump::DEFAULT_MAX_LINE_LEN => Some(record),
+        _ => None,
+    };
+    let mut in_place = LineParser::new();
+    if let Some((record, length)) = in_place.parse_log_line_at(data) {
+        assert_eq!(length, end, "the line ends at its newline");
+        assert_eq!(Some(record), expected, "read as the line alone");
     }
 }
 
