@@ -95,7 +95,7 @@ invalid\t''
 error_frame\t''
 remote_request\t''"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l plot -d 'Draw battery voltage, commanded vs measured speeds, motor RPM and current, with fault and E-stop events marked, as an SVG file' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s j -l threads -d 'Threads for candump logs: files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)' -r -f
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s j -l threads -d 'Threads for text logs (candump, Vector ASC, PEAK trc): files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)' -r -f
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"

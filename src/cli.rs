@@ -167,7 +167,7 @@ pub struct DecodeArgs {
     #[arg(long, value_name = "FILE.svg")]
     pub plot: Option<PathBuf>,
 
-    /// Threads for candump logs: files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)
+    /// Threads for text logs (candump, Vector ASC, PEAK trc): files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)
     #[arg(long, short = 'j', value_name = "N", value_hint = clap::ValueHint::Other, value_parser = clap::value_parser!(u16).range(1..))]
     pub threads: Option<u16>,
 }

@@ -49,6 +49,49 @@ const LINES: &[&str] = &[
     "(1700000001.100000) can0 221#",
 ];
 
+/// Vector ASC lines after a fixed header (which makes the file ASC): `base dec` / `base hex` change how the
+/// lines after them read, some lines read only in one base.
+const ASC_HEADER: &str = "date Tue Nov 24 10:00:00.000 2026\nbase hex  timestamps absolute\n";
+const ASC_LINES: &[&str] = &[
+    "   0.020000 1  211             Rx   d 8 00 00 01 03 00 00 00 B1",
+    "   0.040000 1  529             Rx   d 8 0 0 1 3 0 0 0 200",
+    "   0.050000 1  221             Rx   d 8 00 96 00 00 00 00 00 01\r",
+    "   0.060000 2  18FF0001x       Rx   d 2 01 02",
+    "   0.070000 1  123             Tx   r 4",
+    "base dec  timestamps absolute",
+    "base hex  timestamps absolute\r",
+    "   0.080000 1  ErrorFrame",
+    "   0.090000 CANFD   1 Rx        251  1 0 9 12 00 11 22 33 44 55 66 77 88 99 AA BB   0    0   3000 0 0 0 0 0",
+    "   0.100000 Start of measurement",
+    "   0.110000 1  Statistic: D 10 R 0 XD 0 XR 0 E 0 O 0 B 0.10%",
+    "   0.120000 Sync",
+    "   0.130000 1  211             Rx   d 8 ZZ",
+    "",
+    "// a comment",
+    "Begin Triggerblock Tue Nov 24 10:00:00.000 2026",
+    "211#00000103000000B1",
+];
+
+/// PEAK trc lines after a fixed 2.1 header: `;$COLUMNS=` and `;$FILEVERSION=` lines change the columns of the
+/// lines after them; some lines read only with one layout.
+const TRC_HEADER: &str = ";$FILEVERSION=2.1\n;$COLUMNS=N,O,T,B,I,d,R,L,D\n";
+const TRC_LINES: &[&str] = &[
+    "      1        20.500 DT 1      0211 Rx -  8    00 00 01 03 00 00 00 B1",
+    "      2        40.000 DT 1      0221 Rx 8    00 96 00 00 00 00 00 00",
+    ";$COLUMNS=N,O,T,B,I,d,L,D",
+    ";$COLUMNS=N,O,T,B,I,d,R,L,D\r",
+    ";$FILEVERSION=1.1",
+    "     9)      48937.6  Rx         0211  8  00 00 01 03 00 00 00 B2",
+    "      3        45.000 ST 1         - Rx -  4    00 00 00 08",
+    "      4        60.000 RR 1      0123 Rx -  4",
+    "      5        70.000 BI 1  12345678 Rx -  9    00 11 22 33 44 55 66 77 88 99 AA BB",
+    "      6        80.000 ER 1         - Rx -  5    00 00 08 01 00",
+    "      7        90.000 DT 1      0211 Rx -  8    00 ZZ",
+    "      8       100.000 EV              User event",
+    "",
+    "; a comment",
+];
+
 /// The modes whose events the main thread replays: the summary (text and JSON, filtered) and `-t d`.
 const EVENT_MODES: &[&[&str]] = &[
     &["--summary"],
@@ -61,7 +104,18 @@ const EVENT_MODES: &[&[&str]] = &[
 
 /// The picked lines as a log file (in a directory that lives as long as the returned guard).
 fn write_log(picks: &[usize], final_newline: bool) -> (tempfile::TempDir, std::path::PathBuf) {
-    let mut log = picks.iter().map(|&i| LINES[i]).collect::<Vec<_>>().join("\n");
+    write_lines("", LINES, picks, final_newline)
+}
+
+/// `header`, then the picked `lines`.
+fn write_lines(
+    header: &str,
+    lines: &[&str],
+    picks: &[usize],
+    final_newline: bool,
+) -> (tempfile::TempDir, std::path::PathBuf) {
+    let mut log = header.to_string();
+    log.push_str(&picks.iter().map(|&i| lines[i % lines.len()]).collect::<Vec<_>>().join("\n"));
     if final_newline {
         log.push('\n');
     }
@@ -113,6 +167,25 @@ proptest! {
         mode in prop::sample::select(EVENT_MODES.to_vec()),
     ) {
         let (_dir, path) = write_log(&picks, final_newline);
+        let single = decode(&path, 1, None, mode);
+        let parallel = decode(&path, threads, Some(chunk_bytes), mode);
+        prop_assert_eq!(String::from_utf8_lossy(&parallel.stdout), String::from_utf8_lossy(&single.stdout));
+        prop_assert_eq!(String::from_utf8_lossy(&parallel.stderr), String::from_utf8_lossy(&single.stderr));
+        prop_assert_eq!(parallel.status.code(), single.status.code());
+    }
+
+    /// ASC and trc files, whose header lines change how the lines after them read.
+    #[test]
+    fn asc_and_trc_files_decode_the_same_over_any_chunking(
+        trc in any::<bool>(),
+        picks in prop::collection::vec(0..64usize, 0..160),
+        final_newline in any::<bool>(),
+        chunk_bytes in 1usize..300,
+        threads in 2u16..5,
+        mode in prop::sample::select([&[&["-f", "text"][..], &["-f", "json", "--strict"], &["-f", "csv"]], EVENT_MODES].concat()),
+    ) {
+        let (header, lines) = if trc { (TRC_HEADER, TRC_LINES) } else { (ASC_HEADER, ASC_LINES) };
+        let (_dir, path) = write_lines(header, lines, &picks, final_newline);
         let single = decode(&path, 1, None, mode);
         let parallel = decode(&path, threads, Some(chunk_bytes), mode);
         prop_assert_eq!(String::from_utf8_lossy(&parallel.stdout), String::from_utf8_lossy(&single.stdout));

@@ -30,7 +30,7 @@ const FD_BRS: u8 = 0x1;
 const FD_ESI: u8 = 0x2;
 
 /// What the header said that changes how frames read.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub(crate) struct AscState {
     /// `base dec`: identifiers and data bytes are decimal.
     decimal: bool,

@@ -825,18 +825,26 @@ fn parse_dropcount(text: &[u8], start: usize) -> Result<Line<'static>, PosError>
     Ok(Line::DropCount { dropped })
 }
 
-/// What one candump line leaves for the next: the interface a Pengutronix header named and whether an error
-/// frame came last. A log decoded in chunks starts each chunk from a guess of it and checks the guess.
+/// What one line leaves for the next: the interface a Pengutronix header named, whether an error frame came
+/// last, and what ASC (`base dec`) and trc (`;$FILEVERSION=`, `;$COLUMNS=`) headers said about the lines
+/// after them. A log decoded in chunks starts each chunk from a guess of it and checks the guess.
 #[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub struct CarriedState {
     pub iface: Vec<u8>,
     pub after_error_frame: bool,
+    pub(crate) asc: AscState,
+    pub(crate) trc: TrcState,
 }
 
 impl LineParser {
-    /// The state the last line left (candump text; `-t d` sums are not included).
+    /// The state the last line left (`-t d` sums are not included).
     pub fn carried(&self) -> CarriedState {
-        CarriedState { iface: self.iface.clone(), after_error_frame: self.after_error_frame }
+        // ASC and trc lines write their `canN` anew each time: only a Pengutronix header's name carries over.
+        let iface = match self.format {
+            TextFormat::Candump => self.iface.clone(),
+            TextFormat::VectorAsc | TextFormat::PeakTrc { .. } => Vec::new(),
+        };
+        CarriedState { iface, after_error_frame: self.after_error_frame, asc: self.asc, trc: self.trc }
     }
 
     /// The running `-t d` sum (of this parser's lines only).
@@ -869,6 +877,8 @@ impl LineParser {
     pub fn carry_on_from(&mut self, state: &CarriedState) {
         self.iface.clone_from(&state.iface);
         self.after_error_frame = state.after_error_frame;
+        self.asc = state.asc;
+        self.trc = state.trc;
     }
 }
 

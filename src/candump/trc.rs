@@ -42,7 +42,7 @@ enum Column {
 }
 
 /// The column layout of the trace being read.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) struct TrcState {
     columns: [Column; MAX_COLUMNS],
     count: usize,

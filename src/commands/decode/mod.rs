@@ -60,7 +60,8 @@ pub struct Options {
     pub no_progress: bool,
     /// Also draw the plot into this SVG file.
     pub plot: Option<PathBuf>,
-    /// Threads decoding candump text, files or standard input (1: the single-thread path; see parallel.rs).
+    /// Threads decoding text logs (candump, ASC, trc), files or standard input (1: the single-thread path; see
+    /// parallel.rs).
     pub threads: usize,
     /// Input bytes per parallel chunk (default: by mode, see [`parallel::CHUNK_BYTES`]; tests make it tiny).
     pub chunk_bytes: Option<usize>,
@@ -423,8 +424,8 @@ impl Decoder {
     fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
             let (reader, format) = candump::open_log(io::stdin(), "<stdin>").map_err(Failure::from)?;
-            if self.parallel_fits(format) {
-                return parallel::decode(self, "<stdin>", reader, None, true);
+            if self.parallel_fits() {
+                return parallel::decode(self, "<stdin>", (reader, format), None, true);
             }
             return self.candump("<stdin>", reader, None, format);
         }
@@ -437,8 +438,8 @@ impl Decoder {
             let (reader, format) = candump::open_log(file, input).map_err(Failure::from)?;
             // The progress bar counts text bytes: unknown for a compressed file.
             let size = size.filter(|_| format.compression.is_none());
-            if regular && self.parallel_fits(format) {
-                return parallel::decode(self, input, reader, size, false);
+            if regular && self.parallel_fits() {
+                return parallel::decode(self, input, (reader, format), size, false);
             }
             return self.candump(input, reader, size, format);
         }

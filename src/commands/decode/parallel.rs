@@ -22,11 +22,11 @@
 //! the text, since every stamp depends on all the lines before.
 //!
 //! State one line leaves for the next is guessed at a chunk's start and checked in order: the protocol
-//! detector's verdict (which decodes the shared identifiers), the interface a Pengutronix header named and
-//! whether an error frame came last ([`CarriedState`]). A worker starts from the state this thread last
-//! published; a chunk decoded from a wrong guess is decoded again here, from the true state (rare: the
-//! verdict settles within the first frames). What cannot be checked this way stays on the single-thread
-//! path ([`Decoder::parallel_fits`]): ASC and trc files (header state).
+//! detector's verdict (which decodes the shared identifiers), the interface a Pengutronix header named,
+//! whether an error frame came last, and what ASC and trc headers said of the lines after them (`base dec`,
+//! the trc columns) ([`CarriedState`]). A worker starts from the state this thread last published; a chunk
+//! decoded from a wrong guess is decoded again here, from the true state (rare: the verdict settles within
+//! the first frames, and headers stand at the top of a file).
 //!
 //! Standard input and pipes (plain or compressed) are cut at whatever each read returns, at the last `\n`
 //! (the rest is carried to the next chunk), so a live stream (`candump -L can0 | tracerctl decode -`) is
@@ -49,7 +49,7 @@ use super::summary::Summary;
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
 use crate::candump::{
     self, CarriedState, DeltaSum, Direction, Line, LineParser, LogFormat, Reason, Rejected, Rejection,
-    TextFormat, Timestamp, DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
+    Timestamp, DEFAULT_MAX_LINE_LEN, MAX_SHOWN_REJECTS,
 };
 use crate::exit::Failure;
 use crate::output::filter::Filter;
@@ -73,9 +73,10 @@ const MAX_THREADS: usize = 64;
 const WAKE: Duration = Duration::from_millis(50);
 
 impl Decoder {
-    /// Whether an input in `format` can be decoded in parallel with exactly the single thread's output.
-    pub(super) fn parallel_fits(&self, format: LogFormat) -> bool {
-        self.threads > 1 && format.text == TextFormat::Candump
+    /// Whether inputs are decoded in parallel: every text format is (candump, ASC, trc), with exactly the
+    /// single thread's output.
+    pub(super) fn parallel_fits(&self) -> bool {
+        self.threads > 1
     }
 }
 
@@ -206,6 +207,8 @@ struct Stop {
 /// What every worker decodes with.
 #[derive(Clone)]
 struct Settings {
+    /// candump, ASC or trc text (the format [`candump::open_log`] recognised).
+    format: LogFormat,
     protocol: ProtocolHint,
     filter: Filter,
     /// Workers write the output (not with `-t d`, whose stamps are sums over everything before).
@@ -225,7 +228,7 @@ struct Settings {
 pub(super) fn decode(
     decoder: &mut Decoder,
     name: &str,
-    reader: impl Read + Send + 'static,
+    (reader, format): (impl Read + Send + 'static, LogFormat),
     size: Option<u64>,
     stream: bool,
 ) -> Result<()> {
@@ -236,6 +239,7 @@ pub(super) fn decode(
     // Partial summaries merge exactly; the plot and `-t d` stamps need every event in order.
     let partial = matches!(decoder.sink, Sink::Summary(_)) && decoder.plot.is_none() && !decoder.delta_stamps;
     let settings = Settings {
+        format,
         protocol: decoder.protocol,
         filter: decoder.filter.clone(),
         writer,
@@ -247,7 +251,7 @@ pub(super) fn decode(
     let chunk_bytes = decoder.chunk_bytes.unwrap_or(if partial { SUMMARY_CHUNK_BYTES } else { CHUNK_BYTES });
     let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), chunk_bytes.max(1));
     let before = (decoder.stats.decoded_lines, decoder.stats.rejected_lines, decoder.stats.skipped);
-    let guess = Mutex::new(Start::default());
+    let guess = Mutex::new(Start { carried: LineParser::for_format(format).carried(), ..Start::default() });
     let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
     let (work_tx, work_rx) = mpsc::channel::<Chunk>();
     let (done_tx, done_rx) = mpsc::channel::<Chunk>();
@@ -320,7 +324,8 @@ impl Merger<'_> {
     fn run(mut self, done: &mpsc::Receiver<Chunk>, pool: &mpsc::Sender<Chunk>) -> Result<()> {
         let bar = self.decoder.progress_bar(self.size);
         let mut waiting = BTreeMap::new();
-        let (mut next, mut consumed, mut carried) = (0u64, 0u64, CarriedState::default());
+        let mut carried = LineParser::for_format(self.settings.format).carried();
+        let (mut next, mut consumed) = (0u64, 0u64);
         loop {
             let chunk = match done.recv_timeout(WAKE) {
                 Ok(chunk) => chunk,
@@ -396,7 +401,7 @@ impl Merger<'_> {
         let detector = &self.decoder.detector;
         let mut guess = self.guess.lock();
         *guess = Start {
-            carried: CarriedState { iface: carried.iface.clone(), after_error_frame: false },
+            carried: CarriedState { after_error_frame: false, ..carried.clone() },
             // A worker may have seen further ahead (see publish_verdict).
             v1_seen: detector.v1_frames > 0 || guess.v1_seen,
             v2_seen: detector.v2_frames > 0 || guess.v2_seen,
@@ -670,7 +675,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
         summary: &mut chunk.summary,
         outcome: Outcome { start: start.clone(), ..Outcome::default() },
     };
-    let parser = LineParser::new();
+    let parser = LineParser::for_format(settings.format);
     let mut parser = if settings.delta_stamps { parser.with_delta_timestamps() } else { parser };
     parser.carry_on_from(&start.carried);
     let input = &chunk.input;
@@ -886,10 +891,12 @@ impl ChunkLines<'_> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::candump::TextFormat;
     use crate::output::Format;
 
     fn settings() -> Settings {
         Settings {
+            format: LogFormat { text: TextFormat::Candump, compression: None },
             protocol: ProtocolHint::Auto,
             filter: Filter::default(),
             writer: Some(EventWriter::new(Format::Json, false)),
@@ -1018,6 +1025,45 @@ mod tests {
         };
         assert!(settle(&settings, &mut guessed, &truth));
         assert_eq!((guessed.outcome.rejected_lines, guessed.outcome.skipped.error_text), (0, 1));
+    }
+
+    /// What an ASC or trc header said holds for the lines after it: a chunk decoded without it is decoded
+    /// again from the state the header left.
+    #[test]
+    fn a_chunk_after_an_asc_or_trc_header_is_decoded_again() {
+        let files: [(TextFormat, &[u8], &[u8], &str); 2] = [
+            // `base dec`: identifier 529 = 0x211, data bytes in decimal (200 is no hex byte).
+            (
+                TextFormat::VectorAsc,
+                b"base dec  timestamps absolute\n",
+                b"   1.000000 1  529  Rx d 2 10 200\n",
+                "0AC8",
+            ),
+            // The columns named by the header: bus before the type, and no direction.
+            (
+                TextFormat::PeakTrc { version: 21 },
+                b";$COLUMNS=N,O,B,T,I,L,D\n",
+                b"      1      1000.000 1  DT 0211 2    0A 14\n",
+                "0A14",
+            ),
+        ];
+        for (text, header, line, data) in files {
+            let settings = Settings { format: LogFormat { text, compression: None }, ..settings() };
+            let initial =
+                Start { carried: LineParser::for_format(settings.format).carried(), ..Start::default() };
+            let mut first = chunk(header);
+            decode_chunk(&settings, &initial, &mut first);
+            assert_ne!(first.outcome.end, initial.carried, "{text:?}: the header must change the state");
+            let mut guessed = chunk(line);
+            decode_chunk(&settings, &initial, &mut guessed);
+            assert_eq!(guessed.outcome.rejected_lines, 1, "{text:?}: read without its header");
+            let truth = Start { carried: first.outcome.end.clone(), ..Start::default() };
+            assert!(settle(&settings, &mut guessed, &truth));
+            assert_eq!((guessed.outcome.rejected_lines, guessed.outcome.decoded_lines), (0, 1), "{text:?}");
+            let json = String::from_utf8_lossy(&guessed.output);
+            let expected = format!(r#""data":"{data}""#);
+            assert!(json.contains(r#""id":"0x211""#) && json.contains(&expected), "{text:?}: {json}");
+        }
     }
 
     fn split_all(text: &[u8], chunk_bytes: usize) -> Vec<Chunk> {
