@@ -18,6 +18,9 @@ rounds (they take minutes and are far from the ratios that matter). Peak memory 
 size from /usr/bin/time. cantools and python-can are skipped on logs above --slow-max-lines lines (cantools
 would take hours on 100 M lines). Prints one Markdown table: lines/s, time relative to `wc -l` in the same run,
 peak memory per size, and whether memory stays flat (largest / smallest log within 1.2x).
+
+A second table times `tracerctl decode -j1` and `-jN` on the same frames written as Vector ASC and as PEAK
+trc 2.1 (converted here from the smallest log; --no-other-formats skips it), for --summary and json.
 Needs: cargo, /usr/bin/time; optional: pip install cantools python-can; apt-get install can-utils.
 """
 
@@ -54,6 +57,62 @@ def log_with(lines):
         subprocess.run([GEN, str(lines), path + ".part"], check=True)
         os.rename(path + ".part", path)
     return path
+
+
+def converted(lines, kind):
+    """The candump log of `lines` lines written as Vector ASC or PEAK trc 2.1: the same frames and stamps."""
+    source = log_with(lines)
+    path = os.path.join(DATA, f"tracer-{lines}.{kind}")
+    if os.path.exists(path):
+        return path
+    print(f"converting {source} to {path}", file=sys.stderr, flush=True)
+    first = None
+    with open(source) as lines_in, open(path + ".part", "w") as out:
+        if kind == "asc":
+            out.write("date Tue Nov 24 10:00:00.000 2026\nbase hex  timestamps absolute\ninternal events logged\n"
+                      "Begin Triggerblock Tue Nov 24 10:00:00.000 2026\n   0.000000 Start of measurement\n")
+        else:
+            out.write(";$FILEVERSION=2.1\n;$STARTTIME=46350.4166666667\n;$COLUMNS=N,O,T,B,I,d,R,L,D\n;\n")
+        for number, line in enumerate(lines_in, 1):
+            stamp, _iface, frame = line.split()[:3]
+            ident, data = frame.split("#")
+            micros = int(stamp[1:-1].replace(".", ""))
+            first = micros if first is None else first
+            offset = micros - first
+            data_bytes = " ".join(data[i:i + 2] for i in range(0, len(data), 2))
+            length = len(data) // 2
+            if kind == "asc":
+                name = f"{int(ident, 16):X}" + ("x" if len(ident) == 8 else "")
+                out.write(f"{offset // 1_000_000:4}.{offset % 1_000_000:06} 1  {name:<15} Rx   d {length} {data_bytes}\n")
+            else:
+                ident = ident.zfill(8 if len(ident) == 8 else 4)
+                out.write(f"{number:7} {offset // 1000:13}.{offset % 1000:03} DT 1 {ident:>9} Rx -  {length}    "
+                          f"{data_bytes}\n")
+        if kind == "asc":
+            out.write("End TriggerBlock\n")
+    os.rename(path + ".part", path)
+    return path
+
+
+def other_formats(binary, cores, lines, runs):
+    """Markdown rows: tracerctl -j1 and -jN on the log written as ASC and as trc, interleaved, best of `runs`."""
+    out = ["| input | mode | -j1: lines/s | -j1: peak memory | "
+           f"-j{cores}: lines/s | -j{cores}: peak memory | -j{cores} / -j1 |", "|---|---|---|---|---|---|---|"]
+    for kind, label in [("asc", "Vector ASC"), ("trc", "PEAK trc 2.1")]:
+        path = converted(lines, kind)
+        for mode, args in MODES[:2]:
+            best = {}
+            for _ in range(max(1, runs)):
+                for jobs in (1, cores):
+                    seconds, rss = run_once([binary, "decode", "--no-progress", f"-j{jobs}", *args, path])
+                    old = best.get(jobs, (seconds, rss))
+                    best[jobs] = (min(old[0], seconds), max(old[1], rss))
+            (one, one_rss), (many, many_rss) = best[1], best[cores]
+            out.append(f"| {label} ({os.path.getsize(path) // 1_000_000} MB) | {mode} | {lines / one / 1e6:.2f} M | "
+                       f"{one_rss / 1024:.1f} MiB | {lines / many / 1e6:.2f} M | {many_rss / 1024:.1f} MiB | "
+                       f"{one / many:.2f}x |")
+            print(out[-1], file=sys.stderr, flush=True)
+    return out
 
 
 def threads_supported(binary):
@@ -173,6 +232,8 @@ def main():
     parser.add_argument("--bin", help="the tracerctl binary to time (default: build target/release/tracerctl)")
     parser.add_argument("--no-build", action="store_true", help="do not run cargo build first")
     parser.add_argument("--out", default=os.path.join(DATA, "results.md"), help="where the table is written")
+    parser.add_argument("--no-other-formats", action="store_true",
+                        help="skip the second table (the smallest log as Vector ASC and PEAK trc)")
     options = parser.parse_args()
     sizes = sorted(int(s.replace("_", "")) for s in options.sizes.split(","))
     binary = options.bin or os.path.join(ROOT, "target", "release", "tracerctl")
@@ -190,6 +251,11 @@ def main():
                f"--runs {options.runs}` ({cores} cores; best of {options.runs} runs, "
                f"{options.big_runs} on logs above {BIG // 1_000_000} M lines, interleaved; log2asc, cantools and "
                "python-can once; output to /dev/null).")
+    if not options.no_other_formats and threads_supported(binary):
+        out.append("")
+        out.append(f"The {sizes[0]:,}-line log as Vector ASC and PEAK trc 2.1 (the same frames and stamps):")
+        out.append("")
+        out += other_formats(binary, cores, sizes[0], options.runs)
     print("\n".join(out))
     with open(options.out, "w") as f:
         f.write("\n".join(out) + "\n")
