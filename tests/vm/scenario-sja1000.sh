@@ -813,6 +813,13 @@ ck_overrun_doctor() {
     foreign=$(grep -v '^0x7A0 ' $W/ovd.ids | tr '\n' ',' | sed 's/,$//; s/,/, /g')
     # where the report speaks of error frames
     efind=$(sed 's/},{/}\n{/g' $j | grep -iE 'error frame' | sed -nE 's/.*"finding":"(([^"\\]|\\.)*)".*/\1/p' | head -n 2 | tr '\n' ' ')
+    # the error frames that reached doctor's socket: when its queue overflows (the flood's frames and the
+    # controller's error frames share it), the kernel may drop every one of them (measured: 0, 1, 2 and 2 of
+    # ~100 overruns in four runs); then the report must say what was lost instead: the kernel's drops and the
+    # controller's overrun counter
+    ecount=$(grep -oE '[0-9]+ CAN error frames' $j | head -n 1)
+    drops=$(grep -oE '[1-9][0-9]* frames dropped by the kernel' $j | head -n 1)
+    overruns=$(grep -oE '[1-9][0-9]* rx overruns' $j | head -n 1)
     if [ $galive = 0 ]; then
         fail "the flood (cangen -i can0 -g 0) was not running during the doctor run"
     elif [ "$after" -le "$before" ]; then
@@ -821,8 +828,12 @@ ck_overrun_doctor() {
         fail "no JSON report (exit status $rc)"
     elif [ -n "$foreign" ]; then
         fail "error frames listed as identifiers: $foreign (the flood sends only 0x7A0; can1 rx_over_errors $before -> $after); protocol: $(dj $j protocol finding)"
-    elif ! echo "$efind" | grep -qiE 'controller[ _]problem|rx[ _]overflow'; then
-        fail "no finding reports the error frames by class (controller problem / rx overflow): ${efind:-no finding mentions error frames}"
+    elif [ -n "$ecount" ] && ! echo "$efind" | grep -qiE 'controller[ _]problem|rx[ _]overflow'; then
+        fail "doctor received $ecount but no finding reports them by class (controller problem / rx overflow): ${efind:-no finding mentions error frames}"
+    elif [ -z "$ecount" ] && { [ -z "$drops" ] || [ -z "$overruns" ]; }; then
+        fail "no error frame reached doctor and the report does not say what was lost (kernel drops: '${drops:-none}', controller overruns: '${overruns:-none}')"
+    elif [ -z "$ecount" ]; then
+        pass "exit $rc; can1 rx_over_errors $before -> $after; no error frame reached doctor's socket (its queue overflowed), the report says '$drops' and '$overruns'; identifiers listed: $(tr '\n' ' ' <$W/ovd.ids)"
     else
         pass "exit $rc; can1 rx_over_errors $before -> $after; error frames by class: $efind; identifiers listed: $(tr '\n' ' ' <$W/ovd.ids)"
     fi
