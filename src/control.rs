@@ -16,7 +16,7 @@
 //!   the panic hook (panics on any thread), or by a signal, sends zero-velocity frames at once.
 //! - **Truth.** How many stop frames actually left is counted, so callers never say "stopped" when none did.
 
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
 use std::sync::{Arc, OnceLock};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
@@ -351,6 +351,23 @@ pub fn panicked() -> bool {
     PANICKED.load(Ordering::SeqCst)
 }
 
+/// Motion frames a sender is sending right now. A sender counts itself in, then looks at [`PANICKED`]; the
+/// panic hook sets the flag, then waits for the count to fall before its zeros: so either the sender sees
+/// the flag and sends nothing, or its frame is out before the zeros (a tick that had checked the flag just
+/// before a panic sent one 0.3 m/s frame after the hook's zeros: seen in CI).
+static MOTION_IN_FLIGHT: AtomicUsize = AtomicUsize::new(0);
+/// How long the panic hook waits for a motion frame in flight (bounded: the panicking thread may be the one
+/// that was sending it).
+const IN_FLIGHT_WAIT: Duration = Duration::from_millis(50);
+
+/// Sends one motion frame unless a panic has stopped the robot (`None` then).
+fn send_motion_frame(tx: &dyn FrameTx, frame: &LinkFrame) -> Option<std::io::Result<()>> {
+    MOTION_IN_FLIGHT.fetch_add(1, Ordering::SeqCst);
+    let result = (!panicked()).then(|| tx.send(frame));
+    MOTION_IN_FLIGHT.fetch_sub(1, Ordering::SeqCst);
+    result
+}
+
 /// The frame and link the panic hook uses to stop the robot.
 type Emergency = (Arc<dyn FrameTx>, LinkFrame);
 static EMERGENCY: OnceLock<Mutex<Option<Emergency>>> = OnceLock::new();
@@ -362,6 +379,10 @@ fn emergency() -> &'static Mutex<Option<Emergency>> {
 /// Sends zero-velocity frames on the link of the running sender, if any (used by panic hooks).
 pub fn emergency_stop() {
     PANICKED.store(true, Ordering::SeqCst);
+    let deadline = Instant::now() + IN_FLIGHT_WAIT;
+    while MOTION_IN_FLIGHT.load(Ordering::SeqCst) > 0 && Instant::now() < deadline {
+        std::thread::yield_now();
+    }
     if let Some(guard) = emergency().try_lock() {
         if let Some((tx, frame)) = guard.as_ref() {
             tx.discard_pending();
@@ -634,7 +655,8 @@ fn send_motion(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec, current: (f
         shared.stats().held_back += 1;
         return;
     }
-    let result = tx.send(&codec.motion(command));
+    // After a panic nothing but the stop frames goes out (the loop ends at its next check).
+    let Some(result) = send_motion_frame(tx, &codec.motion(command)) else { return };
     let sent = result.is_ok();
     shared.record(result, false);
     if sent {
