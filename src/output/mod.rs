@@ -58,12 +58,13 @@ impl Shape {
     }
 }
 
-impl Event<'_> {
-    pub fn shape(&self) -> Shape {
-        match self.decoded {
+impl Shape {
+    /// The shape of a frame with what the protocol made of it (as [`Event::shape`]).
+    pub fn of(frame: FrameRef<'_>, decoded: &Result<Option<Decoded>, DecodeError>) -> Self {
+        match *decoded {
             Ok(Some(decoded)) => Shape::Message(decoded),
             Err(error) => Shape::Invalid(error),
-            Ok(None) => match self.frame {
+            Ok(None) => match frame {
                 FrameRef::Can(frame) => match frame.kind() {
                     FrameKind::Error => Shape::ErrorFrame(ErrorFrame::from_frame(frame).expect("error kind")),
                     FrameKind::Remote => Shape::Remote,
@@ -72,6 +73,12 @@ impl Event<'_> {
                 FrameRef::Serial(_) => Shape::Raw,
             },
         }
+    }
+}
+
+impl Event<'_> {
+    pub fn shape(&self) -> Shape {
+        Shape::of(self.frame, &self.decoded)
     }
 
     /// The `msg` name of the line.

@@ -365,6 +365,46 @@ fn the_protocol_verdict_crosses_chunk_boundaries() {
     }
 }
 
+/// Without `TRACERCTL_CHUNK_BYTES` a plain file is cut into ranges the workers read themselves (a share of
+/// what is left each, the first ones small; reads of 128 KiB inside them): a 4 MiB log whose first frame
+/// makes every 0x151 after it a V1 frame (so the ranges claimed before that verdict is known are decoded
+/// again), with lines over the 64 KiB limit across the first cuts, decodes as one thread decodes it.
+#[test]
+fn a_large_plain_log_decodes_the_same_over_the_default_ranges() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("large.log");
+    let mut log = String::from("(1700000000.000000) can0 131#0000000000000000\n");
+    let session = session_log();
+    let long = format!("(1700000000.000000) can0 211#{}\n", "0".repeat(70_000));
+    let mut tick = 0u64;
+    while log.len() < 4 << 20 {
+        tick += 1;
+        log.push_str(&format!(
+            "(1700000001.{:06}) can0 151#00000000000000{:02X}\n",
+            tick % 1_000_000,
+            tick % 256
+        ));
+        if tick % 5000 == 0 {
+            log.push_str(&session);
+        }
+        if matches!(tick, 5_000 | 5_600 | 25_000) {
+            log.push_str(&long);
+        }
+    }
+    std::fs::write(&path, &log).unwrap();
+    let single = decode(&path, 1, None, &["--summary"]);
+    let report = stdout(&single);
+    assert!(report.contains("line too long"), "{}", stderr(&single));
+    assert!(report.contains("0x151"), "{report}");
+    for extra in [&["--summary"][..], &["--summary", "-f", "json"], &["-f", "json"], &["-f", "csv"]] {
+        let single = decode(&path, 1, None, extra);
+        for threads in [2, 3] {
+            let parallel = decode(&path, threads, None, extra);
+            assert_same(&single, &parallel, &format!("{extra:?} -j{threads}"));
+        }
+    }
+}
+
 /// A compressed file is read through its decompressor and chunked like a plain one; a truncated one writes
 /// the same lines before the same error.
 #[test]

@@ -5,6 +5,7 @@
 mod interrupt;
 mod parallel;
 mod plot;
+mod ranges;
 mod serial_input;
 pub mod summary;
 
@@ -425,7 +426,7 @@ impl Decoder {
         if input == "-" {
             let (reader, format) = candump::open_log(io::stdin(), "<stdin>").map_err(Failure::from)?;
             if self.parallel_fits() {
-                return parallel::decode(self, "<stdin>", (reader, format), None, true);
+                return parallel::decode(self, "<stdin>", (reader, format), None, (true, None));
             }
             return self.candump("<stdin>", reader, None, format);
         }
@@ -435,11 +436,14 @@ impl Decoder {
             let metadata = file.metadata().ok();
             let size = metadata.as_ref().map(|m| m.len());
             let regular = metadata.is_some_and(|m| m.is_file());
+            // The workers read a plain file's ranges themselves, through a handle of their own.
+            let plain = file.try_clone().ok();
             let (reader, format) = candump::open_log(file, input).map_err(Failure::from)?;
             // The progress bar counts text bytes: unknown for a compressed file.
             let size = size.filter(|_| format.compression.is_none());
             if regular && self.parallel_fits() {
-                return parallel::decode(self, input, (reader, format), size, false);
+                let plain = plain.filter(|_| format.compression.is_none());
+                return parallel::decode(self, input, (reader, format), size, (false, plain));
             }
             return self.candump(input, reader, size, format);
         }
@@ -593,6 +597,16 @@ impl Decoder {
     ) -> Result<()> {
         self.stats.frames += 1;
         let decoded = self.detector.observe_and_decode(frame, self.protocol);
+        if let (Sink::Summary(summary), None) = (&mut self.sink, &self.plot) {
+            // The hot case of `--summary`: no event built (see [`Summary::frame`]).
+            if self.filter.is_empty() && (decoded.is_ok() || !self.strict) {
+                if decoded.is_err() {
+                    self.stats.invalid_frames += 1;
+                }
+                summary.frame(ts, iface, FrameRef::Can(frame), &decoded);
+                return Ok(());
+            }
+        }
         let event = Event { ts, iface, dir, frame: FrameRef::Can(frame), decoded };
         self.event(&event)
     }

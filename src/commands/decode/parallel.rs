@@ -1,7 +1,9 @@
 //! `decode -j N`: a text log (candump, Vector ASC, PEAK trc; a file or a stream, plain or compressed) decoded
 //! by N threads, written byte for byte as one thread would.
 //!
-//! The text is cut into chunks that end after a `\n` ([`Splitter`]): a worker reads the next chunk of a file
+//! A plain file is cut into ranges of whole lines that each worker reads itself as it decodes them, with
+//! positioned reads into a small buffer of its own ([`Ranges`]). Other input is
+//! cut into chunks that end after a `\n` ([`Splitter`]): a worker reads the next chunk of a compressed file
 //! itself, one worker at a time, and a stream's chunks come from a reader thread. Workers decode each chunk
 //! into its own output buffer with the line counts, rejections and stop (`--strict`) it found, numbered within the
 //! chunk; this thread takes the chunks back in input order, writes their output, and replays their counts
@@ -36,6 +38,7 @@
 //! every [`WAKE`] to see the end of decoding or a signal.
 
 use std::collections::BTreeMap;
+use std::fs::File;
 use std::io::{self, Read};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc::{self, RecvTimeoutError};
@@ -46,6 +49,7 @@ use anyhow::Result;
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
+use super::ranges::{Piece, Range, Ranges, Sizing, SLICE_BYTES};
 use super::summary::Summary;
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
 use crate::candump::{
@@ -94,6 +98,8 @@ struct Start {
 #[derive(Default)]
 struct Chunk {
     index: u64,
+    /// A plain file's range, read by the worker that decodes it ([`Ranges`]); otherwise the text is `input`.
+    range: Option<Range>,
     input: Vec<u8>,
     /// Lines the reader cut short because they exceeded the line limit: (offset in `input`, true length).
     long_lines: Vec<(usize, usize)>,
@@ -218,8 +224,12 @@ struct Settings {
     record: bool,
     /// Workers summarize their chunk into a partial summary for this thread to merge (`--summary`).
     partial: bool,
+    /// `partial` without a filter: frames go to the summary without an event built.
+    summary_only: bool,
     delta_stamps: bool,
     strict: bool,
+    /// A plain file: the ranges the workers read (and this thread reads again to decode a chunk again).
+    ranges: Option<Arc<Ranges>>,
 }
 
 /// Decodes `reader` (the text of a regular file or of standard input, decompressed, after
@@ -231,7 +241,7 @@ pub(super) fn decode(
     name: &str,
     (reader, format): (impl Read + Send + 'static, LogFormat),
     size: Option<u64>,
-    stream: bool,
+    (stream, plain): (bool, Option<File>),
 ) -> Result<()> {
     let writer = match &decoder.sink {
         Sink::Lines { writer, .. } if !decoder.delta_stamps => Some(*writer),
@@ -246,11 +256,28 @@ pub(super) fn decode(
         writer,
         record: (writer.is_none() || decoder.plot.is_some()) && !partial,
         partial,
+        summary_only: partial && decoder.filter.is_empty(),
         delta_stamps: decoder.delta_stamps,
         strict: decoder.strict,
+        ranges: None,
     };
     let chunk_bytes = decoder.chunk_bytes.unwrap_or(if partial { SUMMARY_CHUNK_BYTES } else { CHUNK_BYTES });
     let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), chunk_bytes.max(1));
+    // A plain file's size is its text's: the ranges are cut in it.
+    let settings = match (plain, size) {
+        (Some(file), Some(size)) => {
+            let sizing = match decoder.chunk_bytes {
+                None if partial => Sizing::Guided { threads: threads as u64 },
+                _ => Sizing::Fixed(chunk_bytes as u64),
+            };
+            // Tests' tiny chunks cut reads inside ranges too, elsewhere than the ranges' own cuts.
+            let slice_bytes = decoder.chunk_bytes.map_or(SLICE_BYTES, |bytes| bytes.div_ceil(3));
+            let text_start = byte_order_mark(&file);
+            let ranges = Ranges::new(file, text_start, size, sizing, slice_bytes);
+            Settings { ranges: Some(Arc::new(ranges)), ..settings }
+        }
+        _ => settings,
+    };
     let before = (decoder.stats.decoded_lines, decoder.stats.rejected_lines, decoder.stats.skipped);
     let guess = Mutex::new(Start { carried: LineParser::for_format(format).carried(), ..Start::default() });
     let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
@@ -261,7 +288,9 @@ pub(super) fn decode(
         let _ = pool_tx.send(Chunk::default());
     }
     let splitter = Splitter::new(reader, Cut { chunk_bytes, stream });
-    let source = if stream {
+    let source = if settings.ranges.is_some() {
+        Source::Ranges { pool: Mutex::new(pool_rx) }
+    } else if stream {
         // The reader is not joined: a read of a quiet stream may block until the process exits.
         let (work_tx, work_rx) = mpsc::channel::<Chunk>();
         let reader_finished = Arc::clone(&finished);
@@ -275,7 +304,7 @@ pub(super) fn decode(
             let done_tx = done_tx.clone();
             let (source, guess, settings, finished) = (&source, &guess, &settings, &*finished);
             scope.spawn(move || loop {
-                let (mut chunk, start) = match source.take(guess) {
+                let (mut chunk, start) = match source.take(guess, settings) {
                     Ok(taken) => taken,
                     Err(Idle::NotYet) if !finished.load(Ordering::Relaxed) => continue,
                     Err(_) => return,
@@ -432,7 +461,8 @@ impl Merger<'_> {
                 return Ok(());
             }
         }
-        let settings = Settings { record: true, partial: false, ..self.settings.clone() };
+        let settings =
+            Settings { record: true, partial: false, summary_only: false, ..self.settings.clone() };
         decode_chunk(&settings, truth, chunk);
         self.replay(&chunk.events)
     }
@@ -606,6 +636,8 @@ enum Source<R> {
     /// A file (plain, or through its decompressor): each worker reads its next chunk itself, one worker at a
     /// time (no reader thread to hand chunks over: 2-7 % less time, measured in docs/performance.md).
     File { splitter: Mutex<Splitter<R>>, pool: Mutex<mpsc::Receiver<Chunk>> },
+    /// A plain file: each worker claims the next range and reads it itself, as it decodes it.
+    Ranges { pool: Mutex<mpsc::Receiver<Chunk>> },
 }
 
 /// Why a worker got no chunk.
@@ -618,16 +650,23 @@ enum Idle {
 
 impl<R: Read> Source<R> {
     /// The next chunk, with the start its first line is guessed to be decoded from.
-    fn take(&self, guess: &Mutex<Start>) -> Result<(Chunk, Start), Idle> {
+    fn take(&self, guess: &Mutex<Start>, settings: &Settings) -> Result<(Chunk, Start), Idle> {
         let received = match self {
             Source::Queue(work) => work.lock().recv_timeout(WAKE),
-            Source::File { pool, .. } => pool.lock().recv_timeout(WAKE),
+            Source::File { pool, .. } | Source::Ranges { pool } => pool.lock().recv_timeout(WAKE),
         };
         let mut chunk = match received {
             Ok(chunk) => chunk,
             Err(RecvTimeoutError::Timeout) => return Err(Idle::NotYet),
             Err(RecvTimeoutError::Disconnected) => return Err(Idle::Ended),
         };
+        if let (Source::Ranges { .. }, Some(ranges)) = (self, &settings.ranges) {
+            // Guessed before the range is let go: only ranges before this one can have published their verdict.
+            let Some(range) = ranges.claim_with(|| guess.lock().clone()) else { return Err(Idle::Ended) };
+            chunk.index = range.0.index;
+            chunk.range = Some(range.0);
+            return Ok((chunk, range.1));
+        }
         if let Source::File { splitter, .. } = self {
             let mut splitter = splitter.lock();
             if !splitter.next_chunk(&mut chunk) {
@@ -726,8 +765,8 @@ fn read_failed(chunk: &mut Chunk, last_newline: Option<usize>, long: &mut Option
     *long = None;
 }
 
-// Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
-/// Decodes one chunk from `start` into its output (or events), as [`Decoder::candump`] decodes lines.
+/// Decodes one chunk from `start` into its output (or events), as [`Decoder::candump`] decodes lines: its
+/// text, or the lines of its range read now.
 fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     chunk.output.clear();
     chunk.events.clear();
@@ -745,8 +784,42 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     let parser = LineParser::for_format(settings.format);
     let mut parser = if settings.delta_stamps { parser.with_delta_timestamps() } else { parser };
     parser.carry_on_from(&start.carried);
-    let input = &chunk.input;
-    let mut long_lines = chunk.long_lines.iter().peekable();
+    match (chunk.range, &settings.ranges) {
+        (Some(range), Some(ranges)) => {
+            let end = ranges.read(range, |piece| {
+                match piece {
+                    Piece::Lines(text) => decode_lines(&mut lines, &mut parser, text, &[]),
+                    Piece::TooLong(length) => {
+                        lines.outcome.lines += 1;
+                        lines.too_long(lines.outcome.lines, length);
+                    }
+                }
+                lines.outcome.stop.is_none()
+            });
+            chunk.bytes = end.bytes;
+            chunk.read_error = end.error;
+        }
+        _ => decode_lines(&mut lines, &mut parser, &chunk.input, &chunk.long_lines),
+    }
+    let mut outcome = lines.outcome;
+    outcome.v1_frames = lines.detector.v1_frames - u64::from(start.v1_seen);
+    outcome.v2_frames = lines.detector.v2_frames - u64::from(start.v2_seen);
+    outcome.end = parser.carried();
+    chunk.events.deltas = parser.delta_sum();
+    chunk.outcome = outcome;
+}
+
+// Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
+/// Decodes whole lines (`long_lines`: those the reader cut short, by offset, with their true length) until
+/// the end of `input` or a stop.
+fn decode_lines(
+    lines: &mut ChunkLines<'_>,
+    parser: &mut LineParser,
+    input: &[u8],
+    long_lines: &[(usize, usize)],
+) {
+    let settings = lines.settings;
+    let mut long_lines = long_lines.iter().peekable();
     let mut at = 0;
     while at < input.len() {
         lines.outcome.lines += 1;
@@ -774,8 +847,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
             None => (text.len() > DEFAULT_MAX_LINE_LEN).then_some(text.len()),
         };
         if let Some(length) = too_long {
-            let message = candump::line_too_long(length);
-            lines.rejected(number, message, Reason::LineTooLong.as_str(), Some(length as u64));
+            lines.too_long(number, length);
         } else {
             let deltas_before = parser.delta_sum().added();
             match parser.parse(text) {
@@ -803,12 +875,6 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
             break;
         }
     }
-    let mut outcome = lines.outcome;
-    outcome.v1_frames = lines.detector.v1_frames - u64::from(start.v1_seen);
-    outcome.v2_frames = lines.detector.v2_frames - u64::from(start.v2_seen);
-    outcome.end = parser.carried();
-    chunk.events.deltas = parser.delta_sum();
-    chunk.outcome = outcome;
 }
 
 /// A worker's decoder of lines: [`Decoder`]'s line handling, with counts and messages kept for the merge.
@@ -854,6 +920,11 @@ impl ChunkLines<'_> {
             Iface::Name(name) => name,
             Iface::Interned(index) => self.events.name(index),
         };
+        if self.settings.summary_only {
+            // The hot case of `--summary`: no event built (see [`Summary::frame`]).
+            self.summary.frame(ts, name, FrameRef::Can(frame), &decoded);
+            return None;
+        }
         let event = Event { ts, iface: name, dir, frame: FrameRef::Can(frame), decoded };
         if !self.settings.filter.passes(&event) {
             return None;
@@ -933,6 +1004,13 @@ impl ChunkLines<'_> {
         }
     }
 
+    /// Line `number`, longer than the line limit (`length` bytes without its `\n`).
+    #[inline(never)]
+    fn too_long(&mut self, number: u64, length: usize) {
+        let message = candump::line_too_long(length);
+        self.rejected(number, message, Reason::LineTooLong.as_str(), Some(length as u64));
+    }
+
     /// As [`Decoder::rejected_line`]: kept to be said in order, or the stop with `--strict`.
     fn rejected(&mut self, line: u64, message: String, reason: &'static str, length: Option<u64>) {
         let outcome = &mut self.outcome;
@@ -955,6 +1033,16 @@ impl ChunkLines<'_> {
     }
 }
 
+/// Where a plain file's text starts: after a UTF-8 byte-order mark (as [`candump::open_log`] reads it).
+fn byte_order_mark(file: &File) -> u64 {
+    use std::os::unix::fs::FileExt;
+    let mut head = [0u8; 3];
+    match file.read_at(&mut head, 0) {
+        Ok(3) if head == *b"\xEF\xBB\xBF" => 3,
+        _ => 0,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -969,8 +1057,10 @@ mod tests {
             writer: Some(EventWriter::new(Format::Json, false)),
             record: false,
             partial: false,
+            summary_only: false,
             delta_stamps: false,
             strict: false,
+            ranges: None,
         }
     }
 

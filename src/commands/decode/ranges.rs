@@ -1,0 +1,349 @@
+//! A plain file cut into byte ranges that the workers of `decode -j` read themselves, each with positioned
+//! reads (`pread`) into a small buffer of its own that stays in the cache. Reading the whole chunk into a
+//! pool buffer first cost the parallel summary a third of its time: the kernel's copy into cold memory, the
+//! first touch of the pool's pages, and the hand-overs (docs/performance.md).
+//!
+//! Ranges are whole lines: the claim of a range looks (one small read) for the first line start at or after
+//! its nominal end, and the next range starts there. A worker thus reads whole lines from its range's start
+//! to its end, as the single thread reads them: a line longer than the line limit is only counted (its true
+//! length), the unfinished line before a read error is dropped, and the last range reads on to wherever the
+//! file ends when it gets there.
+
+use std::cell::RefCell;
+use std::fs::File;
+use std::io;
+use std::os::unix::fs::FileExt;
+
+use memchr::{memchr, memrchr};
+use parking_lot::Mutex;
+
+use crate::candump::DEFAULT_MAX_LINE_LEN;
+
+/// Bytes a read asks for: a slice this size and the line it carries over stay in a core's L2 cache.
+pub const SLICE_BYTES: usize = 128 * 1024;
+/// Guided range sizes (`--summary`): each range is a share of what is left, between these bounds, so the
+/// workers finish together without a hand-over per slice.
+const MIN_GUIDED_BYTES: u64 = 1 << 20;
+const MAX_GUIDED_BYTES: u64 = 32 << 20;
+/// Bytes a read asks for when looking for where a range ends.
+const SCAN_BYTES: usize = 1024;
+/// The size of the first range of each worker (`--summary`).
+const FIRST_GUIDED_BYTES: u64 = 256 << 10;
+
+/// One range of the file: its place in the input order, its first byte and the byte after it (`None`: on to
+/// the end of the file).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Range {
+    pub index: u64,
+    pub start: u64,
+    pub end: Option<u64>,
+}
+
+/// How large the ranges are.
+#[derive(Clone, Copy, Debug)]
+pub enum Sizing {
+    /// Every range this many bytes (output modes, whose output per range is held until written; tests).
+    Fixed(u64),
+    /// A share of what is left for this many workers (`--summary`, which holds nothing per range).
+    Guided { threads: u64 },
+}
+
+/// What a range's reading hands the decoder, in order.
+pub enum Piece<'a> {
+    /// Whole lines: each ends with its `\n` but the file's last, which may not.
+    Lines(&'a [u8]),
+    /// A line longer than the line limit: its length without the `\n`.
+    TooLong(usize),
+}
+
+/// How a range's reading ended.
+pub struct RangeEnd {
+    /// Bytes of the lines handed over (for the progress bar).
+    pub bytes: u64,
+    pub error: Option<io::Error>,
+}
+
+/// A plain file and the ranges not yet claimed.
+pub struct Ranges {
+    file: File,
+    /// The file's size when decoding began: the range reaching it reads on to the end.
+    size: u64,
+    sizing: Sizing,
+    slice_bytes: usize,
+    next: Mutex<(u64, Option<u64>)>,
+}
+
+thread_local! {
+    /// Each thread's read buffer, kept between ranges.
+    static BUFFER: RefCell<Vec<u8>> = const { RefCell::new(Vec::new()) };
+}
+
+impl Ranges {
+    /// `slice_bytes` is what a read asks for (tests make it tiny to cut lines everywhere).
+    pub fn new(file: File, text_start: u64, size: u64, sizing: Sizing, slice_bytes: usize) -> Self {
+        let slice_bytes = slice_bytes.max(1);
+        let next = Mutex::new((0, Some(text_start)));
+        Self { file, size, sizing, slice_bytes, next }
+    }
+
+    /// The next range in input order; `None` once the range reaching the end was claimed.
+    #[cfg(test)]
+    pub fn claim(&self) -> Option<Range> {
+        self.claim_with(|| ()).map(|(range, ())| range)
+    }
+
+    /// [`Self::claim`], with what `also` returns while no other range can be claimed.
+    pub fn claim_with<T>(&self, also: impl FnOnce() -> T) -> Option<(Range, T)> {
+        let mut next = self.next.lock();
+        let (index, start) = (next.0, next.1?);
+        let left = self.size.saturating_sub(start);
+        let bytes = match self.sizing {
+            Sizing::Fixed(bytes) => bytes.max(1),
+            // The first ranges start before any verdict of the protocol detector is known: small, so the one
+            // decoded again from the true start (see `settle`) costs little.
+            Sizing::Guided { threads } if index < threads => FIRST_GUIDED_BYTES,
+            Sizing::Guided { threads } => {
+                (left / (threads.max(1) * 2)).clamp(MIN_GUIDED_BYTES, MAX_GUIDED_BYTES)
+            }
+        };
+        // Up to the first line start at or after `start + bytes`: the next range starts with a whole line.
+        let end = match bytes < left {
+            true => self.line_start_from(start + bytes),
+            false => None,
+        };
+        *next = (index + 1, end);
+        Some((Range { index, start, end }, also()))
+    }
+
+    /// The first line start at or after `at` (after the first `\n` at or after `at - 1`); `None` at the end of
+    /// the file or at a read error (the range then reads on to the end, and meets the error itself).
+    fn line_start_from(&self, at: u64) -> Option<u64> {
+        let mut scan = [0u8; SCAN_BYTES];
+        let mut pos = at - 1;
+        loop {
+            match self.read_at(&mut scan, pos) {
+                Ok(0) | Err(_) => return None,
+                Ok(read) => match memchr(b'\n', &scan[..read]) {
+                    Some(newline) => return Some(pos + newline as u64 + 1),
+                    None => pos += read as u64,
+                },
+            }
+        }
+    }
+
+    /// Reads the lines of `range`, handing them to `take` in order until it returns `false` (a stop).
+    pub fn read(&self, range: Range, take: impl FnMut(Piece<'_>) -> bool) -> RangeEnd {
+        BUFFER.with(|buffer| {
+            let mut buffer = buffer.borrow_mut();
+            // Room for the longest line kept whole plus one read.
+            let capacity = DEFAULT_MAX_LINE_LEN + 1 + self.slice_bytes;
+            if buffer.len() != capacity {
+                *buffer = vec![0; capacity];
+            }
+            self.read_into(&mut buffer, range, take)
+        })
+    }
+
+    fn read_into(&self, buf: &mut [u8], range: Range, mut take: impl FnMut(Piece<'_>) -> bool) -> RangeEnd {
+        let keep = DEFAULT_MAX_LINE_LEN + 1;
+        // `buf[..filled]` holds the file from `pos`, always a line's start.
+        let (mut pos, mut filled) = (range.start, 0);
+        let first = pos;
+        let end_of = |pos: u64| RangeEnd { bytes: pos - first, error: None };
+        loop {
+            if range.end.is_some_and(|end| pos >= end) {
+                return end_of(pos);
+            }
+            if let Some(last) = memrchr(b'\n', &buf[..filled]) {
+                let mut lines = last + 1;
+                if let Some(end) = range.end.filter(|&end| pos + lines as u64 > end) {
+                    // Lines starting at `end` or after are the next range's (`end` is a line start unless the
+                    // file changed since: then the line holding `end - 1` is this range's last).
+                    let inside = (end - pos) as usize - 1;
+                    lines = inside + memchr(b'\n', &buf[inside..filled]).map_or(lines - inside, |at| at + 1);
+                }
+                if !take(Piece::Lines(&buf[..lines])) {
+                    return end_of(pos + lines as u64);
+                }
+                buf.copy_within(lines..filled, 0);
+                (pos, filled) = (pos + lines as u64, filled - lines);
+                if range.end.is_some_and(|end| pos >= end) {
+                    return end_of(pos);
+                }
+            }
+            if filled > keep {
+                // Too long: only its length is kept, counted up to its `\n`.
+                let mut length = filled;
+                loop {
+                    match self.read_at(&mut buf[..self.slice_bytes], pos + length as u64) {
+                        // The unfinished line before a read error is dropped, as the single thread drops it.
+                        Err(error) => return RangeEnd { bytes: pos - first, error: Some(error) },
+                        Ok(0) => {
+                            let more = take(Piece::TooLong(length));
+                            pos += length as u64;
+                            if !more {
+                                return end_of(pos);
+                            }
+                            filled = 0;
+                            break;
+                        }
+                        Ok(read) => match memchr(b'\n', &buf[..read]) {
+                            Some(at) => {
+                                length += at;
+                                let more = take(Piece::TooLong(length));
+                                pos += length as u64 + 1;
+                                if !more {
+                                    return end_of(pos);
+                                }
+                                buf.copy_within(at + 1..read, 0);
+                                filled = read - at - 1;
+                                break;
+                            }
+                            None => length += read,
+                        },
+                    }
+                }
+                continue;
+            }
+            let room = (buf.len() - filled).min(self.slice_bytes);
+            match self.read_at(&mut buf[filled..filled + room], pos + filled as u64) {
+                Err(error) => return RangeEnd { bytes: pos - first, error: Some(error) },
+                Ok(0) => {
+                    // The end of the file: its last line may have no `\n`.
+                    if filled > 0 {
+                        take(Piece::Lines(&buf[..filled]));
+                    }
+                    return end_of(pos + filled as u64);
+                }
+                Ok(read) => filled += read,
+            }
+        }
+    }
+
+    /// One positioned read (retried when a signal interrupts it).
+    fn read_at(&self, buf: &mut [u8], offset: u64) -> io::Result<usize> {
+        loop {
+            match self.file.read_at(buf, offset) {
+                Err(error) if error.kind() == io::ErrorKind::Interrupted => {}
+                other => return other,
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::Write;
+
+    fn file_of(text: &[u8]) -> File {
+        let mut file = tempfile::tempfile().unwrap();
+        file.write_all(text).unwrap();
+        file
+    }
+
+    /// Every range's lines, in order, as text or `<long N>`.
+    fn pieces(text: &[u8], text_start: u64, sizing: Sizing, slice_bytes: usize) -> Vec<Vec<u8>> {
+        let ranges = Ranges::new(file_of(text), text_start, text.len() as u64, sizing, slice_bytes);
+        let mut lines = Vec::new();
+        while let Some(range) = ranges.claim() {
+            let end = ranges.read(range, |piece| {
+                match piece {
+                    // A whole line over the limit is the decoder's to find (as in a chunk read at once).
+                    Piece::Lines(text) => lines.extend(text.split_inclusive(|&b| b == b'\n').map(|line| {
+                        let length = line.strip_suffix(b"\n").unwrap_or(line).len();
+                        match length > DEFAULT_MAX_LINE_LEN {
+                            true => format!("<long {length}>").into_bytes(),
+                            false => line.to_vec(),
+                        }
+                    })),
+                    Piece::TooLong(length) => lines.push(format!("<long {length}>").into_bytes()),
+                }
+                true
+            });
+            assert!(end.error.is_none());
+        }
+        lines
+    }
+
+    #[test]
+    fn every_line_is_read_once_whatever_the_cuts() {
+        let text = b"a\n\nbb\r\nccc\n(1.0) can0 211#00\ndddd";
+        let expected: Vec<Vec<u8>> = text.split_inclusive(|&b| b == b'\n').map(<[u8]>::to_vec).collect();
+        for range_bytes in 1..=text.len() as u64 + 1 {
+            for slice_bytes in 1..=text.len() + 1 {
+                let got = pieces(text, 0, Sizing::Fixed(range_bytes), slice_bytes);
+                assert_eq!(got, expected, "ranges of {range_bytes}, slices of {slice_bytes}");
+            }
+        }
+    }
+
+    #[test]
+    fn the_text_starts_after_the_byte_order_mark() {
+        let text = b"\xEF\xBB\xBFa\nb\n";
+        for range_bytes in 1..=8 {
+            assert_eq!(pieces(text, 3, Sizing::Fixed(range_bytes), 2), [b"a\n".to_vec(), b"b\n".to_vec()]);
+        }
+    }
+
+    #[test]
+    fn a_line_over_the_limit_is_counted_with_its_true_length() {
+        let long = DEFAULT_MAX_LINE_LEN + 10;
+        let mut text = b"a\n".to_vec();
+        text.extend(std::iter::repeat_n(b'x', long));
+        text.extend_from_slice(b"\nb\n");
+        text.extend(std::iter::repeat_n(b'y', long + 1));
+        let want = |last: usize| {
+            vec![
+                b"a\n".to_vec(),
+                format!("<long {long}>").into_bytes(),
+                b"b\n".to_vec(),
+                format!("<long {last}>").into_bytes(),
+            ]
+        };
+        // Tiny ranges: each holds at least one whole line, so a long line is scanned once to find its end.
+        for range_bytes in [7, 1000, 70_000, 1 << 20] {
+            for slice_bytes in [4096, SLICE_BYTES] {
+                let got = pieces(&text, 0, Sizing::Fixed(range_bytes), slice_bytes);
+                assert_eq!(got, want(long + 1), "ranges of {range_bytes}, slices of {slice_bytes}");
+            }
+        }
+    }
+
+    #[test]
+    fn guided_ranges_shrink_towards_the_end_and_cover_the_file() {
+        let text = b"0123456789abcde\n".repeat(1 << 19);
+        let size = text.len() as u64;
+        let ranges = Ranges::new(file_of(&text), 0, size, Sizing::Guided { threads: 2 }, SLICE_BYTES);
+        let mut claimed = Vec::new();
+        while let Some(range) = ranges.claim() {
+            claimed.push(range);
+        }
+        let first = FIRST_GUIDED_BYTES;
+        assert_eq!(claimed[0], Range { index: 0, start: 0, end: Some(first) });
+        assert_eq!(claimed[1], Range { index: 1, start: first, end: Some(2 * first) });
+        let left = size - 2 * first;
+        assert_eq!(claimed[2], Range { index: 2, start: 2 * first, end: Some(2 * first + left / 4) });
+        assert!(claimed.windows(2).all(|pair| pair[0].end == Some(pair[1].start)));
+        assert!(claimed.windows(2).all(|pair| pair[1].index == pair[0].index + 1));
+        let last = claimed.last().unwrap();
+        assert_eq!(last.end, None);
+        assert!(size - last.start <= MIN_GUIDED_BYTES, "last range from {}", last.start);
+        assert!(claimed.iter().all(|range| range.start % 16 == 0), "ranges start with a line");
+    }
+
+    #[test]
+    fn a_read_error_keeps_the_lines_before_it() {
+        // A directory cannot be read: the error is reported with nothing taken.
+        let dir = File::open(std::env::temp_dir()).unwrap();
+        let ranges = Ranges::new(dir, 0, 10, Sizing::Fixed(4), 4);
+        let range = ranges.claim().unwrap();
+        let mut taken = 0;
+        let end = ranges.read(range, |_| {
+            taken += 1;
+            true
+        });
+        assert_eq!((taken, end.bytes), (0, 0));
+        assert!(end.error.is_some());
+    }
+}
