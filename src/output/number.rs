@@ -120,6 +120,10 @@ static HEX_PAIRS: [[u8; 2]; 256] = {
 
 /// Upper-case hex of each byte, no separators (built on the stack, appended in one copy).
 pub fn push_hex(out: &mut Vec<u8>, bytes: &[u8]) {
+    // A full classic payload (most frames): a copy of constant length, inlined instead of a `memcpy` call.
+    if let Ok(eight) = <&[u8; 8]>::try_from(bytes) {
+        return out.extend_from_slice(eight.map(|byte| HEX_PAIRS[usize::from(byte)]).as_flattened());
+    }
     for chunk in bytes.chunks(32) {
         let mut buf = [[0u8; 2]; 32];
         for (pair, &byte) in buf.iter_mut().zip(chunk) {
@@ -266,5 +270,9 @@ mod tests {
         out.clear();
         push_hex(&mut out, &[0x5A; 64]);
         assert_eq!(out, "5A".repeat(64).as_bytes());
+        out.clear();
+        // The eight-byte payload's own path.
+        push_hex(&mut out, &[0x00, 0x01, 0x7F, 0x80, 0xA5, 0xC3, 0xFE, 0xFF]);
+        assert_eq!(out, b"00017F80A5C3FEFF");
     }
 }

@@ -633,8 +633,9 @@ fn split(
 enum Source<R> {
     /// A stream: from the reader thread, whose reads may block for as long as the stream is quiet.
     Queue(Mutex<mpsc::Receiver<Chunk>>),
-    /// A file (plain, or through its decompressor): each worker reads its next chunk itself, one worker at a
-    /// time (no reader thread to hand chunks over: 2-7 % less time, measured in docs/performance.md).
+    /// A file through its decompressor (or a plain one whose handle could not be shared): each worker reads
+    /// its next chunk itself, one worker at a time (no reader thread to hand chunks over: 2-7 % less time,
+    /// measured in docs/performance.md).
     File { splitter: Mutex<Splitter<R>>, pool: Mutex<mpsc::Receiver<Chunk>> },
     /// A plain file: each worker claims the next range and reads it itself, as it decodes it.
     Ranges { pool: Mutex<mpsc::Receiver<Chunk>> },
