@@ -24,7 +24,7 @@ const MAGIC_LEN: usize = 10;
 const SNIFF_MAX_BYTES: usize = 16 * 1024;
 /// At most this many lines are looked at.
 const SNIFF_MAX_LINES: usize = 24;
-const UTF8_BOM: &[u8] = b"\xEF\xBB\xBF";
+pub(crate) const UTF8_BOM: &[u8; 3] = b"\xEF\xBB\xBF";
 
 /// The text format a log holds, with the compression it came in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -384,7 +384,9 @@ fn a_large_plain_log_decodes_the_same_over_the_default_ranges() {
             tick % 1_000_000,
             tick % 256
         ));
-        if tick % 5000 == 0 {
+        // Only V1 traffic in the first megabyte: the session's V2 frames would make the verdict mixed, which
+        // decodes 0x151 as the unguessed start does, and a range decoded from the wrong guess would not show.
+        if tick % 5000 == 0 && tick > 25_000 {
             log.push_str(&session);
         }
         if matches!(tick, 5_000 | 5_600 | 25_000) {

@@ -288,8 +288,8 @@ pub(super) fn decode(
         let _ = pool_tx.send(Chunk::default());
     }
     let splitter = Splitter::new(reader, Cut { chunk_bytes, stream });
-    let source = if settings.ranges.is_some() {
-        Source::Ranges { pool: Mutex::new(pool_rx) }
+    let source = if let Some(ranges) = &settings.ranges {
+        Source::Ranges { ranges: Arc::clone(ranges), pool: Mutex::new(pool_rx) }
     } else if stream {
         // The reader is not joined: a read of a quiet stream may block until the process exits.
         let (work_tx, work_rx) = mpsc::channel::<Chunk>();
@@ -304,7 +304,7 @@ pub(super) fn decode(
             let done_tx = done_tx.clone();
             let (source, guess, settings, finished) = (&source, &guess, &settings, &*finished);
             scope.spawn(move || loop {
-                let (mut chunk, start) = match source.take(guess, settings) {
+                let (mut chunk, start) = match source.take(guess) {
                     Ok(taken) => taken,
                     Err(Idle::NotYet) if !finished.load(Ordering::Relaxed) => continue,
                     Err(_) => return,
@@ -638,7 +638,7 @@ enum Source<R> {
     /// measured in docs/performance.md).
     File { splitter: Mutex<Splitter<R>>, pool: Mutex<mpsc::Receiver<Chunk>> },
     /// A plain file: each worker claims the next range and reads it itself, as it decodes it.
-    Ranges { pool: Mutex<mpsc::Receiver<Chunk>> },
+    Ranges { ranges: Arc<Ranges>, pool: Mutex<mpsc::Receiver<Chunk>> },
 }
 
 /// Why a worker got no chunk.
@@ -651,17 +651,17 @@ enum Idle {
 
 impl<R: Read> Source<R> {
     /// The next chunk, with the start its first line is guessed to be decoded from.
-    fn take(&self, guess: &Mutex<Start>, settings: &Settings) -> Result<(Chunk, Start), Idle> {
+    fn take(&self, guess: &Mutex<Start>) -> Result<(Chunk, Start), Idle> {
         let received = match self {
             Source::Queue(work) => work.lock().recv_timeout(WAKE),
-            Source::File { pool, .. } | Source::Ranges { pool } => pool.lock().recv_timeout(WAKE),
+            Source::File { pool, .. } | Source::Ranges { pool, .. } => pool.lock().recv_timeout(WAKE),
         };
         let mut chunk = match received {
             Ok(chunk) => chunk,
             Err(RecvTimeoutError::Timeout) => return Err(Idle::NotYet),
             Err(RecvTimeoutError::Disconnected) => return Err(Idle::Ended),
         };
-        if let (Source::Ranges { .. }, Some(ranges)) = (self, &settings.ranges) {
+        if let Source::Ranges { ranges, .. } = self {
             // Guessed before the range is let go: only ranges before this one can have published their verdict.
             let Some(range) = ranges.claim_with(|| guess.lock().clone()) else { return Err(Idle::Ended) };
             chunk.index = range.0.index;
@@ -1039,7 +1039,7 @@ fn byte_order_mark(file: &File) -> u64 {
     use std::os::unix::fs::FileExt;
     let mut head = [0u8; 3];
     match file.read_at(&mut head, 0) {
-        Ok(3) if head == *b"\xEF\xBB\xBF" => 3,
+        Ok(3) if head == *candump::UTF8_BOM => 3,
         _ => 0,
     }
 }
