@@ -3,7 +3,7 @@
 use super::number::*;
 use super::text::{push_name, push_version};
 use super::{direction_name, Event, Shape};
-use crate::protocol::fields::{column_of, ALL_FIELD_NAMES};
+use crate::protocol::fields::{ALL_FIELD_NAMES, MAX_FIELDS};
 use crate::protocol::{for_each_field, Value};
 
 /// The columns before the field columns.
@@ -40,11 +40,16 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
     out.push(b',');
     event.push_data(out);
     out.push(b',');
-    let mut cells: [Option<Value>; ALL_FIELD_NAMES.len()] = [None; ALL_FIELD_NAMES.len()];
+    // Only the message's own cells are kept (a few, not one per column); the empty columns
+    // between them are runs of commas.
+    let mut cells = [(0, Value::Int(0)); MAX_FIELDS];
+    let mut count = 0;
     match event.shape() {
         Shape::Message(decoded) => for_each_field(&decoded, |field| {
-            if let Some(column) = column_of(field.name) {
-                cells[column] = Some(field.value);
+            // Cannot be full: no message has more than MAX_FIELDS fields (tested in protocol::fields).
+            if let Some(cell) = cells.get_mut(count) {
+                *cell = (field.name.column(), field.value);
+                count += 1;
             }
         }),
         // Error texts contain commas: always quoted (RFC 4180).
@@ -60,13 +65,23 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
         }
         _ => {}
     }
-    for cell in &cells {
-        out.push(b',');
-        if let Some(value) = cell {
-            push_value(out, value);
-        }
+    let cells = &mut cells[..count];
+    // Fields come in schema order, which is column order for all but the V1 motion command.
+    cells.sort_unstable_by_key(|&(column, _)| column);
+    let mut next_column = 0;
+    for (column, value) in cells.iter() {
+        // Each column is preceded by its comma.
+        push_commas(out, (column + 1).saturating_sub(next_column));
+        push_value(out, value);
+        next_column = column + 1;
     }
+    push_commas(out, ALL_FIELD_NAMES.len().saturating_sub(next_column));
     out.push(b'\n');
+}
+
+fn push_commas(out: &mut Vec<u8>, count: usize) {
+    const COMMAS: [u8; ALL_FIELD_NAMES.len()] = [b','; ALL_FIELD_NAMES.len()];
+    out.extend_from_slice(&COMMAS[..count]);
 }
 
 fn push_value(out: &mut Vec<u8>, value: &Value) {
@@ -103,4 +118,59 @@ fn push_cell(out: &mut Vec<u8>, text: &str) {
         out.push(byte);
     }
     out.push(b'"');
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::output::FrameRef;
+    use crate::protocol::can::encode;
+    use crate::protocol::fields::one_of_each_message;
+    use crate::protocol::message::{Message, PercentMotionCommand};
+
+    /// Each field's cell, placed by looking its name up among the columns: the plain way.
+    fn expected_row(decoded: &crate::protocol::Decoded) -> Vec<String> {
+        let mut cells = vec![String::new(); ALL_FIELD_NAMES.len()];
+        for_each_field(decoded, |field| {
+            let column = ALL_FIELD_NAMES.iter().position(|name| *name == field.name.as_str()).unwrap();
+            let mut cell = Vec::new();
+            push_value(&mut cell, &field.value);
+            cells[column] = String::from_utf8(cell).unwrap();
+        });
+        cells
+    }
+
+    #[test]
+    fn every_field_lands_in_the_column_of_its_name() {
+        let mut samples = one_of_each_message();
+        // The V1 motion command lists control_mode (column 1) after the velocities (5, 6).
+        let command = PercentMotionCommand {
+            control_mode: 1,
+            fault_clear: 2,
+            linear_percent: 30,
+            angular_percent: -5,
+            ..Default::default()
+        };
+        samples.push(crate::protocol::Decoded {
+            wire: crate::protocol::Wire::CanV1,
+            message: Message::PercentMotionCommand(command),
+        });
+        for decoded in samples {
+            let Ok(frame) = encode(&decoded) else { continue };
+            let event = Event {
+                ts: None,
+                iface: "can0",
+                dir: None,
+                frame: FrameRef::Can(&frame),
+                decoded: Ok(Some(decoded)),
+            };
+            let mut out = Vec::new();
+            write(&mut out, &event);
+            let row = String::from_utf8(out).unwrap();
+            let cells: Vec<&str> = row.trim_end_matches('\n').split(',').collect();
+            assert_eq!(cells.len(), EVENT_COLUMNS.len() + ALL_FIELD_NAMES.len(), "{row}");
+            assert_eq!(cells[EVENT_COLUMNS.len()..], expected_row(&decoded), "{row}");
+            assert!(row.ends_with('\n'));
+        }
+    }
 }

@@ -118,7 +118,7 @@ pub fn push_message_fields(out: &mut Vec<u8>, decoded: &Decoded) {
         }
         first = false;
         out.push(b'"');
-        out.extend_from_slice(field.name.as_bytes());
+        out.extend_from_slice(field.name.as_str().as_bytes());
         out.extend_from_slice(b"\":");
         push_value(out, &field.value);
     });

@@ -184,7 +184,7 @@ fn push_names<'a>(out: &mut Vec<u8>, names: impl Iterator<Item = &'a str>) {
 
 fn push_field(out: &mut Vec<u8>, field: &Field, color: bool) {
     out.push(b' ');
-    out.extend_from_slice(field.name.as_bytes());
+    out.extend_from_slice(field.name.as_str().as_bytes());
     out.push(b'=');
     match field.value {
         Value::Int(value) => push_int(out, value),

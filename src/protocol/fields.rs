@@ -44,152 +44,229 @@ impl Value {
 /// A named field with its unit (empty when unitless).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Field {
-    pub name: &'static str,
+    pub name: FieldName,
     pub value: Value,
     pub unit: &'static str,
 }
 
-fn field(name: &'static str, value: Value, unit: &'static str) -> Field {
+fn field(name: FieldName, value: Value, unit: &'static str) -> Field {
     Field { name, value, unit }
 }
-fn int(name: &'static str, value: impl Into<i64>, unit: &'static str) -> Field {
+fn int(name: FieldName, value: impl Into<i64>, unit: &'static str) -> Field {
     field(name, Value::Int(value.into()), unit)
 }
-fn dec(name: &'static str, raw: impl Into<i64>, scale: u8, unit: &'static str) -> Field {
+fn dec(name: FieldName, raw: impl Into<i64>, scale: u8, unit: &'static str) -> Field {
     field(name, Value::Decimal { raw: raw.into(), scale }, unit)
 }
-fn named(name: &'static str, raw: u8, text: Option<&'static str>) -> Field {
+fn named(name: FieldName, raw: u8, text: Option<&'static str>) -> Field {
     field(name, Value::Name { raw, name: text }, "")
 }
 
 // Long: the output schema, one arm per message in field order; split, it would no longer read as one table.
 /// Calls `visit` with every field of `decoded`, in schema order.
 pub fn for_each_field(decoded: &Decoded, mut visit: impl FnMut(Field)) {
+    use FieldName::*;
     let wire = decoded.wire;
     match decoded.message {
         Message::MotionCommand(cmd) => {
-            visit(dec("linear_velocity", cmd.linear_mm_s, 3, "m/s"));
-            visit(dec("angular_velocity", cmd.angular_mrad_s, 3, "rad/s"));
+            visit(dec(LinearVelocity, cmd.linear_mm_s, 3, "m/s"));
+            visit(dec(AngularVelocity, cmd.angular_mrad_s, 3, "rad/s"));
         }
         Message::PercentMotionCommand(cmd) => {
-            visit(dec("linear_velocity", cmd.linear_mm_s(), 3, "m/s"));
-            visit(dec("angular_velocity", cmd.angular_1e5(), 5, "rad/s"));
-            visit(named("control_mode", cmd.control_mode, control_mode_name(wire, cmd.control_mode)));
-            visit(named("fault_clear", cmd.fault_clear, fault_clear_v1_name(cmd.fault_clear)));
+            visit(dec(LinearVelocity, cmd.linear_mm_s(), 3, "m/s"));
+            visit(dec(AngularVelocity, cmd.angular_1e5(), 5, "rad/s"));
+            visit(named(ControlMode, cmd.control_mode, control_mode_name(wire, cmd.control_mode)));
+            visit(named(FaultClear, cmd.fault_clear, fault_clear_v1_name(cmd.fault_clear)));
         }
         Message::LightCommand(lights) | Message::LightState(lights) => {
-            visit(field("enabled", Value::Bool(lights.enable != 0), ""));
-            visit(named("front_mode", lights.front_mode, light_mode_name(lights.front_mode)));
-            visit(int("front_brightness", lights.front_brightness, "%"));
-            visit(int("count", lights.count, ""));
+            visit(field(Enabled, Value::Bool(lights.enable != 0), ""));
+            visit(named(FrontMode, lights.front_mode, light_mode_name(lights.front_mode)));
+            visit(int(FrontBrightness, lights.front_brightness, "%"));
+            visit(int(Count, lights.count, ""));
         }
         Message::ControlModeCommand(mode) => {
-            visit(named("control_mode", mode, control_mode_name(Wire::CanV2, mode)));
+            visit(named(ControlMode, mode, control_mode_name(Wire::CanV2, mode)));
         }
-        Message::FaultClear(code) => visit(named("code", code, fault_clear_name(code))),
+        Message::FaultClear(code) => visit(named(Code, code, fault_clear_name(code))),
         Message::VersionRequest => {}
         Message::SystemState(state) => {
             let vehicle = state.vehicle_state;
-            visit(named("vehicle_state", vehicle, vehicle_state_name(vehicle)));
+            visit(named(VehicleState, vehicle, vehicle_state_name(vehicle)));
             let mode = state.control_mode;
-            visit(named("control_mode", mode, control_mode_name(wire, mode)));
-            visit(dec("battery_voltage", state.battery_decivolts, 1, "V"));
-            visit(field("fault_code", Value::Code { value: state.fault_code, digits: 4 }, ""));
-            visit(field("faults", Value::Flags(state.faults(wire)), ""));
-            visit(int("count", state.count, ""));
+            visit(named(ControlMode, mode, control_mode_name(wire, mode)));
+            visit(dec(BatteryVoltage, state.battery_decivolts, 1, "V"));
+            visit(field(FaultCode, Value::Code { value: state.fault_code, digits: 4 }, ""));
+            visit(field(Faults, Value::Flags(state.faults(wire)), ""));
+            visit(int(Count, state.count, ""));
         }
         Message::MotionState(state) => {
-            visit(dec("linear_velocity", state.linear_mm_s, 3, "m/s"));
-            visit(dec("angular_velocity", state.angular_mrad_s, 3, "rad/s"));
+            visit(dec(LinearVelocity, state.linear_mm_s, 3, "m/s"));
+            visit(dec(AngularVelocity, state.angular_mrad_s, 3, "rad/s"));
         }
         Message::RcState(rc) => {
-            for (index, name) in ["swa", "swb", "swc", "swd"].into_iter().enumerate() {
+            for (index, name) in [Swa, Swb, Swc, Swd].into_iter().enumerate() {
                 let bits = (rc.switches >> (2 * index)) & 0b11;
                 visit(named(name, bits, rc_switch_name(bits)));
             }
-            visit(int("right_stick_h", rc.right_stick_h, ""));
-            visit(int("right_stick_v", rc.right_stick_v, ""));
-            visit(int("left_stick_v", rc.left_stick_v, ""));
-            visit(int("left_stick_h", rc.left_stick_h, ""));
-            visit(int("var_a", rc.var_a, ""));
-            visit(int("count", rc.count, ""));
+            visit(int(RightStickH, rc.right_stick_h, ""));
+            visit(int(RightStickV, rc.right_stick_v, ""));
+            visit(int(LeftStickV, rc.left_stick_v, ""));
+            visit(int(LeftStickH, rc.left_stick_h, ""));
+            visit(int(VarA, rc.var_a, ""));
+            visit(int(Count, rc.count, ""));
         }
         Message::MotorHighSpeed(motor) => {
-            visit(int("motor", motor.motor, ""));
-            visit(int("rpm", motor.rpm, ""));
-            visit(dec("current", motor.current_deciamps, 1, "A"));
-            visit(int("pulse_count", motor.pulse_count, ""));
+            visit(int(Motor, motor.motor, ""));
+            visit(int(Rpm, motor.rpm, ""));
+            visit(dec(Current, motor.current_deciamps, 1, "A"));
+            visit(int(PulseCount, motor.pulse_count, ""));
         }
         Message::MotorDriverState(motor) => {
-            visit(int("motor", motor.motor, ""));
-            visit(int("rpm", motor.rpm, ""));
-            visit(dec("current", motor.current_deciamps, 1, "A"));
-            visit(int("driver_temperature", motor.driver_temperature, "°C"));
+            visit(int(Motor, motor.motor, ""));
+            visit(int(Rpm, motor.rpm, ""));
+            visit(dec(Current, motor.current_deciamps, 1, "A"));
+            visit(int(DriverTemperature, motor.driver_temperature, "°C"));
         }
         Message::MotorLowSpeed(motor) => {
-            visit(int("motor", motor.motor, ""));
-            visit(dec("driver_voltage", motor.driver_decivolts, 1, "V"));
-            visit(int("driver_temperature", motor.driver_temperature, "°C"));
-            visit(int("motor_temperature", motor.motor_temperature, "°C"));
+            visit(int(Motor, motor.motor, ""));
+            visit(dec(DriverVoltage, motor.driver_decivolts, 1, "V"));
+            visit(int(DriverTemperature, motor.driver_temperature, "°C"));
+            visit(int(MotorTemperature, motor.motor_temperature, "°C"));
             let state = u16::from(motor.driver_state);
-            visit(field("driver_state", Value::Code { value: state, digits: 2 }, ""));
-            visit(field("driver_faults", Value::Flags(motor.driver_faults()), ""));
+            visit(field(DriverState, Value::Code { value: state, digits: 2 }, ""));
+            visit(field(DriverFaults, Value::Flags(motor.driver_faults()), ""));
         }
         Message::Odometry(odo) => {
-            visit(dec("left_wheel_odometer", odo.left_mm, 3, "m"));
-            visit(dec("right_wheel_odometer", odo.right_mm, 3, "m"));
+            visit(dec(LeftWheelOdometer, odo.left_mm, 3, "m"));
+            visit(dec(RightWheelOdometer, odo.right_mm, 3, "m"));
         }
         Message::VersionResponse(version) => {
-            visit(field("controller_hw", Value::Version(version.controller_hw), ""));
-            visit(field("driver_hw", Value::Version(version.driver_hw), ""));
-            visit(field("controller_sw", Value::Version(version.controller_sw), ""));
-            visit(field("driver_sw", Value::Version(version.driver_sw), ""));
+            visit(field(ControllerHw, Value::Version(version.controller_hw), ""));
+            visit(field(DriverHw, Value::Version(version.driver_hw), ""));
+            visit(field(ControllerSw, Value::Version(version.controller_sw), ""));
+            visit(field(DriverSw, Value::Version(version.driver_sw), ""));
         }
     }
 }
 
-/// Every field name any message can have, in a fixed order: the CSV columns.
-pub const ALL_FIELD_NAMES: &[&str] = &[
-    "vehicle_state",
-    "control_mode",
-    "battery_voltage",
-    "fault_code",
-    "faults",
-    "linear_velocity",
-    "angular_velocity",
-    "fault_clear",
-    "enabled",
-    "front_mode",
-    "front_brightness",
-    "motor",
-    "rpm",
-    "current",
-    "pulse_count",
-    "driver_voltage",
-    "driver_temperature",
-    "motor_temperature",
-    "driver_state",
-    "driver_faults",
-    "left_wheel_odometer",
-    "right_wheel_odometer",
-    "code",
-    "swa",
-    "swb",
-    "swc",
-    "swd",
-    "right_stick_h",
-    "right_stick_v",
-    "left_stick_v",
-    "left_stick_h",
-    "var_a",
-    "controller_hw",
-    "driver_hw",
-    "controller_sw",
-    "driver_sw",
-    "count",
-];
+/// Declares [`FieldName`] and [`ALL_FIELD_NAMES`] from one list, so the two cannot drift apart.
+macro_rules! field_names {
+    ($($variant:ident = $name:literal,)*) => {
+        /// The name of a field; its discriminant is its CSV column among the field columns.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        pub enum FieldName {
+            $($variant,)*
+        }
 
-/// Index of a field name in `ALL_FIELD_NAMES`.
-pub fn column_of(name: &str) -> Option<usize> {
-    ALL_FIELD_NAMES.iter().position(|candidate| *candidate == name)
+        /// Every field name any message can have, in a fixed order: the CSV columns.
+        pub const ALL_FIELD_NAMES: &[&str] = &[$($name,)*];
+    };
+}
+
+field_names! {
+    VehicleState = "vehicle_state",
+    ControlMode = "control_mode",
+    BatteryVoltage = "battery_voltage",
+    FaultCode = "fault_code",
+    Faults = "faults",
+    LinearVelocity = "linear_velocity",
+    AngularVelocity = "angular_velocity",
+    FaultClear = "fault_clear",
+    Enabled = "enabled",
+    FrontMode = "front_mode",
+    FrontBrightness = "front_brightness",
+    Motor = "motor",
+    Rpm = "rpm",
+    Current = "current",
+    PulseCount = "pulse_count",
+    DriverVoltage = "driver_voltage",
+    DriverTemperature = "driver_temperature",
+    MotorTemperature = "motor_temperature",
+    DriverState = "driver_state",
+    DriverFaults = "driver_faults",
+    LeftWheelOdometer = "left_wheel_odometer",
+    RightWheelOdometer = "right_wheel_odometer",
+    Code = "code",
+    Swa = "swa",
+    Swb = "swb",
+    Swc = "swc",
+    Swd = "swd",
+    RightStickH = "right_stick_h",
+    RightStickV = "right_stick_v",
+    LeftStickV = "left_stick_v",
+    LeftStickH = "left_stick_h",
+    VarA = "var_a",
+    ControllerHw = "controller_hw",
+    DriverHw = "driver_hw",
+    ControllerSw = "controller_sw",
+    DriverSw = "driver_sw",
+    Count = "count",
+}
+
+impl FieldName {
+    pub const fn as_str(self) -> &'static str {
+        ALL_FIELD_NAMES[self as usize]
+    }
+
+    /// The field's index in [`ALL_FIELD_NAMES`] (its CSV column among the field columns).
+    pub const fn column(self) -> usize {
+        self as usize
+    }
+}
+
+/// The most fields any one message has (RC state: ten); writers size their scratch space by it.
+pub const MAX_FIELDS: usize = 10;
+
+/// One message of every variant, each with a wire that decodes to it: the fields a kind can have.
+pub fn one_of_each_message() -> Vec<Decoded> {
+    let v2 = |message| Decoded { wire: Wire::CanV2, message };
+    let v1 = |message| Decoded { wire: Wire::CanV1, message };
+    vec![
+        v2(Message::MotionCommand(MotionCommand::default())),
+        v1(Message::PercentMotionCommand(PercentMotionCommand::default())),
+        v2(Message::LightCommand(Lights::default())),
+        v2(Message::ControlModeCommand(0)),
+        v2(Message::FaultClear(0)),
+        v2(Message::VersionRequest),
+        v2(Message::SystemState(SystemState::default())),
+        v2(Message::MotionState(MotionState::default())),
+        v2(Message::LightState(Lights::default())),
+        v2(Message::RcState(RcState::default())),
+        v2(Message::MotorHighSpeed(MotorHighSpeed::default())),
+        v1(Message::MotorDriverState(MotorDriverState::default())),
+        v2(Message::MotorLowSpeed(MotorLowSpeed::default())),
+        v2(Message::Odometry(Odometry::default())),
+        v2(Message::VersionResponse(VersionResponse::default())),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+    use strum::IntoEnumIterator;
+
+    #[test]
+    fn every_message_has_at_most_max_fields_each_named_once() {
+        let mut kinds = HashSet::new();
+        let mut most = 0;
+        for decoded in one_of_each_message() {
+            kinds.insert(decoded.message.kind());
+            let mut names = Vec::new();
+            for_each_field(&decoded, |field| names.push(field.name));
+            let distinct: HashSet<_> = names.iter().map(|name| name.column()).collect();
+            assert_eq!(distinct.len(), names.len(), "{names:?}");
+            most = most.max(names.len());
+        }
+        assert_eq!(most, MAX_FIELDS);
+        assert_eq!(kinds.len(), MessageKind::iter().count(), "a message kind has no sample");
+    }
+
+    #[test]
+    fn field_names_are_their_columns() {
+        assert_eq!(FieldName::VehicleState.as_str(), "vehicle_state");
+        assert_eq!(FieldName::Count.as_str(), "count");
+        assert_eq!(FieldName::Count.column(), ALL_FIELD_NAMES.len() - 1);
+        assert_eq!(ALL_FIELD_NAMES[FieldName::LeftWheelOdometer.column()], "left_wheel_odometer");
+    }
 }

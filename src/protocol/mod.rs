@@ -20,7 +20,7 @@ pub mod transitions;
 pub use can::{decode, DecodeError, ProtocolHint};
 pub use codec::{ClearTarget, Codec, LinkFrame};
 pub use faults::{FlagInfo, FlagTable, Flags, Severity};
-pub use fields::{for_each_field, Field, Value};
+pub use fields::{for_each_field, Field, FieldName, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};
 pub use id::FrameId;
 pub use message::{Decoded, Message, MessageKind, Wire};

@@ -7,6 +7,7 @@
 use serde_json::{json, Map, Value as Json};
 use strum::IntoEnumIterator;
 
+use crate::protocol::fields::one_of_each_message;
 use crate::protocol::message::*;
 use crate::protocol::{for_each_field, Value};
 
@@ -68,29 +69,6 @@ pub fn fixed_topics() -> Vec<(String, String)> {
     topics
 }
 
-/// One message of every variant, each with a wire that decodes to it: the fields a kind can have.
-fn samples() -> Vec<Decoded> {
-    let v2 = |message| Decoded { wire: Wire::CanV2, message };
-    let v1 = |message| Decoded { wire: Wire::CanV1, message };
-    vec![
-        v2(Message::MotionCommand(MotionCommand::default())),
-        v1(Message::PercentMotionCommand(PercentMotionCommand::default())),
-        v2(Message::LightCommand(Lights::default())),
-        v2(Message::ControlModeCommand(0)),
-        v2(Message::FaultClear(0)),
-        v2(Message::VersionRequest),
-        v2(Message::SystemState(SystemState::default())),
-        v2(Message::MotionState(MotionState::default())),
-        v2(Message::LightState(Lights::default())),
-        v2(Message::RcState(RcState::default())),
-        v2(Message::MotorHighSpeed(MotorHighSpeed::default())),
-        v1(Message::MotorDriverState(MotorDriverState::default())),
-        v2(Message::MotorLowSpeed(MotorLowSpeed::default())),
-        v2(Message::Odometry(Odometry::default())),
-        v2(Message::VersionResponse(VersionResponse::default())),
-    ]
-}
-
 fn value_schema(value: &Value, unit: &str) -> Json {
     let unit = if unit.is_empty() { String::new() } else { format!(" Unit: {unit}.") };
     match value {
@@ -118,14 +96,14 @@ fn value_schema(value: &Value, unit: &str) -> Json {
 /// `required` lists the keys every frame of the kind has; wire-specific keys (V1/RS232 only) are optional.
 pub fn message_schema(kind: MessageKind) -> Json {
     let samples: Vec<Decoded> =
-        samples().into_iter().filter(|decoded| decoded.message.kind() == kind).collect();
+        one_of_each_message().into_iter().filter(|decoded| decoded.message.kind() == kind).collect();
     let mut properties = Map::new();
     let mut per_sample: Vec<Vec<&'static str>> = Vec::new();
     for decoded in &samples {
         let mut names = Vec::new();
         for_each_field(decoded, |field| {
-            properties.entry(field.name).or_insert_with(|| value_schema(&field.value, field.unit));
-            names.push(field.name);
+            properties.entry(field.name.as_str()).or_insert_with(|| value_schema(&field.value, field.unit));
+            names.push(field.name.as_str());
         });
         per_sample.push(names);
     }
@@ -287,7 +265,7 @@ mod tests {
 
     #[test]
     fn every_message_variant_has_a_sample() {
-        let samples = samples();
+        let samples = one_of_each_message();
         assert_eq!(samples.len(), Message::COUNT);
         for (index, decoded) in samples.iter().enumerate() {
             let same = samples.iter().position(|other| {
