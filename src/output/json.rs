@@ -1,8 +1,10 @@
 //! One JSON object per line; the schema is documented in docs/json.md and must stay stable.
 
 use super::number::*;
+use super::short_text::{field_keys, ShortText};
 use super::text::{push_name, push_version};
 use super::{direction_name, Event, Shape};
+use crate::protocol::fields::ALL_FIELD_NAMES;
 use crate::protocol::{for_each_field, Decoded, Value};
 
 /// `"iface":"can0","id":"0x211","data":"00000103000000B1"`: where a frame came from and its bytes, as the
@@ -111,15 +113,12 @@ fn push_fields(out: &mut Vec<u8>, event: &Event) {
 /// `"name":value,...` for every field of a message, without braces (also the MCAP message channels' body).
 #[inline]
 pub fn push_message_fields(out: &mut Vec<u8>, decoded: &Decoded) {
-    let mut first = true;
+    static FIRST_KEYS: [ShortText; ALL_FIELD_NAMES.len()] = field_keys("\"", "\":");
+    static NEXT_KEYS: [ShortText; ALL_FIELD_NAMES.len()] = field_keys(",\"", "\":");
+    let mut keys = &FIRST_KEYS;
     for_each_field(decoded, |field| {
-        if !first {
-            out.push(b',');
-        }
-        first = false;
-        out.push(b'"');
-        out.extend_from_slice(field.name.as_str().as_bytes());
-        out.extend_from_slice(b"\":");
+        keys[field.name.column()].push_to(out);
+        keys = &NEXT_KEYS;
         push_value(out, &field.value);
     });
 }

@@ -9,6 +9,7 @@ pub mod json;
 pub mod mcap;
 pub mod number;
 pub mod queue;
+pub mod short_text;
 pub mod stamp;
 pub mod text;
 

@@ -17,8 +17,11 @@ const DIGIT_PAIRS: &[u8; 200] = b"\
 6061626364656667686970717273747576777879\
 8081828384858687888990919293949596979899";
 
-/// Room for a sign, 20 integer digits, a dot and up to 19 fraction digits.
-const NUMBER_BUFFER: usize = 48;
+/// Room for a sign, 20 integer digits, a dot and up to 19 fraction digits, and slack after them so that
+/// [`push_digits`] can always copy a whole window.
+const NUMBER_BUFFER: usize = 64;
+/// What [`push_digits`] copies at once: a timestamp with nine decimals and 20 digits of seconds fits.
+const WINDOW: usize = 32;
 /// Where the integer part ends (and the dot goes) in a number buffer.
 const POINT: usize = 21;
 
@@ -41,6 +44,21 @@ fn digits_ending_at(buf: &mut [u8; NUMBER_BUFFER], end: usize, mut value: u64) -
         buf[start] = b'0' + value as u8;
     }
     start
+}
+
+/// Appends `buf[start..end]`. Up to [`WINDOW`] bytes it copies the whole window (a copy of constant
+/// length: two vector moves, no `memcpy` call) and trims back to `end`.
+#[inline(always)]
+fn push_digits(out: &mut Vec<u8>, buf: &[u8; NUMBER_BUFFER], start: usize, end: usize) {
+    let window = buf.get(start..start + WINDOW).and_then(|window| <&[u8; WINDOW]>::try_from(window).ok());
+    match window {
+        Some(window) if end - start <= WINDOW => {
+            let len = out.len();
+            out.extend_from_slice(window);
+            out.truncate(len + end - start);
+        }
+        _ => out.extend_from_slice(&buf[start..end]),
+    }
 }
 
 /// A number buffer: all `'0'`, so digits written right-aligned are zero-padded for free (no `memset`).
@@ -76,7 +94,7 @@ pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
         end = POINT + 1 + digits;
         digits_ending_at(&mut buf, end, fraction);
     }
-    out.extend_from_slice(&buf[start..end]);
+    push_digits(out, &buf, start, end);
 }
 
 /// [`push_decimal`] for any scale, with `itoa`.
@@ -166,7 +184,7 @@ pub fn push_timestamp(out: &mut Vec<u8>, ts: &Timestamp) {
     // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value from overrunning the digits.
     let value = u64::from(value).min(10u64.pow(digits as u32) - 1);
     digits_ending_at(&mut buf, POINT + 1 + digits, value);
-    out.extend_from_slice(&buf[start..POINT + 1 + digits]);
+    push_digits(out, &buf, start, POINT + 1 + digits);
 }
 
 /// The stamp in whole nanoseconds, as `push_int(ts.as_nanos())` writes it: the seconds' digits followed by
@@ -179,7 +197,7 @@ pub fn push_nanos(out: &mut Vec<u8>, ts: &Timestamp) {
     let start = digits_ending_at(&mut buf, POINT, ts.secs);
     // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value inside its nine digits.
     digits_ending_at(&mut buf, POINT + 9, u64::from(ts.nanos.min(999_999_999)));
-    out.extend_from_slice(&buf[start..POINT + 9]);
+    push_digits(out, &buf, start, POINT + 9);
 }
 
 /// A CAN identifier as `0x` + 3 hex digits (standard) or 8 (extended and error frames).

@@ -2,8 +2,10 @@
 //! `monitor` adds [`Columns`]: candump's time modes and the raw bytes after the identifier.
 
 use super::number::*;
+use super::short_text::{field_keys, ShortText};
 use super::stamp::{Clock, TimeMode};
 use super::{direction_name, Event, FrameRef, Shape};
+use crate::protocol::fields::ALL_FIELD_NAMES;
 use crate::protocol::{for_each_field, Field, Flags, Severity, Value};
 
 const BOLD_CYAN: &[u8] = b"\x1b[1;36m";
@@ -183,9 +185,8 @@ fn push_names<'a>(out: &mut Vec<u8>, names: impl Iterator<Item = &'a str>) {
 }
 
 fn push_field(out: &mut Vec<u8>, field: &Field, color: bool) {
-    out.push(b' ');
-    out.extend_from_slice(field.name.as_str().as_bytes());
-    out.push(b'=');
+    static KEYS: [ShortText; ALL_FIELD_NAMES.len()] = field_keys(" ", "=");
+    KEYS[field.name.column()].push_to(out);
     match field.value {
         Value::Int(value) => push_int(out, value),
         Value::Decimal { raw, scale } => push_decimal(out, raw, scale),
@@ -195,7 +196,9 @@ fn push_field(out: &mut Vec<u8>, field: &Field, color: bool) {
         Value::Flags(flags) => push_flags(out, &flags, color),
         Value::Version(version) => push_version(out, version),
     }
-    out.extend_from_slice(field.unit.as_bytes());
+    if !field.unit.is_empty() {
+        out.extend_from_slice(field.unit.as_bytes());
+    }
 }
 
 /// An enumerated value's name, or `unknown_0xNN`.
