@@ -34,11 +34,7 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
 fn push_header(out: &mut Vec<u8>, event: &Event) {
     out.extend_from_slice(b"{\"ts\":");
     match &event.ts {
-        Some(ts) => {
-            push_timestamp(out, ts);
-            out.extend_from_slice(b",\"ts_ns\":");
-            push_nanos(out, ts);
-        }
+        Some(ts) => push_timestamp_and_nanos(out, ts, b",\"ts_ns\":"),
         None => out.extend_from_slice(b"null,\"ts_ns\":null"),
     }
     out.push(b',');

@@ -200,6 +200,28 @@ pub fn push_nanos(out: &mut Vec<u8>, ts: &Timestamp) {
     push_digits(out, &buf, start, POINT + 9);
 }
 
+/// [`push_timestamp`], `between`, then [`push_nanos`] of the same stamp (JSON's `ts` and `ts_ns`), with the
+/// digits worked out once: nine digits of nanoseconds after the seconds are the whole-nanosecond number,
+/// and their first six (or all nine) are the stamp's decimals.
+pub fn push_timestamp_and_nanos(out: &mut Vec<u8>, ts: &Timestamp, between: &[u8]) {
+    if ts.secs == 0 {
+        push_timestamp(out, ts);
+        out.extend_from_slice(between);
+        return push_nanos(out, ts);
+    }
+    let mut buf = ZEROS;
+    let start = digits_ending_at(&mut buf, POINT, ts.secs);
+    // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value inside its nine digits.
+    let nanos = ts.nanos.min(999_999_999);
+    digits_ending_at(&mut buf, POINT + 9, u64::from(nanos));
+    let decimals = if ts.nanos % 1000 == 0 { 6 } else { 9 };
+    push_digits(out, &buf, start, POINT);
+    out.push(b'.');
+    push_digits(out, &buf, POINT, POINT + decimals);
+    out.extend_from_slice(between);
+    push_digits(out, &buf, start, POINT + 9);
+}
+
 /// A CAN identifier as `0x` + 3 hex digits (standard) or 8 (extended and error frames).
 pub fn push_can_id(out: &mut Vec<u8>, id: u32, wide: bool) {
     push_hex_value(out, id, if wide { 8 } else { 3 });
@@ -257,6 +279,28 @@ mod tests {
         assert_eq!(stamp(5, 1), "5.000000001");
         assert_eq!(stamp(u64::MAX, 999_999_999), "18446744073709551615.999999999");
         assert_eq!(stamp(12, 120_000_000), "12.120000");
+    }
+
+    #[test]
+    fn stamp_and_nanos_together_equal_each_alone() {
+        let mut seconds: Vec<u64> = (0..20).map(|power| 10u64.pow(power)).collect();
+        seconds.extend([0, 9, 99, 1_700_000_000, 1_700_000_123, u64::MAX]);
+        for secs in seconds {
+            for nanos in [0, 1, 999, 1000, 2_500_000, 120_000_000, 999_999_000, 999_999_999, 1_000_000_000] {
+                let ts = Timestamp::from_numeric(secs, nanos);
+                let mut apart = Vec::new();
+                push_timestamp(&mut apart, &ts);
+                apart.extend_from_slice(b",\"ts_ns\":");
+                push_nanos(&mut apart, &ts);
+                let mut together = Vec::new();
+                push_timestamp_and_nanos(&mut together, &ts, b",\"ts_ns\":");
+                assert_eq!(
+                    String::from_utf8(together).unwrap(),
+                    String::from_utf8(apart).unwrap(),
+                    "{secs} {nanos}"
+                );
+            }
+        }
     }
 
     #[test]
