@@ -4,7 +4,11 @@ use crate::candump::Timestamp;
 
 const HEX: &[u8; 16] = b"0123456789ABCDEF";
 
-pub fn push_int(out: &mut Vec<u8>, value: impl itoa::Integer) {
+pub fn push_int<T: itoa::Integer + TryInto<u8> + Copy>(out: &mut Vec<u8>, value: T) {
+    // Counts, switches and idle readings are mostly one digit: no call to format and copy them.
+    if let Ok(digit @ 0..=9) = value.try_into() {
+        return out.push(b'0' + digit);
+    }
     let mut buffer = itoa::Buffer::new();
     out.extend_from_slice(buffer.format(value).as_bytes());
 }
@@ -70,11 +74,23 @@ const ZEROS: [u8; NUMBER_BUFFER] = [b'0'; NUMBER_BUFFER];
 /// Written into a stack buffer and appended once: the per-byte pushes and the two `itoa` calls it used
 /// to make cost more than the digits (measured with callgrind on the JSON path).
 pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
-    if scale == 0 || scale > 19 {
-        // 10^20 does not fit in u64: such scales keep the general route (none exists today).
-        return push_decimal_general(out, raw, scale);
+    // A divisor known when compiling is a multiplication; a division by a variable one is not (and
+    // `pow` is a loop). The protocol's scales are 1, 3 and 5.
+    match scale {
+        1 => push_scaled::<1>(out, raw),
+        2 => push_scaled::<2>(out, raw),
+        3 => push_scaled::<3>(out, raw),
+        4 => push_scaled::<4>(out, raw),
+        5 => push_scaled::<5>(out, raw),
+        6 => push_scaled::<6>(out, raw),
+        _ => push_decimal_general(out, raw, scale),
     }
-    let divisor = 10u64.pow(u32::from(scale));
+}
+
+/// [`push_decimal`] with the scale as a constant.
+#[inline(always)]
+fn push_scaled<const SCALE: u32>(out: &mut Vec<u8>, raw: i64) {
+    let divisor = 10u64.pow(SCALE);
     let magnitude = raw.unsigned_abs();
     let mut buf = ZEROS;
     let mut start = digits_ending_at(&mut buf, POINT, magnitude / divisor);
@@ -85,7 +101,7 @@ pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
     let mut fraction = magnitude % divisor;
     let mut end = POINT;
     if fraction != 0 {
-        let mut digits = usize::from(scale);
+        let mut digits = SCALE as usize;
         while fraction % 10 == 0 {
             fraction /= 10;
             digits -= 1;
@@ -139,8 +155,9 @@ static HEX_PAIRS: [[u8; 2]; 256] = {
 /// Upper-case hex of each byte, no separators (built on the stack, appended in one copy).
 pub fn push_hex(out: &mut Vec<u8>, bytes: &[u8]) {
     // A full classic payload (most frames): a copy of constant length, inlined instead of a `memcpy` call.
-    if let Ok(eight) = <&[u8; 8]>::try_from(bytes) {
-        return out.extend_from_slice(eight.map(|byte| HEX_PAIRS[usize::from(byte)]).as_flattened());
+    if let Ok(&[a, b, c, d, e, f, g, h]) = <&[u8; 8]>::try_from(bytes) {
+        let digits = [hex8(u32::from_be_bytes([a, b, c, d])), hex8(u32::from_be_bytes([e, f, g, h]))];
+        return out.extend_from_slice(digits.as_flattened());
     }
     for chunk in bytes.chunks(32) {
         let mut buf = [[0u8; 2]; 32];
@@ -151,18 +168,32 @@ pub fn push_hex(out: &mut Vec<u8>, bytes: &[u8]) {
     }
 }
 
+/// The eight upper-case hex digits of `value`, the most significant first, worked out side by side in one
+/// u64: each nibble moved into a byte of its own, then `0`-`9` or `A`-`F` added to every byte at once.
+#[inline(always)]
+fn hex8(value: u32) -> [u8; 8] {
+    const BYTES: u64 = 0x0101_0101_0101_0101;
+    let mut nibbles = u64::from(value);
+    nibbles = (nibbles | (nibbles << 16)) & 0x0000_FFFF_0000_FFFF;
+    nibbles = (nibbles | (nibbles << 8)) & 0x00FF_00FF_00FF_00FF;
+    nibbles = (nibbles | (nibbles << 4)) & (BYTES * 0x0F);
+    // 1 in each byte whose nibble is 10 or more (adding 6 carries it into bit 4), where 'A' - '9' - 1 = 7
+    // more is added.
+    let letters = ((nibbles + BYTES * 6) >> 4) & BYTES;
+    (nibbles + BYTES * u64::from(b'0') + letters * 7).to_be_bytes()
+}
+
 /// `0x` and `digits` upper-case hex digits.
 pub fn push_hex_value(out: &mut Vec<u8>, value: u32, digits: u8) {
     let digits = usize::from(digits);
-    if digits > 8 {
+    if !(1..=8).contains(&digits) {
         return push_hex_value_general(out, value, digits);
     }
-    let mut buf = *b"0x00000000";
-    for (index, slot) in buf[2..2 + digits].iter_mut().enumerate() {
-        let shift = 4 * (digits - 1 - index);
-        *slot = HEX[((value >> shift) & 0xF) as usize];
-    }
-    out.extend_from_slice(&buf[..2 + digits]);
+    // The wanted digits moved to the top, so they come first; the block is appended whole and trimmed.
+    let [a, b, c, d, e, f, g, h] = hex8(value << (4 * (8 - digits)));
+    let len = out.len();
+    out.extend_from_slice(&[b'0', b'x', a, b, c, d, e, f, g, h]);
+    out.truncate(len + 2 + digits);
 }
 
 /// More than 8 digits (never asked for today): leading zeros beyond the u32.
@@ -299,6 +330,29 @@ mod tests {
                     String::from_utf8(apart).unwrap(),
                     "{secs} {nanos}"
                 );
+            }
+        }
+    }
+
+    #[test]
+    fn hex_digits_side_by_side_equal_formatting() {
+        let values =
+            (0..=0xFFFFu32).chain((0..=0xFFFF).map(|low| low << 16 | 0xA5C3)).chain([u32::MAX, 0x8000_0000]);
+        for value in values {
+            assert_eq!(hex8(value), format!("{value:08X}").as_bytes(), "{value:#x}");
+        }
+        for digits in 0..=10u8 {
+            for value in [0, 1, 0xF, 0x211, 0xAA01, 0x1234_5678, u32::MAX] {
+                let mut out = b"x".to_vec();
+                push_hex_value(&mut out, value, digits);
+                // The digits asked for (the value cut to them, as a fixed-width column would) or more.
+                let full = format!("{value:0width$X}", width = usize::from(digits));
+                let expected = if digits == 0 {
+                    String::new()
+                } else {
+                    full[full.len() - usize::from(digits)..].to_string()
+                };
+                assert_eq!(String::from_utf8(out).unwrap(), format!("x0x{expected}"), "{value:#x} {digits}");
             }
         }
     }
