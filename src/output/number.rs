@@ -1,5 +1,7 @@
 //! Allocation-free number formatting into a byte buffer (the hot path of text, JSON and CSV output).
 
+use std::cell::Cell;
+
 use crate::candump::Timestamp;
 
 const HEX: &[u8; 16] = b"0123456789ABCDEF";
@@ -206,10 +208,41 @@ fn push_hex_value_general(out: &mut Vec<u8>, value: u32, digits: usize) {
     }
 }
 
+/// The digits of the seconds a thread wrote last, as they stand before [`POINT`] in a number buffer.
+#[derive(Clone, Copy)]
+struct SecondsDigits {
+    secs: u64,
+    start: usize,
+    digits: [u8; POINT],
+}
+
+thread_local! {
+    static LAST_SECONDS: Cell<Option<SecondsDigits>> = const { Cell::new(None) };
+}
+
+/// Writes `secs` to end at [`POINT`] and returns where it starts. Frames of a log mostly share their
+/// second with the frame before, so the digits are worked out once per second of log and copied after.
+#[inline(always)]
+fn seconds_digits(buf: &mut [u8; NUMBER_BUFFER], secs: u64) -> usize {
+    LAST_SECONDS.with(|last| match last.get() {
+        Some(seconds) if seconds.secs == secs => {
+            buf[..POINT].copy_from_slice(&seconds.digits);
+            seconds.start
+        }
+        _ => {
+            let start = digits_ending_at(buf, POINT, secs);
+            if let Ok(digits) = buf[..POINT].try_into() {
+                last.set(Some(SecondsDigits { secs, start, digits }));
+            }
+            start
+        }
+    })
+}
+
 /// Seconds with 6 fractional digits, or 9 when the stamp has sub-microsecond precision.
 pub fn push_timestamp(out: &mut Vec<u8>, ts: &Timestamp) {
     let mut buf = ZEROS;
-    let start = digits_ending_at(&mut buf, POINT, ts.secs);
+    let start = seconds_digits(&mut buf, ts.secs);
     buf[POINT] = b'.';
     let (value, digits) = if ts.nanos % 1000 == 0 { (ts.nanos / 1000, 6) } else { (ts.nanos, 9) };
     // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value from overrunning the digits.
@@ -225,7 +258,7 @@ pub fn push_nanos(out: &mut Vec<u8>, ts: &Timestamp) {
         return push_int(out, ts.nanos);
     }
     let mut buf = ZEROS;
-    let start = digits_ending_at(&mut buf, POINT, ts.secs);
+    let start = seconds_digits(&mut buf, ts.secs);
     // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value inside its nine digits.
     digits_ending_at(&mut buf, POINT + 9, u64::from(ts.nanos.min(999_999_999)));
     push_digits(out, &buf, start, POINT + 9);
@@ -241,7 +274,7 @@ pub fn push_timestamp_and_nanos(out: &mut Vec<u8>, ts: &Timestamp, between: &[u8
         return push_nanos(out, ts);
     }
     let mut buf = ZEROS;
-    let start = digits_ending_at(&mut buf, POINT, ts.secs);
+    let start = seconds_digits(&mut buf, ts.secs);
     // `nanos` < 10^9 by the type's invariant; `min` keeps a broken value inside its nine digits.
     let nanos = ts.nanos.min(999_999_999);
     digits_ending_at(&mut buf, POINT + 9, u64::from(nanos));
@@ -310,6 +343,11 @@ mod tests {
         assert_eq!(stamp(5, 1), "5.000000001");
         assert_eq!(stamp(u64::MAX, 999_999_999), "18446744073709551615.999999999");
         assert_eq!(stamp(12, 120_000_000), "12.120000");
+        // The seconds' digits are kept from one stamp to the next: a change of second, and back.
+        assert_eq!(stamp(1_700_000_000, 0), "1700000000.000000");
+        assert_eq!(stamp(1_700_000_001, 0), "1700000001.000000");
+        assert_eq!(stamp(99, 0), "99.000000");
+        assert_eq!(stamp(1_700_000_000, 1), "1700000000.000000001");
     }
 
     #[test]
