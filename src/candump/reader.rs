@@ -63,6 +63,9 @@ pub struct LineReader<R: Read> {
     eof: bool,
     /// Bytes of an over-long line discarded so far, while skipping it.
     skipped: Option<usize>,
+    /// Where the buffer's last whole line ends (after its `\n`), once [`LineReader::whole_lines`] looked
+    /// since the last read.
+    whole_end: Option<usize>,
 }
 
 impl<R: Read> LineReader<R> {
@@ -84,6 +87,7 @@ impl<R: Read> LineReader<R> {
             bytes_read: 0,
             eof: false,
             skipped: None,
+            whole_end: None,
         }
     }
 
@@ -96,6 +100,31 @@ impl<R: Read> LineReader<R> {
     /// Total bytes read from the inner reader so far (for a progress bar).
     pub fn bytes_read(&self) -> u64 {
         self.bytes_read
+    }
+
+    /// The whole lines buffered after the last one returned, each with its `\n`, and the number of the
+    /// first: for a caller that finds where lines end while parsing them, which then says how far it got
+    /// with [`LineReader::consume`]. Empty when no whole line is buffered (or while an over-long line is
+    /// skipped): [`LineReader::next_line`] then reads on, as it does for any line the caller leaves, which
+    /// must include every line over the length limit (this does not look at lengths).
+    pub fn whole_lines(&mut self) -> (u64, &[u8]) {
+        let first = self.line_number + 1;
+        if self.skipped.is_some() {
+            return (first, &[]);
+        }
+        // Looked for once per read: the last newline is near the end, bar a long partial line.
+        let (start, end) = (self.start, self.end);
+        let whole_end = *self.whole_end.get_or_insert_with(|| {
+            memchr::memrchr(b'\n', &self.buf[start..end]).map_or(start, |last| start + last + 1)
+        });
+        (first, self.buf.get(self.start..whole_end).unwrap_or_default())
+    }
+
+    /// Marks `lines` lines of [`LineReader::whole_lines`], `bytes` bytes with their newlines, as read.
+    pub fn consume(&mut self, lines: u64, bytes: usize) {
+        self.start += bytes.min(self.end - self.start);
+        self.searched = self.searched.max(self.start);
+        self.line_number += lines;
     }
 
     /// The next line without its `\n`, or `None` at the end. A final line without `\n` is returned too.
@@ -152,6 +181,7 @@ impl<R: Read> LineReader<R> {
     }
 
     fn discard_pending(&mut self) {
+        self.whole_end = None;
         self.start = 0;
         self.end = 0;
         self.searched = 0;
@@ -159,6 +189,7 @@ impl<R: Read> LineReader<R> {
 
     /// Moves the partial line to the front, and doubles the buffer if the line fills all of it.
     fn make_room(&mut self) {
+        self.whole_end = None;
         if self.start > 0 {
             self.buf.copy_within(self.start..self.end, 0);
             self.end -= self.start;
@@ -182,6 +213,7 @@ impl<R: Read> LineReader<R> {
                     return Ok(());
                 }
                 Ok(n) => {
+                    self.whole_end = None;
                     self.end += n;
                     self.bytes_read += n as u64;
                     return Ok(());
@@ -251,6 +283,49 @@ mod tests {
         assert_eq!(reader.next_line().unwrap(), Some(RawLine::TooLong { number: 1, len: 10_000 }));
         assert!(reader.buf.len() <= 101);
         assert_eq!(reader.next_line().unwrap(), None);
+    }
+
+    #[test]
+    fn whole_lines_taken_in_part_then_line_by_line_read_every_line_once() {
+        let input = b"a\nbb\n\nccc\r\n0123456789abcdef\ndd\nlast";
+        for cap in [1, 2, 3, 5, 8, 64] {
+            for take in 0..4 {
+                let mut reader = LineReader::with_capacity(cap, &input[..]).with_max_line_len(8);
+                let mut lines = Vec::new();
+                loop {
+                    // Take up to `take` whole lines from the buffer, then one line from next_line.
+                    let (first, text) = reader.whole_lines();
+                    let (mut count, mut at) = (0, 0);
+                    while count < take {
+                        let Some(end) = text[at..].iter().position(|&byte| byte == b'\n') else { break };
+                        // As the decoder's parser does, a line over the limit is left to next_line.
+                        if end > 8 {
+                            break;
+                        }
+                        lines.push((first + count, Ok(text[at..at + end].to_vec())));
+                        count += 1;
+                        at += end + 1;
+                    }
+                    assert!(text.is_empty() || text.ends_with(b"\n"), "{text:?}");
+                    reader.consume(count, at);
+                    match reader.next_line().unwrap() {
+                        Some(RawLine::Line { number, text }) => lines.push((number, Ok(text.to_vec()))),
+                        Some(RawLine::TooLong { number, len }) => lines.push((number, Err(len))),
+                        None => break,
+                    }
+                }
+                let expected: Vec<(u64, Result<Vec<u8>, usize>)> = vec![
+                    (1, Ok(b"a".to_vec())),
+                    (2, Ok(b"bb".to_vec())),
+                    (3, Ok(b"".to_vec())),
+                    (4, Ok(b"ccc\r".to_vec())),
+                    (5, Err(16)),
+                    (6, Ok(b"dd".to_vec())),
+                    (7, Ok(b"last".to_vec())),
+                ];
+                assert_eq!(lines, expected, "cap {cap} take {take}");
+            }
+        }
     }
 
     #[test]

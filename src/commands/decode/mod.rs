@@ -276,6 +276,14 @@ impl<R: Read> Read for LiveInput<R> {
     }
 }
 
+/// A failure while decoding line `number` of `name`, with that place in its message.
+fn in_line(error: anyhow::Error, name: &str, number: u64) -> anyhow::Error {
+    match error.downcast::<Failure>() {
+        Ok(failure) => Failure::data(format!("{name}:{number}: {}", failure.message)).into(),
+        Err(other) => other,
+    }
+}
+
 /// A read error of `name`, unless it was really a failed write of the output (or a signal).
 fn read_error(error: io::Error, name: &str) -> anyhow::Error {
     let inner = error.get_ref();
@@ -465,7 +473,28 @@ impl Decoder {
         let bar = self.progress_bar(size);
         let before = (self.stats.decoded_lines, self.stats.rejected_lines, self.stats.skipped);
         let mut consumed = 0u64;
-        while let Some(raw) = reader.next_line().map_err(|error| read_error(error, name))? {
+        loop {
+            // The common log lines buffered: parsing each finds its end (no search for the `\n` first).
+            let (first, text) = reader.whole_lines();
+            let (mut lines, mut at) = (0, 0);
+            while let Some((record, length)) = text.get(at..).and_then(|rest| parser.parse_log_line_at(rest))
+            {
+                self.stats.lines += 1;
+                self.stats.decoded_lines += 1;
+                self.frame(record.ts, record.iface, record.dir, &record.frame)
+                    .map_err(|error| in_line(error, name, first + lines))?;
+                lines += 1;
+                at += length + 1;
+            }
+            reader.consume(lines, at);
+            if at > 0 {
+                consumed += at as u64;
+                if let Some(bar) = &bar {
+                    bar.set_position(consumed);
+                }
+            }
+            // Any other line, one at a time.
+            let Some(raw) = reader.next_line().map_err(|error| read_error(error, name))? else { break };
             self.stats.lines += 1;
             let (number, text) = match raw {
                 RawLine::Line { number, text } => (number, text),
@@ -493,14 +522,8 @@ impl Decoder {
                 Ok(Line::Frame(record)) => {
                     self.stats.decoded_lines += 1;
                     let frame = record.frame;
-                    self.frame(record.ts, record.iface, record.dir, &frame).map_err(|error| {
-                        match error.downcast::<Failure>() {
-                            Ok(failure) => {
-                                Failure::data(format!("{name}:{number}: {}", failure.message)).into()
-                            }
-                            Err(other) => other,
-                        }
-                    })?;
+                    self.frame(record.ts, record.iface, record.dir, &frame)
+                        .map_err(|error| in_line(error, name, number))?;
                 }
                 Ok(other) => self.skipped_line(name, number, other)?,
                 Err(error) => self.unparsed_line(name, number, text, error)?,
