@@ -179,8 +179,8 @@ fn hex8(value: u32) -> [u8; 8] {
     nibbles = (nibbles | (nibbles << 16)) & 0x0000_FFFF_0000_FFFF;
     nibbles = (nibbles | (nibbles << 8)) & 0x00FF_00FF_00FF_00FF;
     nibbles = (nibbles | (nibbles << 4)) & (BYTES * 0x0F);
-    // 1 in each byte whose nibble is 10 or more (adding 6 carries it into bit 4), where 'A' - '9' - 1 = 7
-    // more is added.
+    // 1 in each byte whose nibble is 10 or more (adding 6 carries it into bit 4): those bytes get 7 more,
+    // the gap between '9' + 1 and 'A'.
     let letters = ((nibbles + BYTES * 6) >> 4) & BYTES;
     (nibbles + BYTES * u64::from(b'0') + letters * 7).to_be_bytes()
 }
