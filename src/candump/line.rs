@@ -38,6 +38,23 @@ pub struct Record<'a> {
     pub dir: Option<Direction>,
 }
 
+/// A common log line read where it stands ([`LineParser::parse_log_line_at`]): the frame stays in the
+/// parser and is lent, not copied out with the rest.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LogRecord<'a> {
+    pub ts: Option<Timestamp>,
+    pub iface: &'a str,
+    pub frame: &'a CanFrame,
+    pub dir: Option<Direction>,
+}
+
+impl<'a> LogRecord<'a> {
+    /// The record with its own copy of the frame.
+    pub fn to_record(&self) -> Record<'a> {
+        Record { ts: self.ts, iface: self.iface, frame: *self.frame, dir: self.dir }
+    }
+}
+
 /// What a line holds.
 #[derive(Debug, PartialEq, Eq)]
 pub enum Line<'a> {
@@ -84,6 +101,8 @@ pub struct LineParser {
     /// The interface name of the last log line, validated once: the next lines (nearly always the same
     /// interface) are compared with it instead of being checked as UTF-8 again.
     last_iface: String,
+    /// The frame of the last line [`LineParser::parse_log_line_at`] read, rewritten in place.
+    log_frame: CanFrame,
 }
 
 /// Lines of the Pengutronix-era canutils candump (`<0x18eeff01> [8] 05 a0 ...`) name no interface: this one
@@ -240,16 +259,31 @@ fn parse_angle_frame(text: &[u8], start: usize) -> Result<CanFrame, PosError> {
 /// or extended data frames of 0-8 bytes without separators. Returns `None` for anything else (including
 /// errors), leaving the line to the general path, which must give the same result for lines accepted here.
 #[inline]
-fn parse_log_fast<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<Record<'a>> {
+fn parse_log_fast<'a>(line: &[u8], last_iface: &'a mut String) -> Option<Record<'a>> {
     // A line holds no `\n`, so the line ends where the text does.
-    parse_log_line_at(line, last_iface).map(|(record, _)| record)
+    let mut frame = CanFrame::default();
+    let head = parse_log_line_into(line, last_iface, &mut frame)?;
+    Some(Record { ts: head.ts, iface: head.iface, frame, dir: head.dir })
+}
+
+/// What [`parse_log_line_into`] read besides the frame.
+struct LogHead<'a> {
+    ts: Option<Timestamp>,
+    iface: &'a str,
+    dir: Option<Direction>,
+    /// The line's length without its `\n`.
+    length: usize,
 }
 
 /// [`parse_log_fast`] on the line at the start of `line`, which may go on past the line's `\n`: the line is
-/// found by parsing it, so a buffer of lines needs no search for each line's end. Returns the record and
-/// the line's length without its `\n`.
+/// found by parsing it, so a buffer of lines needs no search for each line's end. Writes the frame into
+/// `frame` (left as it was when the line is not taken) and returns the rest.
 #[inline]
-fn parse_log_line_at<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<(Record<'a>, usize)> {
+fn parse_log_line_into<'a>(
+    line: &[u8],
+    last_iface: &'a mut String,
+    frame: &mut CanFrame,
+) -> Option<LogHead<'a>> {
     if line.first() != Some(&b'(') {
         return None;
     }
@@ -316,8 +350,8 @@ fn parse_log_line_at<'a>(line: &'a [u8], last_iface: &'a mut String) -> Option<(
         pos += 2;
     }
     let (dir, length) = log_line_end(line, pos)?;
-    let frame = data_frame_fixed(id, extended, &data, len)?;
-    Some((Record { ts: Some(Timestamp::from_numeric(secs, nanos)), iface, frame, dir }, length))
+    frame.set_classic_data(id, extended, data, len).ok()?;
+    Some(LogHead { ts: Some(Timestamp::from_numeric(secs, nanos)), iface, dir, length })
 }
 
 /// The end of a fast-path line after its data at `pos`: an optional direction and an optional `\r`, then the
@@ -347,28 +381,6 @@ fn same_iface<'a>(last: &'a mut String, name: &[u8]) -> Option<&'a str> {
         last.push_str(name);
     }
     Some(last.as_str())
-}
-
-/// `CanFrame::new`/`new_extended` with a constant-length slice per arm, so the payload copy is a few
-/// moves instead of a `memcpy` call (measurable on the hot path).
-#[inline(always)]
-fn data_frame_fixed(id: u32, extended: bool, data: &[u8; CC_MAX_LEN], len: usize) -> Option<CanFrame> {
-    let build = |payload: &[u8]| match extended {
-        false => CanFrame::new(id, payload),
-        true => CanFrame::new_extended(id, payload),
-    };
-    let frame = match len {
-        0 => build(&[]),
-        1 => build(&data[..1]),
-        2 => build(&data[..2]),
-        3 => build(&data[..3]),
-        4 => build(&data[..4]),
-        5 => build(&data[..5]),
-        6 => build(&data[..6]),
-        7 => build(&data[..7]),
-        _ => build(&data[..]),
-    };
-    frame.ok()
 }
 
 #[inline(always)]
@@ -857,20 +869,19 @@ impl LineParser {
     /// for any other line (and for every line of ASC or trc files, and a line longer than
     /// [`DEFAULT_MAX_LINE_LEN`]): find its end and call `parse` (or reject it as too long).
     #[inline]
-    pub fn parse_log_line_at<'a>(&'a mut self, text: &'a [u8]) -> Option<(Record<'a>, usize)> {
+    pub fn parse_log_line_at(&mut self, text: &[u8]) -> Option<(LogRecord<'_>, usize)> {
         if self.format != TextFormat::Candump {
             return None;
         }
-        // Returned as it came (not taken apart and rebuilt): a rebuilt record was copied (measured).
-        let parsed = parse_log_line_at(text, &mut self.last_iface);
-        match &parsed {
-            // Spaces after the stamp can make a line of this shape any length; past the limit every reader
-            // rejects the line whole, unparsed (and it leaves the parser's state as it was).
-            Some((_, length)) if *length > DEFAULT_MAX_LINE_LEN => return None,
-            Some(_) => self.after_error_frame = false,
-            None => {}
+        let head = parse_log_line_into(text, &mut self.last_iface, &mut self.log_frame)?;
+        // Spaces after the stamp can make a line of this shape any length; past the limit every reader
+        // rejects the line whole, unparsed (and it leaves the parser's state as it was).
+        if head.length > DEFAULT_MAX_LINE_LEN {
+            return None;
         }
-        parsed
+        self.after_error_frame = false;
+        let record = LogRecord { ts: head.ts, iface: head.iface, frame: &self.log_frame, dir: head.dir };
+        Some((record, head.length))
     }
 
     /// Continues as if the lines that left `state` had just been parsed.

@@ -62,7 +62,7 @@ mod line_tests;
 
 pub use cansend::parse_cansend;
 pub use hex::same_bytes;
-pub use line::{CarriedState, Direction, Line, LineParser, Record};
+pub use line::{CarriedState, Direction, Line, LineParser, LogRecord, Record};
 pub(crate) use open::UTF8_BOM;
 pub use open::{open_log, Compression, FormatError, LogFormat, TextFormat};
 pub use reader::{LineReader, RawLine, DEFAULT_BUFFER_CAPACITY, DEFAULT_MAX_LINE_LEN};

@@ -123,6 +123,41 @@ impl CanFrame {
         Ok(self)
     }
 
+    /// Makes this frame, in place, a classic data frame of the first `len` bytes of `payload` (the rest
+    /// of `payload` is ignored). The log parser's hot path rewrites one frame for every line: a frame
+    /// built and returned was copied through the stack several times (measured: a fifth of `-j1
+    /// --summary`'s time, much of it loads stalled on the narrower stores just made).
+    #[inline(always)]
+    pub fn set_classic_data(
+        &mut self,
+        id: u32,
+        extended: bool,
+        payload: [u8; CC_MAX_LEN],
+        len: usize,
+    ) -> Result<(), FrameError> {
+        check_id(id, extended)?;
+        if len > CC_MAX_LEN {
+            return Err(FrameError::TooLong { len });
+        }
+        // The bytes past `len` stay zero: those of `payload` are masked off, and those past 8 are zero
+        // already unless this was a longer (FD) frame.
+        if usize::from(self.len) > CC_MAX_LEN {
+            self.data = [0; FD_MAX_LEN];
+        }
+        let keep = u64::MAX.checked_shr(8 * (CC_MAX_LEN - len) as u32).unwrap_or(0);
+        let payload = (u64::from_le_bytes(payload) & keep).to_le_bytes();
+        if let Some(first) = self.data.first_chunk_mut::<CC_MAX_LEN>() {
+            *first = payload;
+        }
+        self.id = id;
+        self.extended = extended;
+        self.kind = FrameKind::Data;
+        self.len = len as u8;
+        self.raw_dlc = 0;
+        self.fd_flags = 0;
+        Ok(())
+    }
+
     fn build(id: u32, extended: bool, kind: FrameKind, data: &[u8]) -> Result<Self, FrameError> {
         if data.len() > CC_MAX_LEN {
             return Err(FrameError::TooLong { len: data.len() });
@@ -223,6 +258,22 @@ fn check_id(id: u32, extended: bool) -> Result<(), FrameError> {
     }
 }
 
+/// An empty classic data frame with identifier 0: a slot to be rewritten (see
+/// [`CanFrame::set_classic_data`]).
+impl Default for CanFrame {
+    fn default() -> Self {
+        Self {
+            id: 0,
+            extended: false,
+            kind: FrameKind::Data,
+            len: 0,
+            raw_dlc: 0,
+            fd_flags: 0,
+            data: [0; FD_MAX_LEN],
+        }
+    }
+}
+
 impl fmt::Display for CanFrame {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         self.write_cansend(f)
@@ -238,6 +289,38 @@ impl fmt::Debug for CanFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A frame rewritten in place equals the one built new, whatever it was before (a longer FD frame, a
+    /// remote request, an error frame), and the payload bytes past the length are dropped.
+    #[test]
+    fn a_frame_rewritten_in_place_equals_a_new_one() {
+        let payload = [0x11, 0x22, 0x33, 0x44, 0x55, 0x66, 0x77, 0x88];
+        let before = [
+            CanFrame::default(),
+            CanFrame::new_fd(0x123, true, 0x5, &[0xEE; 64]).unwrap(),
+            CanFrame::new_remote(0x7FF, false, 8).unwrap().with_raw_dlc(12).unwrap(),
+            CanFrame::new_extended(0x1FFF_FFFF, &payload).unwrap(),
+            CanFrame::new_error(0x80, &payload).unwrap(),
+        ];
+        for start in before {
+            for len in 0..=CC_MAX_LEN {
+                for (id, extended) in [(0x211, false), (0x7FF, false), (0x1234_5678, true)] {
+                    let mut frame = start;
+                    frame.set_classic_data(id, extended, payload, len).unwrap();
+                    let new = match extended {
+                        false => CanFrame::new(id, &payload[..len]),
+                        true => CanFrame::new_extended(id, &payload[..len]),
+                    };
+                    assert_eq!(Ok(frame), new, "{start:?} {len} {id:#x}");
+                    assert!(frame.data[len..].iter().all(|&byte| byte == 0), "{frame:?}");
+                }
+            }
+            let mut frame = start;
+            assert!(frame.set_classic_data(0x800, false, payload, 8).is_err());
+            assert!(frame.set_classic_data(0x211, false, payload, 9).is_err());
+            assert_eq!(frame, start, "a refused rewrite leaves the frame as it was");
+        }
+    }
 
     #[test]
     fn cansend_syntax_round_trips_every_kind() {

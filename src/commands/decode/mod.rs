@@ -481,7 +481,7 @@ impl Decoder {
             {
                 self.stats.lines += 1;
                 self.stats.decoded_lines += 1;
-                self.frame(record.ts, record.iface, record.dir, &record.frame)
+                self.frame(record.ts, record.iface, record.dir, record.frame)
                     .map_err(|error| in_line(error, name, first + lines))?;
                 lines += 1;
                 at += length + 1;

@@ -828,11 +828,9 @@ fn decode_lines(
         // Nearly every line: the common log line, whose end parsing it finds (no search for the `\n` first).
         // A line the reader cut short is never one (it is longer than the limit).
         if long_lines.peek().is_none_or(|&&(offset, _)| offset != at) {
-            // Read where the parser left it: taken apart by value, the record was copied first (measured).
-            let parsed = parser.parse_log_line_at(&input[at..]);
-            if let Some((record, length)) = &parsed {
+            if let Some((record, length)) = parser.parse_log_line_at(&input[at..]) {
                 at += length + 1;
-                lines.decoded(number, Stamp::Given(record.ts), record.iface, record.dir, &record.frame);
+                lines.decoded(number, Stamp::Given(record.ts), record.iface, record.dir, record.frame);
                 if lines.outcome.stop.is_some() {
                     break;
                 }
