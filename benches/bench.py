@@ -248,7 +248,7 @@ def main():
     out = table(rows, sizes, results)
     out.append("")
     out.append(f"How to reproduce: `python3 benches/bench.py --sizes {','.join(str(s) for s in sizes)} "
-               f"--runs {options.runs}` ({cores} cores; best of {options.runs} runs, "
+               f"--runs {options.runs} --big-runs {options.big_runs}` ({cores} cores; best of {options.runs} runs, "
                f"{options.big_runs} on logs above {BIG // 1_000_000} M lines, interleaved; log2asc, cantools and "
                "python-can once; output to /dev/null).")
     if not options.no_other_formats and threads_supported(binary):
