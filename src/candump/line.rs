@@ -9,7 +9,9 @@ use super::hex::{
 };
 use super::open::{LogFormat, TextFormat};
 use super::reader::DEFAULT_MAX_LINE_LEN;
-use super::timestamp::{parse_date_time, parse_numeric, DeltaSum, PosError};
+use super::timestamp::{
+    parse_date_time, parse_numeric, parse_numeric_cached, DeltaSum, PosError, SecondsCache,
+};
 use super::trc::{self, TrcState};
 use super::{LineError, Reason, Timestamp, TimestampKind};
 use crate::protocol::frame::{FrameKind, CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
@@ -101,6 +103,8 @@ pub struct LineParser {
     /// The interface name of the last log line, validated once: the next lines (nearly always the same
     /// interface) are compared with it instead of being checked as UTF-8 again.
     last_iface: String,
+    /// The seconds of the last log line's stamp, checked then: the next lines' equal seconds are not again.
+    last_seconds: SecondsCache,
     /// The frame of the last line [`LineParser::parse_log_line_at`] read, rewritten in place.
     log_frame: CanFrame,
 }
@@ -150,7 +154,7 @@ impl LineParser {
                 return trc::parse(line, &mut self.trc, &mut self.iface).map_err(to_error)
             }
         }
-        if let Some(record) = parse_log_fast(line, &mut self.last_iface) {
+        if let Some(record) = parse_log_fast(line, &mut self.last_iface, &mut self.last_seconds) {
             self.after_error_frame = false;
             return Ok(Line::Frame(record));
         }
@@ -259,10 +263,14 @@ fn parse_angle_frame(text: &[u8], start: usize) -> Result<CanFrame, PosError> {
 /// or extended data frames of 0-8 bytes without separators. Returns `None` for anything else (including
 /// errors), leaving the line to the general path, which must give the same result for lines accepted here.
 #[inline]
-fn parse_log_fast<'a>(line: &[u8], last_iface: &'a mut String) -> Option<Record<'a>> {
+fn parse_log_fast<'a>(
+    line: &[u8],
+    last_iface: &'a mut String,
+    last_seconds: &mut SecondsCache,
+) -> Option<Record<'a>> {
     // A line holds no `\n`, so the line ends where the text does.
     let mut frame = CanFrame::default();
-    let head = parse_log_line_into(line, last_iface, &mut frame)?;
+    let head = parse_log_line_into(line, last_iface, last_seconds, &mut frame)?;
     Some(Record { ts: head.ts, iface: head.iface, frame, dir: head.dir })
 }
 
@@ -282,12 +290,13 @@ struct LogHead<'a> {
 fn parse_log_line_into<'a>(
     line: &[u8],
     last_iface: &'a mut String,
+    last_seconds: &mut SecondsCache,
     frame: &mut CanFrame,
 ) -> Option<LogHead<'a>> {
     if line.first() != Some(&b'(') {
         return None;
     }
-    let (secs, nanos, after_ts) = parse_numeric(line, 1).ok()?;
+    let (secs, nanos, after_ts) = parse_numeric_cached(line, 1, last_seconds).ok()?;
     if line.get(after_ts) != Some(&b' ') {
         return None;
     }
@@ -873,7 +882,8 @@ impl LineParser {
         if self.format != TextFormat::Candump {
             return None;
         }
-        let head = parse_log_line_into(text, &mut self.last_iface, &mut self.log_frame)?;
+        let head =
+            parse_log_line_into(text, &mut self.last_iface, &mut self.last_seconds, &mut self.log_frame)?;
         // Spaces after the stamp can make a line of this shape any length; past the limit every reader
         // rejects the line whole, unparsed (and it leaves the parser's state as it was).
         if head.length > DEFAULT_MAX_LINE_LEN {
@@ -897,7 +907,7 @@ impl LineParser {
 pub(crate) fn parse_log_fast_for_tests<'a>(line: &'a [u8]) -> Option<Record<'a>> {
     // Leaked: a test helper, so the record may outlive the cache it borrows.
     let cache = Box::leak(Box::new(String::new()));
-    parse_log_fast(line, cache)
+    parse_log_fast(line, cache, &mut SecondsCache::default())
 }
 
 #[cfg(test)]
