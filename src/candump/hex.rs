@@ -43,10 +43,57 @@ pub(crate) fn hex_pair(hi: u8, lo: u8) -> Option<u8> {
     ((hi | lo) & 0xF0 == 0).then_some((hi << 4) | lo)
 }
 
-/// Decodes 16 hex digits into 8 bytes (a full classic payload): SWAR, eight digits at a time in a u64,
-/// with one validity test for each eight (measured: the table lookups took 110 instructions a line).
+/// Decodes 16 hex digits into 8 bytes (a full classic payload), all sixteen at once in an SSE2 register
+/// (x86-64 always has SSE2): one validity test, no table (measured: table lookups took 110 instructions a
+/// line, two SWAR words 50, this 20).
+#[cfg(target_arch = "x86_64")]
 #[inline(always)]
 pub(crate) fn hex_bytes_8(digits: &[u8; 16]) -> Option<[u8; 8]> {
+    use std::arch::x86_64::{
+        _mm_add_epi8, _mm_and_si128, _mm_cmpgt_epi8, _mm_cmplt_epi8, _mm_cvtsi128_si64, _mm_movemask_epi8,
+        _mm_or_si128, _mm_packus_epi16, _mm_set1_epi16, _mm_set1_epi8, _mm_set_epi64x, _mm_setzero_si128,
+        _mm_slli_epi16, _mm_srli_epi16,
+    };
+    let (first, second) = digits.split_at(8);
+    let word = |half: &[u8]| half.try_into().map(i64::from_le_bytes);
+    let (first, second) = (word(first).ok()?, word(second).ok()?);
+    // SAFETY: these intrinsics only compute on registers (no memory access) and need SSE2, which every
+    // x86-64 processor has (it is in the target's baseline features).
+    let packed = unsafe {
+        let text = _mm_set_epi64x(second, first);
+        // Signed byte compares: bytes from 0x80 up are negative, so below every bound and in no range.
+        let between = |bytes, lo: u8, hi: u8| {
+            let above = _mm_cmpgt_epi8(bytes, _mm_set1_epi8((lo - 1) as i8));
+            _mm_and_si128(above, _mm_cmplt_epi8(bytes, _mm_set1_epi8((hi + 1) as i8)))
+        };
+        let decimal = between(text, b'0', b'9');
+        // Setting 0x20 folds `A-F` onto `a-f` and moves nothing else into that range.
+        let letter = between(_mm_or_si128(text, _mm_set1_epi8(0x20)), b'a', b'f');
+        if _mm_movemask_epi8(_mm_or_si128(decimal, letter)) != 0xFFFF {
+            return None;
+        }
+        let values =
+            _mm_add_epi8(_mm_and_si128(text, _mm_set1_epi8(0x0F)), _mm_and_si128(letter, _mm_set1_epi8(9)));
+        // Each 16-bit lane holds a byte's first digit low and its second high: the byte is first << 4 | second,
+        // then the lanes are packed to bytes (all below 0x100, so nothing saturates).
+        let first_digits = _mm_slli_epi16(_mm_and_si128(values, _mm_set1_epi16(0x00FF)), 4);
+        let bytes = _mm_or_si128(first_digits, _mm_srli_epi16(values, 8));
+        _mm_cvtsi128_si64(_mm_packus_epi16(bytes, _mm_setzero_si128()))
+    };
+    Some(packed.to_le_bytes())
+}
+
+/// [`hex_bytes_8`] without SSE2: SWAR, eight digits at a time in a u64, with one validity test for each
+/// eight. Built (and tested) everywhere; used where the target is not x86-64.
+#[cfg(not(target_arch = "x86_64"))]
+#[inline(always)]
+pub(crate) fn hex_bytes_8(digits: &[u8; 16]) -> Option<[u8; 8]> {
+    hex_bytes_8_swar(digits)
+}
+
+#[cfg_attr(target_arch = "x86_64", allow(dead_code))]
+#[inline(always)]
+fn hex_bytes_8_swar(digits: &[u8; 16]) -> Option<[u8; 8]> {
     let (first, second) = digits.split_at(8);
     let first = hex_word(u64::from_le_bytes(first.try_into().ok()?))?;
     let second = hex_word(u64::from_le_bytes(second.try_into().ok()?))?;
@@ -229,6 +276,19 @@ mod tests {
                     let mut digits = base;
                     digits[at] = byte;
                     assert_eq!(hex_bytes_8(&digits), by_table(&digits), "{:?}", digits);
+                    assert_eq!(hex_bytes_8_swar(&digits), by_table(&digits), "{:?}", digits);
+                }
+            }
+        }
+        // Two bad bytes at once, anywhere: the validity test is one for all sixteen.
+        for at in 0..16 {
+            for other in 0..16 {
+                for byte in [b'/', b':', b'@', b'G', b'`', b'g', 0x80, 0xB0, 0xC1, 0xFF] {
+                    let mut digits = *b"0123456789abcdef";
+                    digits[at] = byte;
+                    digits[other] = b'F';
+                    assert_eq!(hex_bytes_8(&digits), by_table(&digits), "{:?}", digits);
+                    assert_eq!(hex_bytes_8_swar(&digits), by_table(&digits), "{:?}", digits);
                 }
             }
         }
