@@ -74,8 +74,8 @@ pub(crate) fn hex_bytes_8(digits: &[u8; 16]) -> Option<[u8; 8]> {
         }
         let values =
             _mm_add_epi8(_mm_and_si128(text, _mm_set1_epi8(0x0F)), _mm_and_si128(letter, _mm_set1_epi8(9)));
-        // Each 16-bit lane holds a byte's first digit low and its second high: the byte is first << 4 | second,
-        // then the lanes are packed to bytes (all below 0x100, so nothing saturates).
+        // Each 16-bit lane holds a byte's first digit low and its second high: the byte is
+        // first << 4 | second, then the lanes are packed to bytes (all below 0x100: nothing saturates).
         let first_digits = _mm_slli_epi16(_mm_and_si128(values, _mm_set1_epi16(0x00FF)), 4);
         let bytes = _mm_or_si128(first_digits, _mm_srli_epi16(values, 8));
         _mm_cvtsi128_si64(_mm_packus_epi16(bytes, _mm_setzero_si128()))
