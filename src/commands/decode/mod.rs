@@ -3,6 +3,7 @@
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
 mod interrupt;
+mod mapped;
 mod parallel;
 mod plot;
 mod ranges;

@@ -49,7 +49,7 @@ use anyhow::Result;
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
-use super::ranges::{Piece, Range, Ranges, Sizing, SLICE_BYTES};
+use super::ranges::{Piece, Range, Ranges, Sizing, SLICE_BYTES, WINDOW_BYTES};
 use super::summary::Summary;
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
 use crate::candump::{
@@ -272,8 +272,9 @@ pub(super) fn decode(
             };
             // Tests' tiny chunks cut reads inside ranges too, elsewhere than the ranges' own cuts.
             let slice_bytes = decoder.chunk_bytes.map_or(SLICE_BYTES, |bytes| bytes.div_ceil(3));
+            let window_bytes = decoder.chunk_bytes.map_or(WINDOW_BYTES, |bytes| bytes.div_ceil(2));
             let text_start = byte_order_mark(&file);
-            let ranges = Ranges::new(file, text_start, size, sizing, slice_bytes);
+            let ranges = Ranges::new(file, text_start, size, sizing, (slice_bytes, Some(window_bytes)));
             Settings { ranges: Some(Arc::new(ranges)), ..settings }
         }
         _ => settings,
