@@ -285,11 +285,14 @@ impl Ranges {
             if window.faulted() {
                 return Mapped::ReadOn;
             }
+            let handed = *pos + last as u64 + 1;
             let more = take(Piece::Lines(&window.bytes()[..=last]));
-            if window.faulted() {
+            // A file cut short inside the window's last page reads zeros there without a fault: its size tells.
+            let cut_short = self.file.metadata().is_ok_and(|metadata| metadata.len() < handed);
+            if window.faulted() || cut_short {
                 return Mapped::Faulted;
             }
-            *pos += last as u64 + 1;
+            *pos = handed;
             if !more {
                 return Mapped::Stopped;
             }
@@ -461,6 +464,22 @@ mod tests {
         });
         assert_eq!((lines, end.bytes), (10, 160));
         assert!(end.error.is_none(), "as a read finds it: the file ends there");
+    }
+
+    #[test]
+    fn a_file_cut_short_inside_the_last_page_of_its_window_is_an_error_too() {
+        let (ranges, handle, claimed) = claimed_then(1024);
+        let mut tail = Vec::new();
+        let end = ranges.read(claimed[0], |piece| {
+            let Piece::Lines(text) = piece else { panic!("no line is long") };
+            // Into the window's last page: its end reads as zeros, and no page faults.
+            handle.set_len(8192 - 100).unwrap();
+            tail = text[text.len() - 4..].to_vec();
+            true
+        });
+        assert_eq!(tail, [0; 4]);
+        let error = end.error.expect("the shorter file is reported");
+        assert!(error.to_string().contains("cut short while being read"), "{error}");
     }
 
     #[test]
