@@ -466,17 +466,24 @@ mod tests {
         assert!(end.error.is_none(), "as a read finds it: the file ends there");
     }
 
-    #[test]
-    fn a_file_cut_short_inside_the_last_page_of_its_window_is_an_error_too() {
+    /// Reads the first range of a file that another program cuts to `length` bytes while the range's window
+    /// is being decoded: the last four bytes the decoder was handed, and how the reading ended.
+    fn read_while_cut_to(length: u64) -> (Vec<u8>, RangeEnd) {
         let (ranges, handle, claimed) = claimed_then(1024);
         let mut tail = Vec::new();
         let end = ranges.read(claimed[0], |piece| {
             let Piece::Lines(text) = piece else { panic!("no line is long") };
-            // Into the window's last page: its end reads as zeros, and no page faults.
-            handle.set_len(8192 - 100).unwrap();
+            handle.set_len(length).unwrap();
             tail = text[text.len() - 4..].to_vec();
             true
         });
+        (tail, end)
+    }
+
+    #[test]
+    fn a_file_cut_short_inside_the_last_page_of_its_window_is_an_error_too() {
+        // Into the window's last page: its end reads as zeros, and no page faults.
+        let (tail, end) = read_while_cut_to(8192 - 100);
         assert_eq!(tail, [0; 4]);
         let error = end.error.expect("the shorter file is reported");
         assert!(error.to_string().contains("cut short while being read"), "{error}");
@@ -484,16 +491,9 @@ mod tests {
 
     #[test]
     fn a_file_cut_short_while_its_window_is_decoded_is_an_error_not_a_crash() {
-        let (ranges, handle, claimed) = claimed_then(1024);
-        let mut last_bytes = Vec::new();
-        let end = ranges.read(claimed[0], |piece| {
-            let Piece::Lines(text) = piece else { panic!("no line is long") };
-            // Another program truncates the file under the mapping: its pages go.
-            handle.set_len(0).unwrap();
-            last_bytes = text[text.len() - 4..].to_vec();
-            true
-        });
-        assert_eq!(last_bytes, [0; 4], "the vanished page reads as zeros");
+        // Every page of the mapping goes.
+        let (tail, end) = read_while_cut_to(0);
+        assert_eq!(tail, [0; 4], "the vanished page reads as zeros");
         let error = end.error.expect("the fault is reported");
         assert!(error.to_string().contains("cut short while being read"), "{error}");
         assert_eq!(end.bytes, 0, "the faulted window's bytes are not counted as read");
