@@ -377,13 +377,14 @@ impl MonitorArgs {
 
 #[derive(Debug, Args)]
 pub struct DriveArgs {
-    /// Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)
-    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "M/S", value_parser = number_in(SPEED))]
-    pub linear: f64,
+    /// Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear); 0 when only --angular is given
+    #[arg(long, allow_negative_numbers = true, value_name = "M/S", value_parser = number_in(SPEED))]
+    pub linear: Option<f64>,
 
-    /// Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)
-    #[arg(long, allow_negative_numbers = true, default_value_t = 0.0, value_name = "RAD/S", value_parser = number_in(SPEED))]
-    pub angular: f64,
+    /// Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular); 0 when only
+    /// --linear is given
+    #[arg(long, allow_negative_numbers = true, value_name = "RAD/S", value_parser = number_in(SPEED))]
+    pub angular: Option<f64>,
 
     /// How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C
     #[arg(long = "for", visible_alias = "duration", value_name = "DURATION", allow_hyphen_values = true, value_parser = duration_in(DRIVE_TIME))]
@@ -403,11 +404,20 @@ pub struct DriveArgs {
 
 impl DriveArgs {
     fn options(self) -> anyhow::Result<commands::drive::Options> {
+        let limits = self.limits.limits()?;
+        // Without a speed, drive would take command mode from whoever drives the robot (ROS) and hold it at
+        // zero: that is never what was meant, so it is a usage error; an explicit `--linear 0` still does it.
+        if self.linear.is_none() && self.angular.is_none() {
+            return Err(usage(
+                "drive needs a speed: give --linear M/S and/or --angular RAD/S (e.g. --linear 0.3 --for 2s; \
+                 --linear 0 holds the robot at zero)",
+            ));
+        }
         Ok(commands::drive::Options {
-            linear: self.linear,
-            angular: self.angular,
+            linear: self.linear.unwrap_or(0.0),
+            angular: self.angular.unwrap_or(0.0),
             duration: self.duration,
-            limits: self.limits.limits()?,
+            limits,
             ignore_faults: self.ignore_faults,
             format: self.format.into(),
         })
@@ -1230,7 +1240,7 @@ mod tests {
         ])
         .unwrap();
         let Command::Drive(args) = cli.command else { panic!() };
-        assert_eq!((args.linear, args.angular), (-0.5, -0.2));
+        assert_eq!((args.linear, args.angular), (Some(-0.5), Some(-0.2)));
         assert_eq!(args.duration, Some(std::time::Duration::from_millis(1500)));
         assert_eq!(parse_duration("2.5", DRIVE_TIME), Ok(std::time::Duration::from_millis(2500)));
         assert!(parse_duration("soon", DRIVE_TIME).is_err());

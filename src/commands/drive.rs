@@ -59,6 +59,8 @@ enum End {
     TimeUp,
     Signal(&'static str, u8),
     EStop,
+    /// The robot reported the vehicle state "exception" (a latched fault, battery cut-off, RC link lost).
+    Exception,
     LinkLost(String),
     /// The sender's clock jumped by this much: suspended, or the machine stalled.
     Suspended(Duration),
@@ -273,7 +275,15 @@ fn check_before_driving(
             }
             state.why_not_drivable(wire)
         }
-        None => Some(live::no_status_message(session, &session.status())),
+        // No feedback at all: nothing would show whether the robot moves, stops or is there at all, so
+        // --ignore-faults (which overrides what the robot reports) has nothing to override.
+        None => {
+            return Err(Failure::not_done(format!(
+                "not driving: {}",
+                live::no_status_message(session, &session.status())
+            ))
+            .into())
+        }
     };
     if let Some(reason) = refusal {
         if !args.ignore_faults {
@@ -415,6 +425,10 @@ impl<'a> DriveLoop<'a> {
             if state.is_estop() && !self.args.ignore_faults {
                 return Some(End::EStop);
             }
+            // The robot stopped obeying by itself: end now rather than when the follow check notices.
+            if state.is_exception() && !self.args.ignore_faults {
+                return Some(End::Exception);
+            }
             // Power-cycle or RC override put the robot in another mode: ask for command mode again.
             if wire == Wire::CanV2
                 && state.mode(wire) != Some(ControlMode::Can)
@@ -468,6 +482,11 @@ fn outcome(
             Err(Failure::not_done(format!("stopped after {elapsed:.2} s: the E-stop was pressed; {report}"))
                 .into())
         }
+        End::Exception => Err(Failure::not_done(format!(
+            "stopped after {elapsed:.2} s: {}; {report}",
+            crate::protocol::message::EXCEPTION_REASON
+        ))
+        .into()),
         End::NotFollowing(robot) => Err(Failure {
             code: NOT_DONE,
             message: format!(
@@ -690,6 +709,7 @@ impl End {
             End::TimeUp => "time_up",
             End::Signal(..) => "signal",
             End::EStop => "estop",
+            End::Exception => "exception",
             End::LinkLost(_) => "link_lost",
             End::Suspended(_) | End::SuspendResumed => "suspended",
             End::Watchdog => "watchdog",

@@ -389,13 +389,6 @@ fn alert_text(app: &App, width: usize) -> (Tone, String) {
     if let Some(reason) = state.why_not_drivable(system.wire) {
         return (Tone::Alarm, format!("[fault] CANNOT DRIVE: {reason}"));
     }
-    if system.vehicle_state == VEHICLE_EXCEPTION {
-        return (
-            Tone::Alarm,
-            "[fault] EXCEPTION: the robot reports a system exception (latched fault, battery cut-off or RC link lost)"
-                .to_string(),
-        );
-    }
     if !in_command_mode(system.control_mode, system.wire) {
         let mode = ControlMode::describe(system.wire, system.control_mode);
         return (Tone::Warning, format!("[warning] not in command mode (mode {mode}): press m to enable it"));

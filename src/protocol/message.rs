@@ -224,7 +224,16 @@ impl SystemState {
     pub fn is_estop(&self) -> bool {
         self.vehicle_state == VEHICLE_ESTOP
     }
+    /// The vehicle state "exception": a latched fault, battery cut-off or the RC link lost.
+    pub fn is_exception(&self) -> bool {
+        self.vehicle_state == VEHICLE_EXCEPTION
+    }
 }
+
+/// Why a robot in the vehicle state "exception" cannot be driven, and what to do.
+pub const EXCEPTION_REASON: &str =
+    "the robot reports a system exception (a latched fault, battery cut-off or \
+     the RC link lost): see `tracerctl doctor`, then `tracerctl clear-errors`";
 
 pub const VEHICLE_NORMAL: u8 = 0;
 pub const VEHICLE_ESTOP: u8 = 1;

@@ -8,7 +8,7 @@
 use strum::{EnumMessage, EnumString, IntoStaticStr, VariantArray};
 
 use super::catalog::identifier_text;
-use super::message::{MessageKind, SystemState, Wire};
+use super::message::{MessageKind, SystemState, Wire, EXCEPTION_REASON};
 
 /// Who the robot obeys. Names (`standby`, `can`, `serial`, `rc`) come from the variants.
 #[derive(
@@ -130,7 +130,7 @@ impl SystemState {
         self.mode(wire) == Some(ControlMode::Rc)
     }
 
-    /// Why the robot cannot be driven now, if it cannot: E-stop, a bit that blocks driving (a fault or a
+    /// Why the robot cannot be driven now, if it cannot: E-stop, the vehicle state "exception", a bit that blocks driving (a fault or a
     /// latched protection), or the RC transmitter in control (V2, where the status says so unambiguously).
     pub fn why_not_drivable(&self, wire: Wire) -> Option<String> {
         if self.is_estop() {
@@ -144,6 +144,11 @@ impl SystemState {
             .collect();
         if !blocking.is_empty() {
             return Some(format!("fault set: {}", blocking.join("; ")));
+        }
+        // The robot ignores motion commands in this state, whatever its fault bits show (a motor driver's
+        // lost link, for one, is reported only in that driver's own frame).
+        if self.is_exception() {
+            return Some(EXCEPTION_REASON.to_string());
         }
         if wire == Wire::CanV2 && self.rc_has_control(wire) {
             return Some(

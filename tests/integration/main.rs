@@ -12,6 +12,7 @@ mod docs;
 mod doctor;
 mod drive;
 mod drive_output;
+mod drive_refusals;
 #[cfg(target_os = "linux")]
 mod fault_peer;
 #[cfg(target_os = "linux")]

@@ -24,6 +24,15 @@ pub struct FakeRobot {
 impl FakeRobot {
     /// Starts a robot that reports `status` (serial system status) every 20 ms.
     pub fn start(status: SystemState) -> Self {
+        Self::start_muted(status, false)
+    }
+
+    /// A robot that never says anything (a dead robot behind a live adapter); host frames are recorded.
+    pub fn start_silent() -> Self {
+        Self::start_muted(healthy(), true)
+    }
+
+    fn start_muted(status: SystemState, muted: bool) -> Self {
         let (mut master, slave) = serialport::TTYPort::pair().expect("a pseudo-terminal pair");
         let path = slave.name().expect("the terminal side has a path");
         drop(slave);
@@ -31,7 +40,7 @@ impl FakeRobot {
         let received = Arc::new(Mutex::new(Vec::new()));
         let status = Arc::new(Mutex::new(status));
         let stop = Arc::new(AtomicBool::new(false));
-        let mute = Arc::new(AtomicBool::new(false));
+        let mute = Arc::new(AtomicBool::new(muted));
         let thread = {
             let (received, stop, mute) = (Arc::clone(&received), Arc::clone(&stop), Arc::clone(&mute));
             let status = Arc::clone(&status);
