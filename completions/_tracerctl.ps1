@@ -110,8 +110,8 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;drive' {
-            [CompletionResult]::new('--linear', '--linear', [CompletionResultType]::ParameterName, 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)')
-            [CompletionResult]::new('--angular', '--angular', [CompletionResultType]::ParameterName, 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)')
+            [CompletionResult]::new('--linear', '--linear', [CompletionResultType]::ParameterName, 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear); 0 when only --angular is given')
+            [CompletionResult]::new('--angular', '--angular', [CompletionResultType]::ParameterName, 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular); 0 when only --linear is given')
             [CompletionResult]::new('--for', '--for', [CompletionResultType]::ParameterName, 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C')
             [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C')
             [CompletionResult]::new('--max-linear', '--max-linear', [CompletionResultType]::ParameterName, 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)')

@@ -104,8 +104,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --version 'Print version'
         }
         &'tracerctl;drive'= {
-            cand --linear 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)'
-            cand --angular 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)'
+            cand --linear 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear); 0 when only --angular is given'
+            cand --angular 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular); 0 when only --linear is given'
             cand --for 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C'
             cand --duration 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C'
             cand --max-linear 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)'

@@ -193,8 +193,8 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l no-data 
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l linear -d 'Linear speed in m/s (+ forward; -100 to 100, capped at --max-linear); 0 when only --angular is given' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular -d 'Angular speed in rad/s (+ turns counter-clockwise; -100 to 100, capped at --max-angular); 0 when only --linear is given' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l for -l duration -d 'How long to drive (e.g. 2s, 1500ms; up to 24h); default: until Ctrl-C' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-linear -d 'Cap on the linear speed, m/s (above 0; at most 1.5 is used)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l max-angular -d 'Cap on the angular speed, rad/s (above 0; at most 0.7853 is used)' -r

@@ -207,7 +207,10 @@ impl<'a> Driving<'a> {
         self.last_requested = (0.0, 0.0);
         // Nothing moves until a key is pressed after arming (the key that asked does not drive).
         self.needs_release = true;
-        Ok("ARMED: command mode requested; press an arrow key to drive, a to disarm".to_string())
+        Ok(format!(
+            "ARMED: command mode requested; press an arrow key to drive, {} to disarm",
+            keys::key_name(keys::Action::Arm)
+        ))
     }
 
     /// Stops the sender: zero frames, then nothing more is sent.

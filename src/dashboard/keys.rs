@@ -228,7 +228,7 @@ pub const BINDINGS: &[Binding] = &[
     Binding {
         shown: "e",
         keys: &[plain('e', Action::CommandMode, InDialog::Closes)],
-        help: "enable command mode (m drives an arc)",
+        help: "enable command mode",
         footer: Some(footer("e", "command mode", "mode", Some(0))),
         watching: Watching::AsksToArm,
     },
@@ -387,8 +387,8 @@ pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'stat
 /// The paragraphs of `tracerctl dashboard --help` before the keys.
 const HELP_BEFORE: &str = "\
 The dashboard opens WATCHING: it sends nothing to the robot (a robot that ROS or an RC transmitter drives
-is not disturbed). The first drive key, e, c or l asks \"Arm driving?\"; y arms ({MODE_COMMAND} command mode, then
-motion commands at 50 Hz), a disarms at once. --watch forbids arming. The header says ARMED or
+is not disturbed). The first drive key, {ASKING} asks \"Arm driving?\"; {YES} arms ({MODE_COMMAND} command mode, then
+motion commands at 50 Hz), {ARM} disarms at once. --watch forbids arming. The header says ARMED or
 WATCHING.";
 
 /// The paragraph of `tracerctl dashboard --help` after the keys.
@@ -402,13 +402,32 @@ zero is sent and keys are ignored until a fresh press once it is clear; the same
 suspended. If input or drawing stalls, the robot is commanded to zero within 250 ms; every exit sends
 zero-velocity frames.";
 
+/// The keys besides the drive keys and arming's own that ask to arm while watching: `e, c or l`.
+fn asking_to_arm() -> String {
+    let names: Vec<&str> = BINDINGS
+        .iter()
+        .filter(|row| row.watching == Watching::AsksToArm)
+        .filter(|row| row.keys.iter().all(|bind| !matches!(bind.action, Action::Drive(_) | Action::Arm)))
+        .filter_map(|row| row.shown.split_whitespace().next())
+        .collect();
+    match names.split_last() {
+        Some((last, [])) => last.to_string(),
+        Some((last, rest)) => format!("{} or {last}", rest.join(", ")),
+        None => String::new(),
+    }
+}
+
 /// The help's key column width, in characters.
 pub const KEY_COLUMN: usize = 10;
 
 /// `tracerctl dashboard --help` after the options: how arming works, every key of [`BINDINGS`] with the
 /// help overlay's words, and how releases and stalls are handled.
 pub fn help_text() -> String {
-    let before = HELP_BEFORE.replace("{MODE_COMMAND}", &FrameId::standard(can::ID_CONTROL_MODE).to_string());
+    let before = HELP_BEFORE
+        .replace("{MODE_COMMAND}", &FrameId::standard(can::ID_CONTROL_MODE).to_string())
+        .replace("{ASKING}", &asking_to_arm())
+        .replace("{YES}", key_name(Action::Yes))
+        .replace("{ARM}", key_name(Action::Arm));
     let mut text = format!("{before}\n\nKeys:\n");
     for row in BINDINGS {
         let _ = writeln!(text, "  {:<KEY_COLUMN$}{}", row.shown, row.help);

@@ -10,3 +10,6 @@ pub mod keys;
 pub mod render;
 pub mod teleop;
 pub mod terminal;
+
+#[cfg(test)]
+mod key_mentions_tests;

@@ -342,7 +342,13 @@ const REPLAY_ENDED: &str = "replay ended";
 fn alert_text(app: &App, width: usize) -> (Tone, String) {
     let shown = &app.shown;
     if shown.link_ended {
-        return (Tone::Info, format!("[info] {REPLAY_ENDED}: the log's last values stay on screen; q quits"));
+        return (
+            Tone::Info,
+            format!(
+                "[info] {REPLAY_ENDED}: the log's last values stay on screen; {} quits",
+                keys::key_name(keys::Action::Quit)
+            ),
+        );
     }
     if let Some(error) = &shown.link_error {
         return (Tone::Alarm, format!("[fault] LINK FAILED: {error}"));
@@ -391,7 +397,13 @@ fn alert_text(app: &App, width: usize) -> (Tone, String) {
     }
     if !in_command_mode(system.control_mode, system.wire) {
         let mode = ControlMode::describe(system.wire, system.control_mode);
-        return (Tone::Warning, format!("[warning] not in command mode (mode {mode}): press m to enable it"));
+        return (
+            Tone::Warning,
+            format!(
+                "[warning] not in command mode (mode {mode}): press {} to enable it",
+                keys::key_name(keys::Action::CommandMode)
+            ),
+        );
     }
     let battery = BatteryZone::of(system.decivolts);
     if faults.iter().any(|f| f.info.severity.is_problem()) || battery != BatteryZone::Ok {
@@ -403,7 +415,8 @@ fn alert_text(app: &App, width: usize) -> (Tone, String) {
     match app.arming {
         Arming::Armed => (Tone::Ok, "ready to drive: command mode, no faults".to_string()),
         Arming::Watching => {
-            (Tone::Ok, "watching: nothing is sent; an arrow key or a asks to arm driving".to_string())
+            let arm = keys::key_name(keys::Action::Arm);
+            (Tone::Ok, format!("watching: nothing is sent; an arrow key or {arm} asks to arm driving"))
         }
         Arming::WatchOnly => (Tone::Ok, "watch only: nothing is sent to the robot".to_string()),
     }
@@ -1249,7 +1262,11 @@ fn render_help(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
     let height = (lines.len() as u16 + 2).min(area.height);
     let popup = centered(area, width, height);
     frame.render_widget(Clear, popup);
-    frame.render_widget(Paragraph::new(lines).block(block("Keys · ? closes", theme)), popup);
+    frame.render_widget(
+        Paragraph::new(lines)
+            .block(block(format!("Keys · {} closes", keys::key_name(keys::Action::Help)), theme)),
+        popup,
+    );
 }
 
 /// The help overlay's closing note.
@@ -2010,8 +2027,8 @@ mod tests {
         }
         assert_eq!(middle_ellipsis("/home/operator/session.log", 12), "/ho…sion.log");
         assert_eq!(middle_ellipsis("can0", 12), "can0");
-        assert_eq!(fit_words("press m to enable it", 15), "press m to…");
-        assert_eq!(fit_words("press m to enable it", 20), "press m to enable it");
+        assert_eq!(fit_words("press e to enable it", 15), "press e to…");
+        assert_eq!(fit_words("press e to enable it", 20), "press e to enable it");
         let names = ["a_fault".to_string(), "M2 b_fault".to_string(), "c_fault".to_string()];
         assert_eq!(names_within("see: ", &names, 80), "see: a_fault, M2 b_fault, c_fault");
         assert_eq!(names_within("see: ", &names, 26), "see: a_fault +2");

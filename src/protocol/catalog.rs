@@ -424,4 +424,4 @@ const fn on_another_wire(id: u16, wire: Wire) -> bool {
 
 #[cfg(test)]
 #[path = "catalog_tests.rs"]
-mod tests;
+pub(crate) mod tests;

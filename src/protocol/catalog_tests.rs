@@ -155,7 +155,7 @@ const CODEC: &[&str] = &[
 ];
 
 /// The text the compiler sees: comments blanked (newlines kept), code and string literals as they are.
-fn without_comments(text: &str) -> String {
+pub(crate) fn without_comments(text: &str) -> String {
     let bytes = text.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut at = 0;
