@@ -23,7 +23,7 @@ use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
 use crate::link::LinkKind;
 use crate::protocol::codec::clear_description;
 use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
-use crate::protocol::{ClearTarget, Codec};
+use crate::protocol::{ClearTarget, Codec, ControlMode};
 use crate::session::{RobotStatus, Session};
 use crate::signals::{self, SignalFlag};
 
@@ -44,6 +44,10 @@ const RELEASE_QUIET: Duration = Duration::from_millis(150);
 const GAP_SETTLE: Duration = Duration::from_millis(300);
 /// A robot state older than this does not block driving (nor allow it: the sender's checks stay).
 const BLOCK_STATUS_AGE: Duration = Duration::from_millis(500);
+/// While the robot has not confirmed the command mode asked for, the request is repeated this often...
+const MODE_RETRY: Duration = Duration::from_millis(200);
+/// ... for this long; then the press is forgotten and a new one asks again.
+const MODE_CONFIRM: Duration = Duration::from_secs(2);
 
 /// Why the dashboard ended.
 enum End {
@@ -151,6 +155,11 @@ struct Driving<'a> {
     needs_release: bool,
     /// Why driving is blocked now (E-stop, latched fault, RC override), from the robot's status.
     blocked: Option<String>,
+    /// Whether the robot's fresh status says it is in this link's command mode; `None`: no fresh status.
+    in_command_mode: Option<bool>,
+    /// A fresh press found the robot out of command mode (after an E-stop or RC override, say): command
+    /// mode was asked for at the first instant, last at the second, and nothing drives until it is confirmed.
+    mode_requested: Option<(Instant, Instant)>,
     seen_gaps: u64,
     seen_watchdog: u64,
     last_requested: (f64, f64),
@@ -174,6 +183,8 @@ impl<'a> Driving<'a> {
             was_armed: false,
             needs_release: false,
             blocked: None,
+            in_command_mode: None,
+            mode_requested: None,
             seen_gaps: 0,
             seen_watchdog: 0,
             last_requested: (0.0, 0.0),
@@ -216,6 +227,7 @@ impl<'a> Driving<'a> {
     /// Stops the sender: zero frames, then nothing more is sent.
     fn disarm(&mut self) -> Stopped {
         self.slot.lock().take();
+        self.mode_requested = None;
         match self.sender.take() {
             None if self.was_armed => self.last_stop.take().unwrap_or(Stopped::Confirmed),
             None => Stopped::NeverArmed,
@@ -247,11 +259,15 @@ impl<'a> Driving<'a> {
     /// Takes what the robot reports: an E-stop, a latched fault or RC override blocks driving (zero at
     /// once, said on screen) until it clears and a key is pressed again. Returns a message when that changes.
     fn observe(&mut self, status: &RobotStatus) -> Option<String> {
-        let blocked =
-            status.fresh_system(BLOCK_STATUS_AGE).and_then(|(state, wire)| state.why_not_drivable(wire));
+        let fresh = status.fresh_system(BLOCK_STATUS_AGE);
+        self.in_command_mode =
+            fresh.map(|(state, wire)| state.mode(wire) == Some(ControlMode::command_mode_of(wire)));
+        let blocked = fresh.and_then(|(state, wire)| state.why_not_drivable(wire));
+        let mode = self.await_command_mode();
         if blocked == self.blocked {
-            return None;
+            return mode;
         }
+        self.mode_requested = None;
         let message = match (&self.blocked, &blocked) {
             (_, Some(reason)) if self.armed() => {
                 self.halt();
@@ -263,6 +279,30 @@ impl<'a> Driving<'a> {
         };
         self.blocked = blocked;
         Some(message)
+    }
+
+    /// While command mode is awaited: confirmed, it drives; not yet, the request is repeated; too long,
+    /// the press is forgotten. The message to show when that changes.
+    fn await_command_mode(&mut self) -> Option<String> {
+        let (asked, last) = self.mode_requested?;
+        let sender = self.sender.as_ref()?;
+        if self.in_command_mode == Some(true) {
+            self.mode_requested = None;
+            return Some("command mode confirmed: driving".to_string());
+        }
+        if asked.elapsed() >= MODE_CONFIRM {
+            self.mode_requested = None;
+            self.needs_release = true;
+            return Some(format!(
+                "the robot did not enter command mode within {} s: zero sent; press again to retry",
+                MODE_CONFIRM.as_secs()
+            ));
+        }
+        if last.elapsed() >= MODE_RETRY {
+            sender.request_mode_enable();
+            self.mode_requested = Some((asked, Instant::now()));
+        }
+        None
     }
 
     /// Checks the sender for a gap in its clock (the process was suspended) or a watchdog trip since the
@@ -292,16 +332,35 @@ impl<'a> Driving<'a> {
 
     /// The target for this tick. Keys held through a halt, a gap or a block must be let go first: the
     /// keyboard quiet for [`RELEASE_QUIET`] with nothing held. Then a fresh press ends the hold.
-    fn command(&mut self, requested: (f64, f64), anything_held: bool, fresh_press: bool, quiet: Duration) {
-        let Some(sender) = &self.sender else { return };
+    /// A fresh press that finds the robot out of command mode asks for it first (the message says so); the
+    /// keys drive once the robot confirms.
+    fn command(
+        &mut self,
+        requested: (f64, f64),
+        anything_held: bool,
+        fresh_press: bool,
+        quiet: Duration,
+    ) -> Option<String> {
+        let sender = self.sender.as_ref()?;
         if self.needs_release && !anything_held && self.blocked.is_none() && quiet >= RELEASE_QUIET {
             self.needs_release = false;
         }
         let gated = self.needs_release || self.blocked.is_some();
-        if fresh_press && !gated && sender.stats().hold.is_some() {
-            sender.resume();
+        let mut message = None;
+        if fresh_press && !gated {
+            if self.in_command_mode == Some(false) && self.mode_requested.is_none() {
+                sender.request_mode_enable();
+                self.mode_requested = Some((Instant::now(), Instant::now()));
+                message = Some(
+                    "not in command mode: command mode requested, driving once the robot confirms"
+                        .to_string(),
+                );
+            }
+            if sender.stats().hold.is_some() {
+                sender.resume();
+            }
         }
-        let requested = if gated { (0.0, 0.0) } else { requested };
+        let requested = if gated || self.mode_requested.is_some() { (0.0, 0.0) } else { requested };
         // A change (a press, a release, a deadline that expired) leaves at once rather than at the next tick.
         if requested != self.last_requested {
             sender.set_target_now(requested.0, requested.1);
@@ -309,6 +368,7 @@ impl<'a> Driving<'a> {
             sender.set_target(requested.0, requested.1);
         }
         self.last_requested = requested;
+        message
     }
 
     /// What the header says: armed, watching, or watch-only.
@@ -583,7 +643,10 @@ impl<'a> Loop<'a> {
         let request = self.teleop.request(self.epoch.elapsed());
         let requested = (request.0 * limits.max_linear, request.1 * limits.max_angular);
         let anything_held = !self.teleop.held(self.epoch.elapsed()).is_empty();
-        self.driving.command(requested, anything_held, self.fresh_press, self.last_drive_key.elapsed());
+        let quiet = self.last_drive_key.elapsed();
+        if let Some(text) = self.driving.command(requested, anything_held, self.fresh_press, quiet) {
+            self.app.set_message(text, Instant::now());
+        }
     }
 
     /// Takes the robot's status and the sender's stats into the view; a lost live link ends the dashboard.

@@ -5,6 +5,7 @@
 mod compressed_input;
 mod dashboard;
 mod dashboard_keys;
+mod dashboard_motion;
 mod dashboard_screens;
 mod decode;
 mod decode_losses;
