@@ -11,6 +11,7 @@ mod decode;
 mod decode_losses;
 mod docs;
 mod doctor;
+mod doctor_interrupted;
 mod drive;
 mod drive_output;
 mod drive_refusals;

@@ -105,11 +105,13 @@ pub struct Report<'a, W: Write> {
     color: bool,
     link: String,
     checks: Vec<Check>,
+    /// The signal that cut the probe short: what it would have shown is unknown.
+    interrupted: Option<&'static str>,
 }
 
 impl<'a, W: Write> Report<'a, W> {
     pub fn new(out: &'a mut W, format: ReportFormat, color: bool, link: impl Into<String>) -> Self {
-        Self { out, format, color, link: link.into(), checks: Vec::new() }
+        Self { out, format, color, link: link.into(), checks: Vec::new(), interrupted: None }
     }
 
     /// Prints a heading line (text only).
@@ -134,6 +136,11 @@ impl<'a, W: Write> Report<'a, W> {
         &self.checks
     }
 
+    /// A signal (`SIGINT`) cut the probe short: the verdict says its result is unknown.
+    pub fn interrupt(&mut self, signal: &'static str) {
+        self.interrupted = Some(signal);
+    }
+
     /// True when no check failed.
     pub fn drivable(&self) -> bool {
         self.checks.iter().all(|check| check.outcome != Outcome::Fail)
@@ -145,7 +152,7 @@ impl<'a, W: Write> Report<'a, W> {
         let count = |outcome| self.checks.iter().filter(|check| check.outcome == outcome).count();
         let (failures, warnings) = (count(Outcome::Fail), count(Outcome::Warn));
         match self.format {
-            ReportFormat::Text => writeln!(self.out, "{}", verdict(&self.checks, probed))?,
+            ReportFormat::Text => writeln!(self.out, "{}", verdict(&self.checks, probed, self.interrupted))?,
             ReportFormat::Json => {
                 let checks: Vec<_> = self
                     .checks
@@ -160,10 +167,14 @@ impl<'a, W: Write> Report<'a, W> {
                         })
                     })
                     .collect();
+                // Unknown (null) when the probe was cut short and nothing else failed.
+                let known_drivable =
+                    if drivable && self.interrupted.is_some() { json!(null) } else { json!(drivable) };
                 let report = json!({
                     "link": self.link,
                     "probe": probed,
-                    "drivable": drivable,
+                    "drivable": known_drivable,
+                    "interrupted": self.interrupted,
                     "failures": failures,
                     "warnings": warnings,
                     "checks": checks,
@@ -191,7 +202,7 @@ pub fn text_line(check: &Check, color: bool) -> String {
 }
 
 /// The last line: whether the robot can be driven, and which checks stand in the way.
-pub fn verdict(checks: &[Check], probed: bool) -> String {
+pub fn verdict(checks: &[Check], probed: bool, interrupted: Option<&str>) -> String {
     let failed: Vec<&str> =
         checks.iter().filter(|check| check.outcome == Outcome::Fail).map(|check| check.title).collect();
     let warnings = checks.iter().filter(|check| check.outcome == Outcome::Warn).count();
@@ -200,6 +211,12 @@ pub fn verdict(checks: &[Check], probed: bool) -> String {
         1 => " (1 warning)".to_string(),
         n => format!(" ({n} warnings)"),
     };
+    if let (true, Some(signal)) = (failed.is_empty(), interrupted) {
+        return format!(
+            "Result: unknown: the probe was interrupted by {signal}{warned}, so whether the robot takes commands was \
+             not found out. Run `doctor --probe` again."
+        );
+    }
     if failed.is_empty() {
         let how =
             if probed { "commands were accepted" } else { "add --probe to test that commands are accepted" };
@@ -239,11 +256,11 @@ mod tests {
             Check::fail("faults", "faults", "motor", "clear"),
         ];
         assert_eq!(
-            verdict(&checks, false),
+            verdict(&checks, false, None),
             "Result: the robot cannot be driven: E-stop, faults (1 warning). Fix the FAIL lines in order."
         );
         assert_eq!(
-            verdict(&checks[..2], true),
+            verdict(&checks[..2], true, None),
             "Result: the robot can be driven (1 warning); commands were accepted."
         );
     }
