@@ -462,6 +462,8 @@ struct Loop<'a> {
     /// The drive key that closed a dialog, and its last byte: it does not drive until let go (its auto-repeats
     /// look like presses on a terminal without releases).
     swallowed: Option<(Key, Instant)>,
+    /// What the key that asked "Arm driving?" was for (a fault clear, the lights): done once armed.
+    after_arm: Option<Effect>,
 }
 
 impl<'a> Loop<'a> {
@@ -482,6 +484,7 @@ impl<'a> Loop<'a> {
             last_drive_key: Instant::now().checked_sub(RELEASE_QUIET).unwrap_or_else(Instant::now),
             fresh_press: false,
             swallowed: None,
+            after_arm: None,
         }
     }
 
@@ -598,10 +601,39 @@ impl<'a> Loop<'a> {
             Effect::Suspend => self.on_suspend(),
             Effect::Drive(key, action) => self.on_arrow(now, key, action),
             effect => {
-                handle(&mut self.app, &mut self.driving, &mut self.teleop, effect, &mut self.lights_step)
+                self.remember_after_arm(key, effect);
+                handle(&mut self.app, &mut self.driving, &mut self.teleop, effect, &mut self.lights_step);
+                if effect == Effect::Arm && self.driving.armed() {
+                    // Armed at the request of a clear or the lights key: go on to what it asked for (the
+                    // clear still asks first). A drive key never drives this way: it must be pressed again.
+                    if let Some(then) = self.after_arm.take() {
+                        handle(
+                            &mut self.app,
+                            &mut self.driving,
+                            &mut self.teleop,
+                            then,
+                            &mut self.lights_step,
+                        );
+                    }
+                }
             }
         }
         None
+    }
+
+    /// Keeps what a key that asks to arm was for, until the prompt is answered or closed.
+    fn remember_after_arm(&mut self, key: &KeyEvent, effect: Effect) {
+        match effect {
+            Effect::AskArm => {
+                self.after_arm = match keys::lookup(key).map(|(_, bind)| bind.action) {
+                    Some(keys::Action::ClearFaults) => Some(Effect::AskClear),
+                    Some(keys::Action::Lights) => Some(Effect::Lights),
+                    _ => None,
+                }
+            }
+            Effect::Arm => {}
+            _ => self.after_arm = None,
+        }
     }
 
     /// An arrow while armed with nothing on top: the teleop takes it. A press after a quiet keyboard, and

@@ -372,9 +372,13 @@ pub fn key_action(kind: KeyEventKind) -> KeyAction {
 }
 
 /// The footer's entries for this arming state, in the table's order: (keys, label, short label, spare).
+/// Watch-only (`--watch`, `--replay`) shows only the keys that do something there: help and quit.
 pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'static str, Option<u8>)> {
     BINDINGS
         .iter()
+        .filter(|row| {
+            arming != Arming::WatchOnly || row.keys.iter().all(|bind| works_watch_only(bind.action))
+        })
         .filter_map(|row| row.footer)
         .filter_map(|entry| match (entry.armed, arming) {
             (Some(_), Arming::WatchOnly) => None,
@@ -382,6 +386,12 @@ pub fn footer_entries(arming: Arming) -> Vec<(&'static str, &'static str, &'stat
             _ => Some((entry.keys, entry.label, entry.short, entry.spare)),
         })
         .collect()
+}
+
+/// Whether `action` does anything when driving cannot be armed: nothing is sent, so only the screen's own
+/// keys do (a stop or a speed scale has nothing to act on).
+fn works_watch_only(action: Action) -> bool {
+    matches!(action, Action::Help | Action::Close | Action::Quit | Action::Suspend)
 }
 
 /// The paragraphs of `tracerctl dashboard --help` before the keys.
@@ -720,6 +730,8 @@ mod tests {
         assert!(labels(Arming::Watching).contains(&("a", "arm")));
         assert!(labels(Arming::Armed).contains(&("a", "disarm")));
         assert!(!labels(Arming::WatchOnly).iter().any(|(keys, _)| *keys == "a"), "nothing to arm");
+        // Watch-only (--watch, --replay): only the keys that do something there.
+        assert_eq!(labels(Arming::WatchOnly), [("?", "help"), ("q", "quit")]);
     }
 
     #[test]

@@ -1276,28 +1276,68 @@ const HELP_NOTE: &str =
                          zero-velocity frames first.";
 
 fn render_confirm_arm(frame: &mut Frame, area: Rect, theme: Theme) {
-    let lines = vec![
+    let explanation = vec![
         Line::raw("Arm driving? The dashboard then switches to command mode"),
         Line::raw("and sends motion commands at 50 Hz: it takes control from ROS"),
         Line::raw("or an RC transmitter. Until then nothing is sent."),
         Line::raw(""),
-        Line::from(vec![
-            Span::styled(keys::key_name(keys::Action::Yes), theme.key()),
-            Span::raw(" arm   "),
-            Span::styled("any other key", theme.key()),
-            Span::raw(" keep watching"),
-        ]),
     ];
-    dialog(frame, area, lines, 64, block("Arm driving?", theme).border_style(theme.warning()));
+    let answer = Line::from(vec![
+        Span::styled(keys::key_name(keys::Action::Yes), theme.key()),
+        Span::raw(" arm   "),
+        Span::styled("any other key", theme.key()),
+        Span::raw(" keep watching"),
+    ]);
+    dialog(frame, area, explanation, answer, 64, block("Arm driving?", theme).border_style(theme.warning()));
 }
 
-/// A question in a box in the middle of the screen, over what is there.
-fn dialog(frame: &mut Frame, area: Rect, lines: Vec<Line<'static>>, width: u16, block: Block<'static>) {
-    let width = width.min(area.width.saturating_sub(4)).max(20);
-    let height = (lines.len() as u16 + 2).min(area.height);
+/// A question in a box in the middle of the screen, over what is there. The answer (the keys that
+/// answer it) takes the box's last rows whole; the explanation gets what is left above it and is cut
+/// first when the screen is small.
+fn dialog(
+    frame: &mut Frame,
+    area: Rect,
+    explanation: Vec<Line<'static>>,
+    answer: Line<'static>,
+    width: u16,
+    block: Block<'static>,
+) {
+    let width = width.min(area.width.saturating_sub(4)).max(20).min(area.width);
+    let inner = usize::from(width.saturating_sub(2)).max(1);
+    let answer_rows = wrapped_rows(&answer, inner);
+    let explanation_rows: u16 = explanation.iter().map(|line| wrapped_rows(line, inner)).sum();
+    let height = (explanation_rows + answer_rows + 2).min(area.height);
     let popup = centered(area, width, height);
     frame.render_widget(Clear, popup);
-    frame.render_widget(Paragraph::new(lines).wrap(Wrap { trim: false }).block(block), popup);
+    let inside = block.inner(popup);
+    frame.render_widget(block, popup);
+    let [text, keys] =
+        Layout::vertical([Constraint::Fill(1), Constraint::Length(answer_rows.min(inside.height))])
+            .areas(inside);
+    frame.render_widget(Paragraph::new(explanation).wrap(Wrap { trim: false }), text);
+    frame.render_widget(Paragraph::new(answer).wrap(Wrap { trim: false }), keys);
+}
+
+/// How many rows `line` takes wrapped at whole words to `width` (a word longer than the width is split).
+fn wrapped_rows(line: &Line, width: usize) -> u16 {
+    let text: String = line.spans.iter().map(|span| span.content.as_ref()).collect();
+    let mut rows = 1u16;
+    let mut used = 0usize;
+    for word in text.split(' ') {
+        let length = word.chars().count();
+        let needed = if used == 0 { length } else { used + 1 + length };
+        if needed <= width {
+            used = needed;
+        } else if used == 0 {
+            rows += u16::try_from((length.max(1) - 1) / width).unwrap_or(u16::MAX);
+            used = length % width;
+        } else {
+            rows =
+                rows.saturating_add(1 + u16::try_from(length.saturating_sub(1) / width).unwrap_or(u16::MAX));
+            used = if length > width { length % width } else { length };
+        }
+    }
+    rows
 }
 
 fn render_confirm(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
@@ -1324,15 +1364,15 @@ fn render_confirm(frame: &mut Frame, area: Rect, app: &App, theme: Theme) {
         }
     }
     lines.push(Line::raw(""));
-    lines.push(Line::from(vec![
+    let answer = Line::from(vec![
         Span::styled(keys::key_name(keys::Action::Yes), theme.key()),
         Span::raw(" send the clear   "),
         Span::styled(keys::key_name(keys::Action::Stop), theme.key()),
         Span::raw(" stop   "),
         Span::styled("any other key", theme.key()),
         Span::raw(" cancel"),
-    ]));
-    dialog(frame, area, lines, 62, block("Clear faults?", theme).border_style(theme.alarm()));
+    ]);
+    dialog(frame, area, lines, answer, 62, block("Clear faults?", theme).border_style(theme.alarm()));
 }
 
 #[cfg(test)]
@@ -1850,6 +1890,35 @@ mod tests {
         assert!(!shown.contains("a arm"), "no arming key when it cannot arm:\n{shown}");
         // The small layout keeps the state too.
         assert_contains(&screen_small(&app), &["WATCH ONLY"]);
+    }
+
+    #[test]
+    fn the_keys_that_answer_a_prompt_are_never_cut() {
+        // At 60x20 the arm box used to lose its last line, the only one that says how to answer.
+        let mut arm = driving();
+        arm.set_arming(Arming::Watching);
+        arm.ask_arm_confirmation();
+        let mut clear = driving();
+        clear.ask_clear_confirmation();
+        for width in (24..=121).step_by(3) {
+            for height in (6..=40).step_by(2) {
+                let shown = screen(&arm, width, height);
+                assert_contains(&shown, &["y arm", "any other", "watching"]);
+                let shown = screen(&clear, width, height);
+                assert_contains(&shown, &["y send", "stop", "cancel"]);
+            }
+        }
+        // Where there is room, the explanation is whole too.
+        assert_contains(&screen(&arm, 100, 30), &["Until then nothing is sent."]);
+    }
+
+    #[test]
+    fn wrapped_rows_counts_as_the_paragraph_wraps() {
+        let rows = |text: &str, width| wrapped_rows(&Line::raw(text.to_string()), width);
+        assert_eq!(rows("y arm   any other key keep watching", 40), 1);
+        assert_eq!(rows("y arm   any other key keep watching", 20), 2);
+        assert_eq!(rows("abcdefghij", 4), 3);
+        assert_eq!(rows("", 10), 1);
     }
 
     fn screen_small(app: &App) -> String {

@@ -83,3 +83,37 @@ fn after_an_estop_release_a_fresh_key_asks_for_command_mode_and_drives() {
 fn after_rc_override_ends_a_fresh_key_asks_for_command_mode_and_drives() {
     resumes_after("tracerctl-swb-mode", "swb-middle", "swb-top", "RC transmitter has control");
 }
+
+/// `c` while watching asks to arm; `y` arms and goes on to the clear prompt it was pressed for (issue 28,
+/// 1.7: it armed and forgot the clear). The clear itself still asks first: nothing is sent but 0x421.
+#[test]
+fn clear_while_watching_arms_then_asks_to_clear() {
+    let (session, _dir, log) = sim_dashboard("tracerctl-clear-arm", "");
+    session.keys(&["c"]);
+    let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Arm driving?"));
+    assert!(asked, "c asks to arm first:\n{screen}");
+    session.keys(&["y"]);
+    let (clear, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Clear faults?"));
+    assert!(clear && screen.contains("· ARMED ·"), "armed, then the clear prompt:\n{screen}");
+    session.keys(&["n"]);
+    let (closed, screen) = session.wait_for(Duration::from_secs(5), |s| !s.contains("Clear faults?"));
+    assert!(closed, "{screen}");
+    std::thread::sleep(Duration::from_millis(300));
+    let record = std::fs::read_to_string(&log).unwrap_or_default();
+    assert!(!record.contains(" 441#"), "no clear was sent without its own yes");
+    session.keys(&["q"]);
+}
+
+/// A replay cannot be driven: its footer offers only the keys that do something there.
+#[test]
+fn a_replay_footer_offers_only_what_works() {
+    let log = crate::util::data("tracer_session.log");
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    let command = format!("{} --replay {} dashboard; sleep 30", binary.display(), log.display());
+    let session = Session::start(&format!("tracerctl-replay-footer-{}", std::process::id()), &command);
+    let (up, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("│robot"));
+    assert!(up, "{screen}");
+    let footer = screen.lines().find(|line| line.trim_end().ends_with("q quit")).unwrap_or_default();
+    assert_eq!(footer.split_whitespace().collect::<Vec<_>>().join(" "), "? help q quit", "{screen}");
+    session.keys(&["q"]);
+}
