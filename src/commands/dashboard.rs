@@ -790,7 +790,8 @@ fn on_stop(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Insta
     teleop.release_all();
     driving.halt();
     if driving.armed() {
-        app.set_message("zero sent (Space): press a key again to drive".to_string(), now);
+        let stop = keys::key_name(keys::Action::Stop);
+        app.set_message(format!("zero sent ({stop}): press a key again to drive"), now);
     }
 }
 

@@ -97,7 +97,8 @@ fn mentions(text: &str, tokens: &[&str]) -> Vec<Mention> {
             Some((next..=next + inside).map(lower).collect())
         } else if backticked && at >= 2 && lower(at - 1) == "is" {
             Some(vec![lower(at - 2)])
-        } else if pressed && !article {
+        } else if (pressed && !article) || (words[at].raw.starts_with('(') && words[at].text.len() > 1) {
+            // `press e`; a key's own name in parentheses: `zero sent (Space)`.
             Some(Vec::new())
         } else {
             None
@@ -235,6 +236,7 @@ fn the_scan_finds_keys_named_in_prose_and_nothing_else() {
     );
     assert_eq!(found("| command mode is `e` |"), [one("e", &["mode"])]);
     assert_eq!(found("press Space"), [one("Space", &[])]);
+    assert_eq!(found("zero sent (Space): press a key"), [one("Space", &[])]);
     assert!(found("`-t a` (absolute, the default)").is_empty(), "a code span, not a key");
     assert!(found("| Space to the first zero frame |").is_empty());
     for prose in
