@@ -93,8 +93,10 @@ fn clear_while_watching_arms_then_asks_to_clear() {
     let (asked, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Arm driving?"));
     assert!(asked, "c asks to arm first:\n{screen}");
     session.keys(&["y"]);
-    let (clear, screen) = session.wait_for(Duration::from_secs(5), |s| s.contains("Clear faults?"));
-    assert!(clear && screen.contains("· ARMED ·"), "armed, then the clear prompt:\n{screen}");
+    // The header follows the arming state at its next refresh (every 50 ms), the prompt at once.
+    let (clear, screen) =
+        session.wait_for(Duration::from_secs(5), |s| s.contains("Clear faults?") && s.contains("· ARMED ·"));
+    assert!(clear, "armed, then the clear prompt:\n{screen}");
     session.keys(&["n"]);
     let (closed, screen) = session.wait_for(Duration::from_secs(5), |s| !s.contains("Clear faults?"));
     assert!(closed, "{screen}");
