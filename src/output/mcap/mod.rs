@@ -521,7 +521,7 @@ mod tests {
         assert_eq!(out, b"{\"sec\":1700000000,\"nsec\":20000001}");
         out.clear();
         push_vector(&mut out, 1.0, -0.000_000_001, f64::NAN);
-        assert_eq!(String::from_utf8(out).unwrap(), "{\"x\":1,\"y\":-0.000000001,\"z\":0}");
+        assert_eq!(String::from_utf8(out).unwrap(), "{\"x\":1.0,\"y\":-0.000000001,\"z\":0.0}");
     }
 
     #[test]
