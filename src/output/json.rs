@@ -49,7 +49,7 @@ fn push_header(out: &mut Vec<u8>, event: &Event) {
 
 /// A name known not to need escaping, quoted, or `null`.
 #[inline]
-pub fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
+fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
     match name {
         Some(name) => {
             out.push(b'"');
