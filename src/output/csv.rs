@@ -123,11 +123,8 @@ fn push_cell(out: &mut Vec<u8>, text: &str) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::output::FrameRef;
-    use crate::protocol::can::encode;
     use crate::protocol::fields::one_of_each_message;
     use crate::protocol::message::{Message, PercentMotionCommand};
-    use crate::protocol::CanFrame;
 
     /// Each field's cell, placed by looking its name up among the columns: the plain way.
     fn expected_row(decoded: &crate::protocol::Decoded) -> Vec<String> {
@@ -157,23 +154,36 @@ mod tests {
             message: Message::PercentMotionCommand(command),
         });
         for decoded in samples {
-            // The writer takes the fields from the decoded message; a sample no codec writes (an
-            // old-firmware frame) gets stand-in bytes.
-            let frame = encode(&decoded).or_else(|_| CanFrame::new(0x123, &[0; 8])).unwrap();
-            let event = Event {
-                ts: None,
-                iface: "can0",
-                dir: None,
-                frame: FrameRef::Can(&frame),
-                decoded: Ok(Some(decoded)),
-            };
-            let mut out = Vec::new();
-            write(&mut out, &event);
-            let row = String::from_utf8(out).unwrap();
+            let row = crate::output::written(write, decoded);
             let cells: Vec<&str> = row.trim_end_matches('\n').split(',').collect();
             assert_eq!(cells.len(), EVENT_COLUMNS.len() + ALL_FIELD_NAMES.len(), "{row}");
             assert_eq!(cells[EVENT_COLUMNS.len()..], expected_row(&decoded), "{row}");
             assert!(row.ends_with('\n'));
         }
+    }
+
+    /// A reader that types columns from the first rows (DuckDB, Spark) must see a float in a stationary log.
+    #[test]
+    fn a_zero_current_or_speed_is_written_as_a_float() {
+        use crate::protocol::message::{MotionState, MotorHighSpeed};
+        let cells_of = |message| {
+            let decoded = crate::protocol::Decoded { wire: crate::protocol::Wire::CanV2, message };
+            let row = crate::output::written(write, decoded);
+            let cells: Vec<String> = row.trim_end().split(',').map(str::to_string).collect();
+            let cell = |name: &str| {
+                cells[EVENT_COLUMNS.len() + ALL_FIELD_NAMES.iter().position(|n| *n == name).unwrap()].clone()
+            };
+            (cell("linear_velocity"), cell("angular_velocity"), cell("current"), cell("rpm"))
+        };
+        let motor = MotorHighSpeed { motor: 1, rpm: 0, current_deciamps: 0, pulse_count: 0 };
+        assert_eq!(
+            cells_of(Message::MotorHighSpeed(motor)),
+            ("".into(), "".into(), "0.0".into(), "0".into())
+        );
+        let standing = MotionState { linear_mm_s: 0, angular_mrad_s: -1000, count: 0 };
+        assert_eq!(
+            cells_of(Message::MotionState(standing)),
+            ("0.0".into(), "-1.0".into(), "".into(), "".into())
+        );
     }
 }

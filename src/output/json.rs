@@ -49,7 +49,7 @@ fn push_header(out: &mut Vec<u8>, event: &Event) {
 
 /// A name known not to need escaping, quoted, or `null`.
 #[inline]
-pub fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
+fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
     match name {
         Some(name) => {
             out.push(b'"');
@@ -177,5 +177,32 @@ fn push_escaped(out: &mut Vec<u8>, byte: u8) {
             push_hex(out, &[byte]);
         }
         _ => out.push(byte),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::protocol::message::{Message, MotionState, Odometry};
+    use crate::protocol::Wire;
+
+    fn line_of(message: Message) -> String {
+        crate::output::written(write, Decoded { wire: Wire::CanV2, message })
+    }
+
+    /// A reader that types columns from the first rows (DuckDB, Spark) must see a float in a stationary log.
+    #[test]
+    fn a_zero_or_whole_speed_is_written_as_a_float() {
+        let standing =
+            line_of(Message::MotionState(MotionState { linear_mm_s: 0, angular_mrad_s: 2000, count: 0 }));
+        assert!(
+            standing.contains(r#""fields":{"linear_velocity":0.0,"angular_velocity":2.0}"#),
+            "{standing}"
+        );
+        let odometry = line_of(Message::Odometry(Odometry { left_mm: 0, right_mm: -1000 }));
+        assert!(
+            odometry.contains(r#""fields":{"left_wheel_odometer":0.0,"right_wheel_odometer":-1.0}"#),
+            "{odometry}"
+        );
     }
 }

@@ -214,6 +214,23 @@ fn direction_name(dir: Direction) -> &'static str {
     }
 }
 
+/// A writer's output for `decoded` on `can0` (tests): the frame its codec writes, or stand-in bytes for a
+/// message no codec writes (an old-firmware frame); the writer takes the fields from `decoded`.
+#[cfg(test)]
+pub(crate) fn written(write: fn(&mut Vec<u8>, &Event), decoded: Decoded) -> String {
+    let frame = crate::protocol::can::encode(&decoded).or_else(|_| CanFrame::new(0x123, &[0; 8])).unwrap();
+    let event = Event {
+        ts: None,
+        iface: "can0",
+        dir: None,
+        frame: FrameRef::Can(&frame),
+        decoded: Ok(Some(decoded)),
+    };
+    let mut out = Vec::new();
+    write(&mut out, &event);
+    String::from_utf8(out).unwrap()
+}
+
 #[cfg(test)]
 mod color_tests {
     use super::ColorChoice;

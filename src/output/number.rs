@@ -70,28 +70,40 @@ fn push_digits(out: &mut Vec<u8>, buf: &[u8; NUMBER_BUFFER], start: usize, end: 
 /// A number buffer: all `'0'`, so digits written right-aligned are zero-padded for free (no `memset`).
 const ZEROS: [u8; NUMBER_BUFFER] = [b'0'; NUMBER_BUFFER];
 
-/// `raw / 10^scale` in plain decimal, trailing fractional zeros trimmed: (259, 1) -> "25.9", (150, 3) -> "0.15",
-/// (-5, 3) -> "-0.005", (2000, 3) -> "2".
-///
+/// `raw / 10^scale` as a JSON or CSV float: plain decimal, trailing fractional zeros trimmed down to one, so
+/// the number always has its decimal point: (259, 1) -> "25.9", (150, 3) -> "0.15", (2000, 3) -> "2.0",
+/// (0, 3) -> "0.0". A reader that types a column from its first rows (DuckDB's `read_json_auto`, Spark)
+/// then makes a speed column DOUBLE even when the log starts with the robot standing still.
+pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
+    push_decimal_as::<true>(out, raw, scale);
+}
+
+/// `raw / 10^scale` for people (text output): trailing fractional zeros and a bare point trimmed,
+/// (2000, 3) -> "2", (-5, 3) -> "-0.005".
+pub fn push_decimal_trimmed(out: &mut Vec<u8>, raw: i64, scale: u8) {
+    push_decimal_as::<false>(out, raw, scale);
+}
+
 /// Written into a stack buffer and appended once: the per-byte pushes and the two `itoa` calls it used
 /// to make cost more than the digits (measured with callgrind on the JSON path).
-pub fn push_decimal(out: &mut Vec<u8>, raw: i64, scale: u8) {
+#[inline(always)]
+fn push_decimal_as<const POINT_KEPT: bool>(out: &mut Vec<u8>, raw: i64, scale: u8) {
     // A divisor known when compiling is a multiplication; a division by a variable one is not (and
     // `pow` is a loop). The protocol's scales are 1, 3 and 5.
     match scale {
-        1 => push_scaled::<1>(out, raw),
-        2 => push_scaled::<2>(out, raw),
-        3 => push_scaled::<3>(out, raw),
-        4 => push_scaled::<4>(out, raw),
-        5 => push_scaled::<5>(out, raw),
-        6 => push_scaled::<6>(out, raw),
-        _ => push_decimal_general(out, raw, scale),
+        1 => push_scaled::<1, POINT_KEPT>(out, raw),
+        2 => push_scaled::<2, POINT_KEPT>(out, raw),
+        3 => push_scaled::<3, POINT_KEPT>(out, raw),
+        4 => push_scaled::<4, POINT_KEPT>(out, raw),
+        5 => push_scaled::<5, POINT_KEPT>(out, raw),
+        6 => push_scaled::<6, POINT_KEPT>(out, raw),
+        _ => push_decimal_general(out, raw, scale, POINT_KEPT),
     }
 }
 
-/// [`push_decimal`] with the scale as a constant.
+/// [`push_decimal_as`] with the scale as a constant.
 #[inline(always)]
-fn push_scaled<const SCALE: u32>(out: &mut Vec<u8>, raw: i64) {
+fn push_scaled<const SCALE: u32, const POINT_KEPT: bool>(out: &mut Vec<u8>, raw: i64) {
     let divisor = 10u64.pow(SCALE);
     let magnitude = raw.unsigned_abs();
     let mut buf = ZEROS;
@@ -111,16 +123,17 @@ fn push_scaled<const SCALE: u32>(out: &mut Vec<u8>, raw: i64) {
         buf[POINT] = b'.';
         end = POINT + 1 + digits;
         digits_ending_at(&mut buf, end, fraction);
+    } else if POINT_KEPT {
+        // The buffer is all '0': the point is the only byte to write.
+        buf[POINT] = b'.';
+        end = POINT + 2;
     }
     push_digits(out, &buf, start, end);
 }
 
-/// [`push_decimal`] for any scale, with `itoa`.
+/// [`push_decimal_as`] for any scale, with `itoa`.
 #[cold]
-fn push_decimal_general(out: &mut Vec<u8>, raw: i64, scale: u8) {
-    if scale == 0 {
-        return push_int(out, raw);
-    }
+fn push_decimal_general(out: &mut Vec<u8>, raw: i64, scale: u8, point_kept: bool) {
     let divisor = 10u128.pow(u32::from(scale));
     let magnitude = u128::from(raw.unsigned_abs());
     if raw < 0 {
@@ -129,6 +142,9 @@ fn push_decimal_general(out: &mut Vec<u8>, raw: i64, scale: u8) {
     push_int(out, magnitude / divisor);
     let mut fraction = magnitude % divisor;
     if fraction == 0 {
+        if point_kept {
+            out.extend_from_slice(b".0");
+        }
         return;
     }
     let mut digits = scale;
@@ -297,6 +313,12 @@ mod tests {
 
     fn decimal(raw: i64, scale: u8) -> String {
         let mut out = Vec::new();
+        push_decimal_trimmed(&mut out, raw, scale);
+        String::from_utf8(out).unwrap()
+    }
+
+    fn float(raw: i64, scale: u8) -> String {
+        let mut out = Vec::new();
         push_decimal(&mut out, raw, scale);
         String::from_utf8(out).unwrap()
     }
@@ -321,12 +343,31 @@ mod tests {
     }
 
     #[test]
+    fn floats_always_have_a_decimal_point() {
+        assert_eq!(float(0, 3), "0.0");
+        assert_eq!(float(0, 1), "0.0");
+        assert_eq!(float(2000, 3), "2.0");
+        assert_eq!(float(-2000, 3), "-2.0");
+        assert_eq!(float(150, 3), "0.15");
+        assert_eq!(float(259, 1), "25.9");
+        assert_eq!(float(-5, 3), "-0.005");
+        assert_eq!(float(42, 0), "42.0");
+        assert_eq!(float(0, 9), "0.0");
+        assert_eq!(float(-3_000_000_000, 9), "-3.0");
+        assert_eq!(float(i64::MIN, 3), "-9223372036854775.808");
+        assert_eq!(float(0, 20), "0.0");
+    }
+
+    #[test]
     fn decimals_match_the_general_route() {
         for raw in [0, 1, -1, 7, 10, 99, 100, 101, 259, -5, 1200, 65535, -32768, i64::MAX, i64::MIN] {
             for scale in 0..=19 {
-                let mut general = Vec::new();
-                push_decimal_general(&mut general, raw, scale);
-                assert_eq!(decimal(raw, scale).as_bytes(), general, "{raw} {scale}");
+                for point_kept in [false, true] {
+                    let mut general = Vec::new();
+                    push_decimal_general(&mut general, raw, scale, point_kept);
+                    let fast = if point_kept { float(raw, scale) } else { decimal(raw, scale) };
+                    assert_eq!(fast.as_bytes(), general, "{raw} {scale} {point_kept}");
+                }
             }
         }
     }

@@ -189,7 +189,7 @@ fn push_field(out: &mut Vec<u8>, field: &Field, color: bool) {
     KEYS[field.name.column()].push_to(out);
     match field.value {
         Value::Int(value) => push_int(out, value),
-        Value::Decimal { raw, scale } => push_decimal(out, raw, scale),
+        Value::Decimal { raw, scale } => push_decimal_trimmed(out, raw, scale),
         Value::Code { value, digits } => push_hex_value(out, u32::from(value), digits),
         Value::Bool(value) => out.extend_from_slice(if value { b"true" } else { b"false" }),
         Value::Name { raw, name } => push_name(out, raw, name),

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# Installs the Debian package built by `cargo deb --locked` and checks it as a technician would use it: the
-# binary's version, `man tracerctl`, bash completion of a subcommand, the zsh/fish completions and the docs in
-# place; then `dpkg -r` removes every file it installed. Run as root (CI does, from .ci/run):
+# Checks the Debian package built by `cargo deb --locked`: lintian finds no error and no warning; then installs
+# it and checks it as a technician would use it: the binary's version, `man tracerctl`, bash completion of a
+# subcommand, the zsh/fish completions and the docs in place; then `dpkg -r` removes every file it installed.
+# Run as root (CI does, from .ci/run):
 #   bash tests/deb/check.sh [target/debian/tracerctl_*.deb]
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -19,6 +20,23 @@ if [ -z "$deb" ]; then
     deb=${debs[-1]}
 fi
 version=$(sed -n 's/^version = "\(.*\)"$/\1/p' Cargo.toml | head -n 1)
+
+# The package's changelog (debian/changelog, installed as changelog.Debian.gz) starts with this version.
+changelog_version=$(sed -n '1s/^tracerctl (\([^)]*\)).*/\1/p' debian/changelog)
+[ "$changelog_version" = "$version-1" ] ||
+    fail "debian/changelog's first entry is ${changelog_version:-missing}, the package is $version-1: add an entry"
+
+# lintian, as Debian checks a package: every error and warning fails (the tags are printed). Info-level notes
+# (I:) do not fail.
+if ! command -v lintian >/dev/null; then
+    apt-get update -q
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends lintian
+fi
+tags=$(lintian --tag-display-limit 0 "$deb" 2>&1) || true
+errors=$(grep -c '^E: ' <<<"$tags" || true)
+warnings=$(grep -c '^W: ' <<<"$tags" || true)
+((errors == 0 && warnings == 0)) || fail "lintian: $errors errors, $warnings warnings:\n$tags"
+pass "lintian $(lintian --version | awk '{print $2}'): 0 errors, 0 warnings"
 
 # Docker-style images tell dpkg to drop man pages and docs (path-exclude): then `man tracerctl` cannot be
 # checked, and saying so is better than a confusing failure.

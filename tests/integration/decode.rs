@@ -57,7 +57,7 @@ fn json_output_matches_the_documented_schema() {
     assert_eq!(objects[4]["ts"], json!(1700000000.0605));
     assert_eq!(objects[12]["fields"], json!({"linear_velocity": -0.2, "angular_velocity": -0.5}));
     assert_eq!(objects[13]["fields"], json!({"left_wheel_odometer": -0.063, "right_wheel_odometer": 0.018}));
-    assert_eq!(objects[11]["fields"], json!({"motor": 1, "rpm": 3000, "current": 5, "pulse_count": 0}));
+    assert_eq!(objects[11]["fields"], json!({"motor": 1, "rpm": 3000, "current": 5.0, "pulse_count": 0}));
     assert_eq!(objects[8]["fields"]["faults"], json!(["battery_undervoltage_warning"]));
     assert_eq!(objects[8]["fields"]["fault_code"], json!(0x0200));
 }

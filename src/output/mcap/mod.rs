@@ -19,7 +19,7 @@ use mcap::records::{MessageHeader, Metadata};
 use self::pipe::Pipe;
 use strum::IntoEnumIterator;
 
-use super::json::{push_frame_keys, push_message_fields, push_name_or_null, push_string};
+use super::json::{push_frame_keys, push_message_fields, push_string};
 use super::number::{push_decimal, push_int};
 use super::{direction_name, Event, Shape};
 use crate::protocol::message::{
@@ -232,22 +232,31 @@ impl<W: Write + Seek + Send + 'static> McapWriter<W> {
         self.pipe.message(header)
     }
 
-    /// `{"ts_ns":..,"iface":..,"id":..,"data":..,"dir":..,"msg":..,"wire":..}`
+    /// `{"ts_ns":..,"iface":..,"id":..,"data":..,"dir":..,"msg":..,"wire":..}`. `ts_ns`, `dir` and `wire`
+    /// are left out when the frame has none: Foxglove's JSON Schema parser takes one type per field, no
+    /// `null` (docs/foxglove.md section 1).
     fn raw(&mut self, event: &Event, stamp: Option<u64>) -> mcap::McapResult<()> {
         let out = self.pipe.body();
-        out.extend_from_slice(b"{\"ts_ns\":");
-        match stamp {
-            Some(ns) => push_int(out, ns),
-            None => out.extend_from_slice(b"null"),
+        out.push(b'{');
+        if let Some(ns) = stamp {
+            out.extend_from_slice(b"\"ts_ns\":");
+            push_int(out, ns);
+            out.push(b',');
         }
-        out.push(b',');
         push_frame_keys(out, event);
-        out.extend_from_slice(b",\"dir\":");
-        push_name_or_null(out, event.dir.map(direction_name));
+        if let Some(dir) = event.dir {
+            out.extend_from_slice(b",\"dir\":\"");
+            out.extend_from_slice(direction_name(dir).as_bytes());
+            out.push(b'"');
+        }
         out.extend_from_slice(b",\"msg\":\"");
         out.extend_from_slice(event.msg_name().as_bytes());
-        out.extend_from_slice(b"\",\"wire\":");
-        push_name_or_null(out, event.wire_name());
+        out.push(b'"');
+        if let Some(wire) = event.wire_name() {
+            out.extend_from_slice(b",\"wire\":\"");
+            out.extend_from_slice(wire.as_bytes());
+            out.push(b'"');
+        }
         out.push(b'}');
         self.write_body(self.channels.raw)
     }
@@ -521,7 +530,7 @@ mod tests {
         assert_eq!(out, b"{\"sec\":1700000000,\"nsec\":20000001}");
         out.clear();
         push_vector(&mut out, 1.0, -0.000_000_001, f64::NAN);
-        assert_eq!(String::from_utf8(out).unwrap(), "{\"x\":1,\"y\":-0.000000001,\"z\":0}");
+        assert_eq!(String::from_utf8(out).unwrap(), "{\"x\":1.0,\"y\":-0.000000001,\"z\":0.0}");
     }
 
     #[test]

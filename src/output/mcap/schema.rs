@@ -133,7 +133,9 @@ pub fn message_schema(kind: MessageKind) -> Json {
     })
 }
 
-/// Every frame, as decode's JSON header without the decoded fields.
+/// Every frame, as decode's JSON header without the decoded fields. A frame without a stamp, direction or
+/// wire leaves that key out (decode's JSON writes `null`): Foxglove's parser takes one `type` per property
+/// and no `null`, and drops a channel whose schema has one.
 pub fn raw_schema() -> Json {
     json!({
         "$schema": DRAFT,
@@ -141,15 +143,15 @@ pub fn raw_schema() -> Json {
         "description": "Every frame as captured (docs/json.md section 1)",
         "type": "object",
         "properties": {
-            "ts_ns": {"type": ["integer", "null"], "description": "The stamp as captured, ns; null without one."},
+            "ts_ns": {"type": "integer", "minimum": 0, "description": "The stamp as captured, ns; absent without one."},
             "iface": {"type": "string"},
             "id": {"type": "string", "description": "Identifier as printed (docs/json.md section 1: standard, extended, error and RS232 forms)."},
             "data": {"type": "string", "description": "Payload bytes in hex (a whole 13-byte RS232 frame)."},
-            "dir": {"enum": ["rx", "tx", null], "description": "candump -x direction, null without it."},
+            "dir": {"type": "string", "enum": ["rx", "tx"], "description": "candump -x direction; absent without it."},
             "msg": {"type": "string", "description": "Message name, or raw, invalid, error_frame, remote_request."},
-            "wire": {"enum": ["can-v2", "can-v1", "serial", null]}
+            "wire": {"type": "string", "enum": ["can-v2", "can-v1", "serial"], "description": "Encoding of a TRACER message; absent for other frames."}
         },
-        "required": ["ts_ns", "iface", "id", "data", "dir", "msg", "wire"],
+        "required": ["iface", "id", "data", "msg"],
         "additionalProperties": false
     })
 }
@@ -285,6 +287,58 @@ mod tests {
             let row = format!("| `{topic}` | `{schema}` |");
             assert!(doc.contains(&row), "docs/foxglove.md lacks the row {row}");
         }
+    }
+
+    /// Foxglove's `parseJsonSchema` (mcap-support) as a predicate: an object with properties that each have
+    /// one `type` it knows (arrays of such items, nested objects alike), or a `oneOf` of numeric `const`s.
+    /// tests/mcap/foxglove_subset.py applies the same rules to the files in CI.
+    fn foxglove_rejects(schema: &Json, path: &str) -> Vec<String> {
+        if schema["type"] != "object" {
+            return vec![format!("{path}: type {} is not \"object\"", schema["type"])];
+        }
+        let mut problems = Vec::new();
+        for (name, property) in schema["properties"].as_object().into_iter().flatten() {
+            let path = format!("{path}.{name}");
+            if let Some(alternatives) = property["oneOf"].as_array() {
+                if !alternatives.iter().all(|alternative| alternative["const"].is_number()) {
+                    problems.push(format!("{path}: oneOf without numeric consts"));
+                }
+                continue;
+            }
+            let mut kind = &property["type"];
+            if kind == "array" {
+                kind = &property["items"]["type"];
+            }
+            match kind.as_str() {
+                Some("boolean" | "string" | "number" | "integer") => {}
+                Some("object") if property["type"] == "object" => {
+                    problems.extend(foxglove_rejects(property, &path))
+                }
+                Some("object") => problems.extend(foxglove_rejects(&property["items"], &path)),
+                _ => problems.push(format!("{path}: unsupported type {kind}")),
+            }
+        }
+        problems
+    }
+
+    #[test]
+    fn every_schema_fits_foxglove_json_schema_parser() {
+        let mut problems = Vec::new();
+        for (_, name) in fixed_topics() {
+            problems.extend(foxglove_rejects(&schema_named(&name).unwrap(), &name));
+        }
+        assert_eq!(problems, Vec::<String>::new());
+        // The rules catch what Foxglove 1.48 and Lichtblick threw on ("Unsupported type undefined for dir").
+        let old_raw = json!({"type": "object", "properties": {
+            "ts_ns": {"type": ["integer", "null"]}, "dir": {"enum": ["rx", "tx", null]}, "level": {"type": "null"}}});
+        assert_eq!(
+            foxglove_rejects(&old_raw, "raw"),
+            [
+                "raw.dir: unsupported type null",
+                "raw.level: unsupported type \"null\"",
+                "raw.ts_ns: unsupported type [\"integer\",\"null\"]",
+            ]
+        );
     }
 
     #[test]
