@@ -254,6 +254,8 @@ impl<'a> Driving<'a> {
             sender.halt();
         }
         self.needs_release = true;
+        // The press that asked for command mode is void: a new one asks again.
+        self.mode_requested = None;
     }
 
     /// Takes what the robot reports: an E-stop, a latched fault or RC override blocks driving (zero at
@@ -263,9 +265,8 @@ impl<'a> Driving<'a> {
         self.in_command_mode =
             fresh.map(|(state, wire)| state.mode(wire) == Some(ControlMode::command_mode_of(wire)));
         let blocked = fresh.and_then(|(state, wire)| state.why_not_drivable(wire));
-        let mode = self.await_command_mode();
         if blocked == self.blocked {
-            return mode;
+            return None;
         }
         self.mode_requested = None;
         let message = match (&self.blocked, &blocked) {
@@ -313,6 +314,9 @@ impl<'a> Driving<'a> {
         let watchdog = stats.watchdog_trips > self.seen_watchdog;
         self.seen_gaps = stats.gaps;
         self.seen_watchdog = stats.watchdog_trips;
+        if gap || watchdog {
+            self.mode_requested = None;
+        }
         if gap {
             self.needs_release = true;
             let seconds = stats.last_gap.unwrap_or_default().as_secs_f64();
@@ -631,7 +635,8 @@ impl<'a> Loop<'a> {
                     _ => None,
                 }
             }
-            Effect::Arm => {}
+            // A key's release or repeat (kitty protocol) does nothing, and keeps what was asked.
+            Effect::Arm | Effect::None => {}
             _ => self.after_arm = None,
         }
     }
@@ -692,6 +697,10 @@ impl<'a> Loop<'a> {
         }
         if let Some(text) = self.driving.observe(&status) {
             self.teleop.release_all();
+            self.app.set_message(text, Instant::now());
+        }
+        // Not a block: the key held since the fresh press drives on once the robot confirms.
+        if let Some(text) = self.driving.await_command_mode() {
             self.app.set_message(text, Instant::now());
         }
         let stats = self.driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();

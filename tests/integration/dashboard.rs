@@ -523,7 +523,7 @@ impl PtyDashboard {
 }
 
 /// (arrival, linear percent) of the RS232 motion frames a fake robot received.
-fn percents(robot: &crate::serial_peer::FakeRobot) -> Vec<(Instant, i8)> {
+pub(crate) fn percents(robot: &crate::serial_peer::FakeRobot) -> Vec<(Instant, i8)> {
     robot
         .frames()
         .iter()

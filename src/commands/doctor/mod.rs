@@ -181,8 +181,7 @@ fn examine<W: Write>(session: &Session, args: &Options, report: &mut Report<W>) 
         } else {
             // The probe only ever sends zero velocity; a signal ends it early and cleanly.
             let signals = crate::signals::listen(|_| {})?;
-            probe::run(session, &signals, &mut |check| Ok(report.add(check)?))?;
-            if signals.received().is_some() {
+            if probe::run(session, &signals, &mut |check| Ok(report.add(check)?))? {
                 report.interrupt(signals.name());
             }
             return Ok(signals.exit_status());

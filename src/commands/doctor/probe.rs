@@ -26,12 +26,13 @@ const MOTION_PERIOD: Duration = Duration::from_millis(20);
 const STILL_LINEAR: f64 = 0.01;
 const STILL_ANGULAR: f64 = 0.01;
 
-/// Runs the probe's checks, handing each to `found` as it completes (the report prints it at once).
+/// Runs the probe's checks, handing each to `found` as it completes (the report prints it at once). True
+/// when a signal cut the zero-motion probe short: what it would have found is unknown.
 pub fn run(
     session: &Session,
     signals: &SignalFlag,
     found: &mut dyn FnMut(Check) -> Result<()>,
-) -> Result<()> {
+) -> Result<bool> {
     let wire = session.wire();
     let choice = ControlMode::command_mode_of(wire);
     let wanted = choice.code(wire);
@@ -39,14 +40,17 @@ pub fn run(
     let mode = probe_mode(session, wanted)?;
     let mode_ok = mode.outcome == super::report::Outcome::Pass;
     found(mode)?;
-    found(probe_motion(session, wanted, mode_ok, signals)?)?;
+    let motion = probe_motion(session, wanted, mode_ok, signals)?;
+    // The motion probe skips only when a signal cut it short.
+    let cut_short = motion.outcome == super::report::Outcome::Skip;
+    found(motion)?;
     // 0x421 can put back standby or serial mode on V2; RC mode comes back by itself (it is a switch).
     if let (Wire::CanV2, Some(mode @ (ControlMode::Standby | ControlMode::Serial))) = (wire, before) {
         if mode_ok {
             found(restore(session, mode)?)?;
         }
     }
-    Ok(())
+    Ok(cut_short)
 }
 
 fn probe_mode(session: &Session, wanted: u8) -> Result<Check> {
