@@ -8,6 +8,8 @@ mod dashboard_keys;
 mod dashboard_screens;
 mod decode;
 mod decode_losses;
+#[cfg(target_os = "linux")]
+mod decode_stops;
 mod docs;
 mod doctor;
 mod drive;

@@ -49,6 +49,7 @@ use anyhow::Result;
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
+use super::interrupt::StopReading;
 use super::ranges::{Piece, Range, Ranges, Sizing, SLICE_BYTES, WINDOW_BYTES};
 use super::summary::Summary;
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
@@ -263,6 +264,9 @@ pub(super) fn decode(
     };
     let chunk_bytes = decoder.chunk_bytes.unwrap_or(if partial { SUMMARY_CHUNK_BYTES } else { CHUNK_BYTES });
     let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), chunk_bytes.max(1));
+    // Set when this thread stops taking chunks (the end, an error, --strict, a signal): the others stop too.
+    let finished = Arc::new(AtomicBool::new(false));
+    let stop = StopReading::new(decoder.signals.clone(), Arc::clone(&finished));
     // A plain file's size is its text's: the ranges are cut in it.
     let settings = match (plain, size) {
         (Some(file), Some(size)) => {
@@ -274,7 +278,8 @@ pub(super) fn decode(
             let slice_bytes = decoder.chunk_bytes.map_or(SLICE_BYTES, |bytes| bytes.div_ceil(3));
             let window_bytes = decoder.chunk_bytes.map_or(WINDOW_BYTES, |bytes| bytes.div_ceil(2));
             let text_start = byte_order_mark(&file);
-            let ranges = Ranges::new(file, text_start, size, sizing, (slice_bytes, Some(window_bytes)));
+            let ranges = Ranges::new(file, text_start, size, sizing, (slice_bytes, Some(window_bytes)))
+                .stopping(stop.clone());
             Settings { ranges: Some(Arc::new(ranges)), ..settings }
         }
         _ => settings,
@@ -283,11 +288,10 @@ pub(super) fn decode(
     let guess = Mutex::new(Start { carried: LineParser::for_format(format).carried(), ..Start::default() });
     let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
     let (done_tx, done_rx) = mpsc::channel::<Chunk>();
-    // Set when this thread stops taking chunks (the end, an error, --strict, a signal): the others stop too.
-    let finished = Arc::new(AtomicBool::new(false));
     for _ in 0..threads * 2 + 2 {
         let _ = pool_tx.send(Chunk::default());
     }
+    let reader = Stopping { inner: reader, stop };
     let splitter = Splitter::new(reader, Cut { chunk_bytes, stream });
     let source = if let Some(ranges) = &settings.ranges {
         Source::Ranges { ranges: Arc::clone(ranges), pool: Mutex::new(pool_rx) }
@@ -1030,6 +1034,22 @@ impl ChunkLines<'_> {
             }
             None => outcome.counted.push(Reject { line, message: String::new(), reason, length, count: 1 }),
         }
+    }
+}
+
+/// The input as the workers read it: every read looks at the stop first, so a worker inside an endless line
+/// (a decompression bomb of zeros, which it reads on to its `\n`) lets go at a signal.
+struct Stopping<R> {
+    inner: R,
+    stop: StopReading,
+}
+
+impl<R: Read> Read for Stopping<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        if self.stop.now() {
+            return Err(io::Error::other(Interrupted));
+        }
+        self.inner.read(buf)
     }
 }
 

@@ -20,7 +20,9 @@ use std::os::unix::fs::FileExt;
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
+use super::interrupt::StopReading;
 use super::mapped::Window;
+use super::Interrupted;
 use crate::candump::DEFAULT_MAX_LINE_LEN;
 
 /// Bytes a read asks for: a slice this size and the line it carries over stay in a core's L2 cache.
@@ -91,6 +93,8 @@ pub struct Ranges {
     /// Bytes mapped at once; `None`: read only.
     window_bytes: Option<usize>,
     next: Mutex<(u64, Option<u64>)>,
+    /// Looked at before every read and window: a line of gigabytes is let go at a signal.
+    stop: Option<StopReading>,
 }
 
 thread_local! {
@@ -110,7 +114,17 @@ impl Ranges {
     ) -> Self {
         let (slice_bytes, window_bytes) = (slice_bytes.max(1), window_bytes.map(|bytes| bytes.max(1)));
         let next = Mutex::new((0, Some(text_start)));
-        Self { file, size, sizing, slice_bytes, window_bytes, next }
+        Self { file, size, sizing, slice_bytes, window_bytes, next, stop: None }
+    }
+
+    /// These ranges, whose reading ends (with an [`Interrupted`] error) once `stop` says so.
+    pub fn stopping(self, stop: StopReading) -> Self {
+        Self { stop: Some(stop), ..self }
+    }
+
+    /// The error a reading ends with when decoding stopped.
+    fn stopped(&self) -> Option<io::Error> {
+        self.stop.as_ref().filter(|stop| stop.now()).map(|_| io::Error::other(Interrupted))
     }
 
     /// The next range in input order; `None` once the range reaching the end was claimed.
@@ -148,6 +162,9 @@ impl Ranges {
         let mut scan = [0u8; SCAN_BYTES];
         let mut pos = at - 1;
         loop {
+            if self.stopped().is_some() {
+                return None;
+            }
             match self.read_at(&mut scan, pos) {
                 Ok(0) | Err(_) => return None,
                 Ok(read) => match memchr(b'\n', &scan[..read]) {
@@ -198,6 +215,9 @@ impl Ranges {
             if range.end.is_some_and(|end| pos >= end) {
                 return end_of(pos);
             }
+            if let Some(error) = self.stopped() {
+                return RangeEnd { bytes: pos - first, error: Some(error) };
+            }
             if let Some(last) = memrchr(b'\n', &buf[..filled]) {
                 let mut lines = last + 1;
                 if let Some(end) = range.end.filter(|&end| pos + lines as u64 > end) {
@@ -219,6 +239,9 @@ impl Ranges {
                 // Too long: only its length is kept, counted up to its `\n`.
                 let mut length = filled;
                 loop {
+                    if let Some(error) = self.stopped() {
+                        return RangeEnd { bytes: pos - first, error: Some(error) };
+                    }
                     match self.read_at(&mut buf[..self.slice_bytes], pos + length as u64) {
                         // The unfinished line before a read error is dropped, as the single thread drops it.
                         Err(error) => return RangeEnd { bytes: pos - first, error: Some(error) },
@@ -274,6 +297,10 @@ impl Ranges {
         take: &mut impl FnMut(Piece<'_>) -> bool,
     ) -> Mapped {
         while *pos < end {
+            if self.stopped().is_some() {
+                // The reads say it.
+                return Mapped::ReadOn;
+            }
             // A file cut short since is read instead: its missing pages would only fault.
             if self.file.metadata().map_or(true, |metadata| metadata.len() < end) {
                 return Mapped::ReadOn;
