@@ -34,6 +34,7 @@ mod recording;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;
+mod serial_text;
 mod sim_command;
 mod sim_training;
 mod usage;
