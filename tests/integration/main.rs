@@ -9,6 +9,8 @@ mod dashboard_screens;
 mod decode;
 mod decode_losses;
 #[cfg(target_os = "linux")]
+mod decode_shrinks;
+#[cfg(target_os = "linux")]
 mod decode_stops;
 mod docs;
 mod doctor;

@@ -5,11 +5,11 @@
 //! A mapped file that shrinks while it is read (another program truncates it) or whose disk fails makes the
 //! next touch of a page past its end raise `SIGBUS`, which would end the process without a word. A handler,
 //! installed with the first window, turns such a fault inside a window into a page of zeros and marks the
-//! window: the reader then reports the file as unreadable there ([`Window::faulted`]). A fault anywhere else
-//! goes to the handler that was there before, as if this one did not exist.
+//! window ([`Window::faulted`]): the reader then decodes the window's range again without mapping, which
+//! finds where the file now ends or the disk's error, so no zero mapped in here is ever counted. A fault
+//! anywhere else goes to the handler that was there before, as if this one did not exist.
 
 use std::fs::File;
-use std::io;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
@@ -79,12 +79,6 @@ impl Window {
     /// Whether a page of the window could not be read (its bytes read as zeros).
     pub fn faulted(&self) -> bool {
         self.slot.faulted.load(Ordering::Acquire)
-    }
-
-    /// The error the reader reports for a faulted window.
-    pub fn fault_error() -> io::Error {
-        let why = "the file was cut short while being read, or its disk failed";
-        io::Error::other(format!("a page of it could not be read ({why})"))
     }
 }
 

@@ -774,6 +774,15 @@ fn read_failed(chunk: &mut Chunk, last_newline: Option<usize>, long: &mut Option
 /// Decodes one chunk from `start` into its output (or events), as [`Decoder::candump`] decodes lines: its
 /// text, or the lines of its range read now.
 fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
+    if decode_chunk_from(settings, start, chunk, true) {
+        // A mapped page vanished under the lines decoded: all of them again, read from the file.
+        decode_chunk_from(settings, start, chunk, false);
+    }
+}
+
+/// [`decode_chunk`], its range's lines read from mapped windows if `mapped`; whether they must be read
+/// again without ([`super::ranges::RangeEnd::reread`]).
+fn decode_chunk_from(settings: &Settings, start: &Start, chunk: &mut Chunk, mapped: bool) -> bool {
     chunk.output.clear();
     chunk.events.clear();
     if settings.partial {
@@ -792,7 +801,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     parser.carry_on_from(&start.carried);
     match (chunk.range, &settings.ranges) {
         (Some(range), Some(ranges)) => {
-            let end = ranges.read(range, |piece| {
+            let end = ranges.read(range, mapped, |piece| {
                 match piece {
                     Piece::Lines(text) => decode_lines(&mut lines, &mut parser, text, &[]),
                     Piece::TooLong(length) => {
@@ -802,6 +811,9 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
                 }
                 lines.outcome.stop.is_none()
             });
+            if end.reread {
+                return true;
+            }
             chunk.bytes = end.bytes;
             chunk.read_error = end.error;
         }
@@ -813,6 +825,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     outcome.end = parser.carried();
     chunk.events.deltas = parser.delta_sum();
     chunk.outcome = outcome;
+    false
 }
 
 // Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
