@@ -39,6 +39,7 @@ mod serial_peer;
 mod serial_text;
 mod sim_command;
 mod sim_training;
+mod stress;
 mod usage;
 mod util;
 mod variants;

@@ -107,7 +107,7 @@ fn every_fixture_decodes_the_same_with_threads() {
 /// bad lines, an error frame's continuation text, a count-byte wrap of 0x211, DROPCOUNT, a Pengutronix
 /// header, over-long lines (one a log line padded with spaces, after an error frame), blank lines, and a
 /// last line without a newline.
-fn awkward_log() -> String {
+pub(crate) fn awkward_log() -> String {
     let mut log = String::new();
     for count in 250..=262u32 {
         let count = count % 256;

@@ -45,7 +45,7 @@ use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::Duration;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
@@ -363,6 +363,8 @@ impl Merger<'_> {
         let mut waiting = BTreeMap::new();
         let mut carried = LineParser::for_format(self.settings.format).carried();
         let (mut next, mut consumed) = (0u64, 0u64);
+        // A plain file's last range reads on to the end: until it is merged, the file is not.
+        let mut reached_end = self.settings.ranges.is_none();
         loop {
             let chunk = match done.recv_timeout(WAKE) {
                 Ok(chunk) => chunk,
@@ -378,6 +380,7 @@ impl Merger<'_> {
                     return Err(io::Error::other(Interrupted).into());
                 }
                 self.merge(&mut chunk, &mut carried)?;
+                reached_end |= chunk.range.is_some_and(|range| range.end.is_none());
                 consumed += chunk.bytes;
                 if let Some(bar) = &bar {
                     bar.set_position(consumed);
@@ -388,6 +391,15 @@ impl Merger<'_> {
         }
         if let Some(bar) = bar {
             bar.finish_and_clear();
+        }
+        // Every worker ended: a chunk that never came back would leave the ones after it here, and the
+        // input's tail unsaid. Never seen; said, should it happen, rather than lost.
+        if !waiting.is_empty() || !reached_end {
+            let after = waiting.len();
+            bail!(
+                "internal error: chunk {next} of {} was lost ({after} decoded after it not written)",
+                self.name
+            );
         }
         Ok(())
     }
