@@ -237,7 +237,7 @@ fn trc_log() -> String {
 fn asc_and_trc_logs_decode_the_same_with_threads() {
     let dir = tempfile::tempdir().unwrap();
     let files = [
-        ("session.asc", asc_log(), "decoded 639 frames from 700 lines; rejected 26 lines"),
+        ("session.asc", asc_log(), "decoded 653 frames from 700 lines; rejected 26 lines"),
         ("session.trc", trc_log(), "decoded 632 frames from 702 lines; rejected 16 lines"),
     ];
     for (name, log, totals) in files {
