@@ -12,13 +12,18 @@
 //!   30.005071 CANFD   2 Rx  300  Name  1 0 8  8 01 ... duration length flags ...   CAN FD (or classic, by flags)
 //! ```
 //!
-//! Stamps are seconds since the start of the measurement ([`TimestampKind::Relative`]); channel `N` becomes
-//! the interface `canN`.
+//! Stamps are seconds since the start of the measurement; the `date` line (and a `Begin Triggerblock` line
+//! that names a date) says when that was, in the recording machine's local time: the stamps are then on the
+//! clock (absolute, the date converted with the local time zone, `TZ`, as python-can's
+//! `ASCReader(relative_timestamp=False)` does), so a log lines up with candump logs of the same day; without
+//! a date they stay relative. Channel `N` becomes the interface `canN`. `ErrorFrame`
+//! lines are error frames, written as python-can writes them to candump logs: a bus error (`20000080#` and
+//! eight zero bytes), the ASC line saying nothing more.
 
 use super::hex::{decimal_time, decimal_u64, fields, hex_u32, hex_value};
 use super::line::{Direction, Line, Record};
 use super::timestamp::PosError;
-use super::{Reason, Timestamp, TimestampKind};
+use super::{Reason, Timestamp};
 use crate::protocol::frame::{CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
 use crate::protocol::CanFrame;
 
@@ -34,7 +39,12 @@ const FD_ESI: u8 = 0x2;
 pub(crate) struct AscState {
     /// `base dec`: identifiers and data bytes are decimal.
     decimal: bool,
+    /// When the measurement started (the `date` line), in seconds and nanoseconds since the epoch.
+    start: Option<(u64, u32)>,
 }
+
+/// The error class of an ASC error frame: a bus error, as python-can writes it (`CAN_ERR_BUSERROR`).
+const BUS_ERROR: u32 = 0x80;
 
 pub(crate) fn parse<'a>(
     text: &'a [u8],
@@ -47,9 +57,9 @@ pub(crate) fn parse<'a>(
         return Ok(Line::Blank);
     };
     let Some((secs, nanos)) = decimal_time(first, 1_000_000_000) else {
-        return header_line(first, fields.next().map(|(_, f)| f), state).ok_or((start, Reason::NotAsc));
+        return header_line(first, fields, state).ok_or((start, Reason::NotAsc));
     };
-    let ts = Timestamp { secs, nanos, kind: TimestampKind::Relative };
+    let ts = Timestamp::since_start(secs, nanos, state.start);
     let (at, second) = fields.next().ok_or((text.len(), Reason::NotAsc))?;
     match second {
         b"CANFD" => {
@@ -68,16 +78,80 @@ pub(crate) fn parse<'a>(
 }
 
 /// The lines before and between the events. `None`: not ASC at all.
-fn header_line(first: &[u8], second: Option<&[u8]>, state: &mut AscState) -> Option<Line<'static>> {
+fn header_line<'f>(
+    first: &[u8],
+    mut fields: impl Iterator<Item = (usize, &'f [u8])>,
+    state: &mut AscState,
+) -> Option<Line<'static>> {
+    let second = fields.next().map(|(_, field)| field);
     match first {
         b"base" => {
             state.decimal = second == Some(b"dec");
             Some(Line::Comment)
         }
-        b"date" | b"internal" | b"no" | b"Begin" | b"End" => Some(Line::Comment),
+        // `date Sat Sep 30 15:06:13.191 2017`: the weekday (in any language) is the second field.
+        b"date" => {
+            state.start = wall_clock(fields).or(state.start);
+            Some(Line::Comment)
+        }
+        // `Begin Triggerblock Sat Sep 30 15:06:13.191 2017`: the block's stamps count from there.
+        b"Begin" if second == Some(b"Triggerblock") => {
+            let mut fields = fields.skip(1);
+            state.start = wall_clock(&mut fields).or(state.start);
+            Some(Line::Comment)
+        }
+        b"internal" | b"no" | b"Begin" | b"End" => Some(Line::Comment),
         _ if first.starts_with(b"//") => Some(Line::Comment),
         _ => None,
     }
+}
+
+/// `Sep 30 15:06:13.191 2017` or `Sep 30 03:06:13 pm 2017` (months in English or German, as CANoe writes
+/// them), local time, as seconds and nanoseconds since the epoch.
+fn wall_clock<'f>(mut fields: impl Iterator<Item = (usize, &'f [u8])>) -> Option<(u64, u32)> {
+    const MONTHS: [&[u8]; 16] = [
+        b"Jan",
+        b"Feb",
+        b"Mar",
+        b"Apr",
+        b"May",
+        b"Jun",
+        b"Jul",
+        b"Aug",
+        b"Sep",
+        b"Oct",
+        b"Nov",
+        b"Dec",
+        "M\u{e4}r".as_bytes(),
+        b"Mai",
+        b"Okt",
+        b"Dez",
+    ];
+    const GERMAN: [u32; 4] = [3, 5, 10, 12];
+    let mut next = || fields.next().map(|(_, field)| field);
+    let month = next()?;
+    let month = MONTHS.iter().position(|&name| name == month)?;
+    let month = if month < 12 { month as u32 + 1 } else { GERMAN[month - 12] };
+    let number = |field: &[u8]| {
+        let (value, digits) = decimal_u64(field, 0);
+        (digits == field.len() && digits > 0).then_some(value)
+    };
+    let day = number(next()?)?;
+    let mut clock = next()?.split(|&b| b == b':');
+    let (hour, minute) = (number(clock.next()?)?, number(clock.next()?)?);
+    let (second, nanos) = decimal_time(clock.next()?, 1_000_000_000)?;
+    let mut year = next()?;
+    let hour = match year {
+        b"am" | b"AM" => Some(hour % 12),
+        b"pm" | b"PM" => Some(hour % 12 + 12),
+        _ => None,
+    }
+    .map_or(Some(hour), |hour| {
+        year = next()?;
+        Some(hour)
+    })?;
+    let civil = [number(year)?, u64::from(month), day, hour, minute, second];
+    Some((super::timestamp::local_to_epoch(civil)?, nanos))
 }
 
 /// `canN` for channel `N` (1 to 3 digits), written into the parser's buffer.
@@ -137,7 +211,7 @@ fn classic_frame<'a, 'f>(
 ) -> Result<Line<'a>, PosError> {
     let (at, id_token) = fields.next().ok_or((end, Reason::AscFrame))?;
     match id_token {
-        b"ErrorFrame" => return Ok(Line::ErrorText),
+        b"ErrorFrame" => return error_frame(ts, iface, at),
         b"Statistic:" | b"J1939TP" | b"Status:" => return Ok(Line::Comment),
         _ => {}
     }
@@ -171,6 +245,12 @@ fn classic_frame<'a, 'f>(
     Ok(Line::Frame(Record { ts: Some(ts), iface, frame, dir: Some(dir) }))
 }
 
+/// An `ErrorFrame` line (whatever follows it: ASC names no class).
+fn error_frame(ts: Timestamp, iface: &str, at: usize) -> Result<Line<'_>, PosError> {
+    let frame = CanFrame::new_error(BUS_ERROR, &[0; CC_MAX_LEN]).map_err(|e| (at, e.into()))?;
+    Ok(Line::Frame(Record { ts: Some(ts), iface, frame, dir: None }))
+}
+
 /// `Rx|Tx ID[x] [name] BRS ESI DLC LEN bytes... [duration length flags ...]`, after `CANFD channel`.
 fn fd_frame<'a, 'f>(
     ts: Timestamp,
@@ -183,7 +263,7 @@ fn fd_frame<'a, 'f>(
     let dir = direction(dir).ok_or((at, Reason::AscFrame))?;
     let (at, id_token) = fields.next().ok_or((end, Reason::AscFrame))?;
     if id_token == b"ErrorFrame" {
-        return Ok(Line::ErrorText);
+        return error_frame(ts, iface, at);
     }
     let (id, extended) = identifier(id_token, state.decimal).ok_or((at, Reason::AscFrame))?;
     // An optional symbolic message name comes before the BRS column.

@@ -34,6 +34,61 @@ fn rel(secs: u64, nanos: u32) -> Option<Timestamp> {
     Some(Timestamp { secs, nanos, kind: TimestampKind::Relative })
 }
 
+fn abs(secs: u64, nanos: u32) -> Option<Timestamp> {
+    Some(Timestamp { secs, nanos, kind: TimestampKind::Absolute })
+}
+
+#[test]
+fn asc_dates_in_every_shape_start_the_clock() {
+    let local = |civil| super::timestamp::local_to_epoch(civil).unwrap();
+    let cases = [
+        ("date Sam Sep 30 15:06:13.191 2017", local([2017, 9, 30, 15, 6, 13]), 191_000_000),
+        ("date Thu Mar 5 03:06:13 pm 2020", local([2020, 3, 5, 15, 6, 13]), 0),
+        ("date Do Okt 1 12:00:00.5 am 2020", local([2020, 10, 1, 0, 0, 0]), 500_000_000),
+        ("Begin Triggerblock Di Dez 1 08:00:00.000 2020", local([2020, 12, 1, 8, 0, 0]), 0),
+    ];
+    for (header, secs, nanos) in cases {
+        let parsed = parse_all(&mut parser(TextFormat::VectorAsc), &[header, "   1.250000 1  211 Rx d 1 00"]);
+        let nanos = nanos + 250_000_000;
+        let ts = abs(secs + 1 + u64::from(nanos / 1_000_000_000), nanos % 1_000_000_000);
+        assert_eq!(
+            parsed[1],
+            Parsed::Frame { ts, iface: "can1".into(), frame: data(0x211, &[0]), dir: Some(Direction::Rx) },
+            "{header}"
+        );
+    }
+    // A date that does not read leaves the stamps relative.
+    let parsed =
+        parse_all(&mut parser(TextFormat::VectorAsc), &["date soon", "   1.250000 1  211 Rx d 1 00"]);
+    assert!(matches!(&parsed[1], Parsed::Frame { ts, .. } if *ts == rel(1, 250_000_000)));
+}
+
+#[test]
+fn trc_start_time_puts_the_stamps_on_the_clock() {
+    // 46350.5 days after 1899-12-30 is 2026-11-24 12:00:00 UTC (python-can: 1795521600.0).
+    for version in ["1.1", "1.3", "2.0", "2.1"] {
+        let line = match version {
+            "1.1" => "     1)        20.0  Rx         0211  2  00 B1 ",
+            "1.3" => "     1)        20.000 1  Rx        0211 -   2    00 B1",
+            "2.0" => "      1        20.000 DT     0211 Rx 2 00 B1",
+            _ => "      1        20.000 DT 1      0211 Rx -  2    00 B1",
+        };
+        let version_line = format!(";$FILEVERSION={version}");
+        let lines = [";$STARTTIME=46350.5", &version_line, line];
+        let parsed = parse_all(&mut parser(TextFormat::PeakTrc { version: 10 }), &lines);
+        assert!(
+            matches!(&parsed[2], Parsed::Frame { ts, .. } if *ts == abs(1_795_521_600, 20_000_000)),
+            "{version}: {:?}",
+            parsed[2]
+        );
+    }
+    assert_eq!(
+        super::trc::start_time(b"45000.123456789"),
+        Some((1_678_849_066, 666_569_000)),
+        "as python-can"
+    );
+}
+
 fn data(id: u32, bytes: &[u8]) -> CanFrame {
     CanFrame::new(id, bytes).unwrap()
 }
@@ -179,22 +234,29 @@ fn vector_asc_lines() {
         (3, "Comment"),
         (4, "Comment"),
         (5, "Comment"),
-        (10, "ErrorText"),
         (14, "Comment"),
         (15, "Comment"),
         (18, "Comment"),
     ] {
         assert_eq!(parsed[index], Parsed::Other(kind.into()), "line {index}");
     }
+    // The date, local time, puts the stamps on the clock.
+    let start = super::timestamp::local_to_epoch([2026, 11, 24, 10, 0, 0]).unwrap();
     let frame = data(0x211, &[0, 0, 1, 3, 0, 0, 0, 0xB1]);
     assert_eq!(
         parsed[6],
-        Parsed::Frame { ts: rel(0, 20_000_000), iface: "can1".into(), frame, dir: Some(Direction::Rx) }
+        Parsed::Frame { ts: abs(start, 20_000_000), iface: "can1".into(), frame, dir: Some(Direction::Rx) }
     );
     let frame = CanFrame::new_extended(0x18FF0001, &[1, 2]).unwrap();
     assert_eq!(
         parsed[7],
-        Parsed::Frame { ts: rel(0, 50_000_000), iface: "can2".into(), frame, dir: Some(Direction::Tx) }
+        Parsed::Frame { ts: abs(start, 50_000_000), iface: "can2".into(), frame, dir: Some(Direction::Tx) }
+    );
+    // An error frame, as python-can writes an ASC ErrorFrame to a candump log.
+    let frame = CanFrame::new_error(0x80, &[0; 8]).unwrap();
+    assert_eq!(
+        parsed[10],
+        Parsed::Frame { ts: abs(start, 80_000_000), iface: "can1".into(), frame, dir: None }
     );
     assert_eq!(frame_of(&parsed[8]), CanFrame::new_remote(0x7FF, false, 0).unwrap());
     assert_eq!(frame_of(&parsed[9]), CanFrame::new_remote(0x123, false, 4).unwrap());

@@ -227,6 +227,10 @@ struct NamedErrors {
 impl Read for NamedErrors {
     fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
         self.inner.read(buf).map_err(|error| {
+            // The file's own fault, not the compression's.
+            if error.get_ref().is_some_and(|inner| inner.is::<super::Shrank>()) {
+                return error;
+            }
             let kind = match error.kind() {
                 io::ErrorKind::Interrupted => return error,
                 io::ErrorKind::UnexpectedEof => "truncated",

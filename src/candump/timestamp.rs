@@ -24,7 +24,36 @@ pub enum TimestampKind {
     Relative,
 }
 
+/// `[year, month, day, hour, minute, second]` of the local time zone (`TZ`) as seconds since the epoch;
+/// `None` for a date mktime cannot place or one before 1970.
+pub(crate) fn local_to_epoch([year, month, day, hour, minute, second]: [u64; 6]) -> Option<u64> {
+    let field = |value: u64| libc::c_int::try_from(value).ok();
+    // SAFETY: a zeroed tm is a valid value; mktime reads and normalises the struct we own and the process's
+    // time zone, which nothing here changes.
+    let epoch = unsafe {
+        let mut tm: libc::tm = std::mem::zeroed();
+        tm.tm_year = field(year)?.checked_sub(1900)?;
+        tm.tm_mon = field(month)?.checked_sub(1)?;
+        (tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec) =
+            (field(day)?, field(hour)?, field(minute)?, field(second)?);
+        tm.tm_isdst = -1;
+        libc::mktime(&mut tm)
+    };
+    u64::try_from(epoch).ok()
+}
+
 impl Timestamp {
+    /// A stamp `secs.nanos` after the start of a recording: on the clock when the file says when it started
+    /// (ASC's `date`, trc's `$STARTTIME`), else relative.
+    pub(crate) fn since_start(secs: u64, nanos: u32, start: Option<(u64, u32)>) -> Self {
+        let Some((start_secs, start_nanos)) = start else {
+            return Self { secs, nanos, kind: TimestampKind::Relative };
+        };
+        let nanos = nanos + start_nanos;
+        let secs = secs.saturating_add(start_secs).saturating_add(u64::from(nanos / 1_000_000_000));
+        Self { secs, nanos: nanos % 1_000_000_000, kind: TimestampKind::Absolute }
+    }
+
     pub fn as_secs_f64(&self) -> f64 {
         self.secs as f64 + f64::from(self.nanos) * 1e-9
     }

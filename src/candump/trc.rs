@@ -11,14 +11,17 @@
 //! Columns: N message number, O time offset (ms), T type, B bus, I identifier (4 hex digits: standard,
 //! 8: extended), d direction, R reserved, L DLC, l data length, D data. Types: `DT` data, `FD`/`FB`/`FE`/`BI`
 //! CAN FD (with BRS/ESI), `RR` remote request; `ST` status, `EC` error counter, `ER` error frame and 1.x's
-//! `Warng`/`Error` are error text; `EV` events are comments. Stamps are relative to the start of the
-//! trace; bus `N` becomes the interface `canN` (`can1` for versions without a bus column).
+//! `Warng`/`Error` are error text; `EV` events are comments. Stamps are milliseconds since the start of the
+//! trace; `;$STARTTIME=` (days since 1899-12-30, taken as UTC, as python-can's TRCReader takes it) says
+//! when that was, and the stamps are then on the clock, so a trace lines up with other logs of the same day
+//! (without it they stay relative). Bus `N` becomes the interface `canN` (`can1` for versions without a bus
+//! column).
 
 use super::asc::channel_iface;
 use super::hex::{decimal_time, decimal_u64, fields, hex_pair, hex_u32};
 use super::line::{Direction, Line, Record};
 use super::timestamp::PosError;
-use super::{Reason, Timestamp, TimestampKind};
+use super::{Reason, Timestamp};
 use crate::protocol::frame::{CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
 use crate::protocol::CanFrame;
 
@@ -46,6 +49,8 @@ enum Column {
 pub(crate) struct TrcState {
     columns: [Column; MAX_COLUMNS],
     count: usize,
+    /// When the trace started (`;$STARTTIME=`), in seconds and nanoseconds since the epoch.
+    start: Option<(u64, u32)>,
 }
 
 impl Default for TrcState {
@@ -66,7 +71,7 @@ impl TrcState {
             21 => &[Number, Offset, Type, Bus, Id, Direction, Reserved, Dlc, Data],
             _ => &[Number, Offset, Id, Dlc, Data],
         };
-        let mut state = Self { columns: [Data; MAX_COLUMNS], count: layout.len() };
+        let mut state = Self { columns: [Data; MAX_COLUMNS], count: layout.len(), start: None };
         state.columns[..layout.len()].copy_from_slice(layout);
         state
     }
@@ -82,9 +87,11 @@ impl TrcState {
                 b"2.1" => 21,
                 _ => return,
             };
-            *self = Self::for_version(version);
+            *self = Self { start: self.start, ..Self::for_version(version) };
+        } else if let Some(days) = line.strip_prefix(b";$STARTTIME=") {
+            self.start = start_time(days.trim_ascii()).or(self.start);
         } else if let Some(names) = line.strip_prefix(b";$COLUMNS=") {
-            let mut state = Self { columns: [Column::Data; MAX_COLUMNS], count: 0 };
+            let mut state = Self { columns: [Column::Data; MAX_COLUMNS], count: 0, start: self.start };
             for name in names.trim_ascii().split(|&b| b == b',') {
                 let column = match name {
                     b"N" => Column::Number,
@@ -111,6 +118,22 @@ impl TrcState {
             }
         }
     }
+}
+
+/// `;$STARTTIME=` days since 1899-12-30 (an OLE date: `45623.208912037`) as seconds and nanoseconds since
+/// the epoch, to the microsecond as python-can reads it; `None` before 1970 or unreadable.
+pub(super) fn start_time(days: &[u8]) -> Option<(u64, u32)> {
+    const EPOCH_DAYS: i64 = 25_569; // 1899-12-30 to 1970-01-01
+    let days: f64 = std::str::from_utf8(days).ok()?.parse().ok()?;
+    if !days.is_finite() || days.abs() > 1e9 {
+        return None;
+    }
+    // Whole days and the fraction apart, the fraction rounded half to even: Python's timedelta(days=...).
+    let whole = days.trunc();
+    let fraction = ((days - whole) * 86_400e6).round_ties_even() as i64;
+    let micros = (whole as i64 - EPOCH_DAYS) * 86_400_000_000 + fraction;
+    let micros = u64::try_from(micros).ok()?;
+    Some((micros / 1_000_000, (micros % 1_000_000) as u32 * 1000))
 }
 
 /// What the type column says the line is.
@@ -156,7 +179,7 @@ pub(crate) fn parse<'a>(
             Column::Number => {}
             Column::Offset => {
                 let (secs, nanos) = decimal_time(token, 1_000_000).ok_or((at, Reason::TrcFrame))?;
-                ts = Some(Timestamp { secs, nanos, kind: TimestampKind::Relative });
+                ts = Some(Timestamp::since_start(secs, nanos, state.start));
             }
             Column::Type => match type_column(token) {
                 Type::Frame(frame_kind, frame_dir) => {

@@ -11,7 +11,8 @@ fn fixture(name: &str) -> String {
 
 /// `decode` on one input: (exit status, stdout lines, stderr).
 fn decode(args: &[&str]) -> (i32, Vec<String>, String) {
-    let output = tracerctl().arg("decode").args(args).output().unwrap();
+    // ASC dates are local time: one zone for every run.
+    let output = tracerctl().env("TZ", "UTC").arg("decode").args(args).output().unwrap();
     let lines = stdout(&output).lines().map(str::to_owned).collect();
     (output.status.code().unwrap_or(-1), lines, stderr(&output))
 }
@@ -80,24 +81,29 @@ fn a_truncated_gzip_log_is_an_error_naming_the_file_and_the_compression() {
 fn vector_asc_frames_are_decoded_and_its_other_lines_counted() {
     let (code, lines, errors) = decode(&[&fixture("vector.asc")]);
     assert_eq!((code, errors.as_str()), (0, ""));
-    assert_eq!(lines.len(), 7, "{lines:#?}");
+    // The date line (10:00 local, UTC here) puts the stamps on the clock; the ErrorFrame is an error frame.
+    assert_eq!(lines.len(), 8, "{lines:#?}");
     assert_eq!(
         lines[0],
-        "0.020000 can1 0x211 system_state vehicle_state=normal control_mode=standby battery_voltage=25.9V \
+        "1795514400.020000 can1 0x211 system_state vehicle_state=normal control_mode=standby battery_voltage=25.9V \
          fault_code=0x0000 faults=none count=177 dir=rx"
     );
-    assert_eq!(lines[2], "0.050000 can2 0x18FF0001 raw len=2 data=0102 dir=rx");
-    assert_eq!(lines[3], "0.060000 can1 0x7FF remote_request len=0 dir=tx");
+    assert_eq!(lines[2], "1795514400.050000 can2 0x18FF0001 raw len=2 data=0102 dir=rx");
+    assert_eq!(lines[3], "1795514400.060000 can1 0x7FF remote_request len=0 dir=tx");
     assert_eq!(
-        lines[6],
-        "0.100000 can3 0x12345678 raw fd_flags=7 len=12 data=00112233445566778899AABB dir=tx"
+        lines[5],
+        "1795514400.080000 can1 0x20000080 error_frame classes=bus_error data=0000000000000000"
+    );
+    assert_eq!(
+        lines[7],
+        "1795514400.100000 can3 0x12345678 raw fd_flags=7 len=12 data=00112233445566778899AABB dir=tx"
     );
 
     let output =
         tracerctl().args(["decode", "--summary", "-f", "json", &fixture("vector.asc")]).output().unwrap();
     assert!(output.status.success());
     let summary: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
-    assert_eq!((summary["frames"].as_u64(), summary["lines"].as_u64()), (Some(7), Some(17)));
+    assert_eq!((summary["frames"].as_u64(), summary["lines"].as_u64()), (Some(8), Some(17)));
 }
 
 #[test]
@@ -106,10 +112,11 @@ fn peak_trc_files_of_every_version_are_decoded() {
                         fault_code=0x0000 faults=none count=177";
     for (name, frames, first) in [
         ("peak_v10.trc", 2, format!("0.020000 can1 {system_state}")),
-        ("peak_v11.trc", 4, format!("0.020500 can1 {system_state} dir=rx")),
-        ("peak_v13.trc", 2, format!("0.020500 can1 {system_state} dir=rx")),
-        ("peak_v20.trc", 2, format!("0.020500 can1 {system_state} dir=rx")),
-        ("peak_v21.trc", 4, format!("0.020500 can1 {system_state} dir=rx")),
+        // `;$STARTTIME=46350.4166666667`: 10:00:00.000003 UTC, as python-can reads it.
+        ("peak_v11.trc", 4, format!("1795514400.020503 can1 {system_state} dir=rx")),
+        ("peak_v13.trc", 2, format!("1795514400.020503 can1 {system_state} dir=rx")),
+        ("peak_v20.trc", 2, format!("1795514400.020503 can1 {system_state} dir=rx")),
+        ("peak_v21.trc", 4, format!("1795514400.020503 can1 {system_state} dir=rx")),
     ] {
         let (code, lines, errors) = decode(&[&fixture(name)]);
         assert_eq!((code, errors.as_str()), (0, ""), "{name}");
@@ -119,11 +126,11 @@ fn peak_trc_files_of_every_version_are_decoded() {
     let (_, lines, _) = decode(&[&fixture("peak_v21.trc")]);
     assert_eq!(
         lines[1],
-        "0.040000 can2 0x111 motion_command linear_velocity=0.15m/s angular_velocity=0rad/s dir=tx"
+        "1795514400.040003 can2 0x111 motion_command linear_velocity=0.15m/s angular_velocity=0rad/s dir=tx"
     );
     assert_eq!(
         lines[3],
-        "0.070000 can1 0x12345678 raw fd_flags=7 len=12 data=00112233445566778899AABB dir=rx"
+        "1795514400.070003 can1 0x12345678 raw fd_flags=7 len=12 data=00112233445566778899AABB dir=rx"
     );
 }
 
@@ -209,4 +216,29 @@ fn unsupported_formats_are_refused_in_one_line_with_exit_3() {
     let output = tracerctl().args(["decode", "-"]).write_stdin(compressed("gz", &blf)).output().unwrap();
     assert_eq!(output.status.code(), Some(3));
     assert!(stderr(&output).starts_with("tracerctl: <stdin> is a Vector BLF log"), "{}", stderr(&output));
+}
+
+/// Issue 28: ASC `ErrorFrame` lines are error frames, and the `date` line and trc's `$STARTTIME` put the
+/// stamps on the clock (hand-written fixtures; tests/formats/compare_python_can.py checks both against
+/// python-can in CI).
+#[test]
+fn asc_error_frames_and_start_times_line_up_with_other_logs() {
+    let (code, lines, errors) = decode(&[&fixture("day_errors.asc")]);
+    assert_eq!((code, errors.as_str()), (0, ""));
+    // Fri Nov 27 14:05:09.250 2026, UTC: 1795788309.25, plus 0.0125.
+    assert!(lines[0].starts_with("1795788309.262500 can1 0x211 system_state"), "{lines:#?}");
+    assert_eq!(
+        lines[2],
+        "1795788309.290000 can1 0x20000080 error_frame classes=bus_error data=0000000000000000"
+    );
+    assert_eq!(
+        lines[4],
+        "1795788309.311000 can2 0x20000080 error_frame classes=bus_error data=0000000000000000"
+    );
+    assert_eq!(lines.len(), 7);
+    let (code, lines, errors) = decode(&[&fixture("day_start.trc")]);
+    assert_eq!((code, errors.as_str()), (0, ""));
+    // 46353.5868518519 days after 1899-12-30: 2026-11-27 14:05:04.000004 UTC.
+    assert!(lines[0].starts_with("1795788304.012504 can1 0x211 system_state"), "{lines:#?}");
+    assert_eq!(lines.len(), 5);
 }

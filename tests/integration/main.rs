@@ -9,6 +9,10 @@ mod dashboard_motion;
 mod dashboard_screens;
 mod decode;
 mod decode_losses;
+#[cfg(target_os = "linux")]
+mod decode_shrinks;
+#[cfg(target_os = "linux")]
+mod decode_stops;
 mod docs;
 mod doctor;
 mod doctor_interrupted;
@@ -35,8 +39,10 @@ mod recording;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;
+mod serial_text;
 mod sim_command;
 mod sim_training;
+mod stress;
 mod usage;
 mod util;
 mod variants;

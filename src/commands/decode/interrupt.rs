@@ -7,13 +7,34 @@
 //! signals (only `decode` does this) and the signal is sent on to the main thread, repeatedly, since it may
 //! arrive just before the read starts. The read then fails with EINTR, and the reader sees the flag.
 
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
 use anyhow::Result;
 
 use crate::signals::SignalFlag;
 
+/// When the threads of `decode -j` stop reading: a termination signal, or the merging thread stopped
+/// taking chunks (an error, `--strict`). Every read loop looks at it, so a thread inside an endless line (a
+/// decompression bomb of zeros, read on to its `\n`) lets go at once.
+#[derive(Clone)]
+pub struct StopReading {
+    signals: SignalFlag,
+    finished: Arc<AtomicBool>,
+}
+
+impl StopReading {
+    pub fn new(signals: SignalFlag, finished: Arc<AtomicBool>) -> Self {
+        Self { signals, finished }
+    }
+
+    pub fn now(&self) -> bool {
+        self.signals.received().is_some() || self.finished.load(Ordering::Relaxed)
+    }
+}
+
 #[cfg(target_os = "linux")]
 pub fn listen() -> Result<SignalFlag> {
-    use std::sync::atomic::{AtomicBool, Ordering};
     use std::time::Duration;
 
     // SAFETY: pthread_self has no preconditions.

@@ -5,11 +5,11 @@
 //! A mapped file that shrinks while it is read (another program truncates it) or whose disk fails makes the
 //! next touch of a page past its end raise `SIGBUS`, which would end the process without a word. A handler,
 //! installed with the first window, turns such a fault inside a window into a page of zeros and marks the
-//! window: the reader then reports the file as unreadable there ([`Window::faulted`]). A fault anywhere else
-//! goes to the handler that was there before, as if this one did not exist.
+//! window ([`Window::faulted`]): the reader then decodes the window's range again without mapping, which
+//! finds where the file now ends or the disk's error, so no zero mapped in here is ever counted. A fault
+//! anywhere else goes to the handler that was there before, as if this one did not exist.
 
 use std::fs::File;
-use std::io;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::OnceLock;
 
@@ -20,21 +20,56 @@ use memmap2::{Mmap, MmapOptions};
 const SLOTS: usize = 128;
 
 /// A mapped window's addresses, for the handler: `[start, end)`, empty when the slot is free.
+///
+/// The handler runs on the faulting thread while other threads drop their windows and map new ones in the
+/// same slots: read without care, a slot's `end` could be an old window's and its `start` a new one's, a
+/// range that never existed, which may hold the faulting address and take the fault from the window it
+/// belongs to (left unmarked: its zeros would be decoded). So a slot is a sequence lock: `version` is odd
+/// while its addresses change, and the handler believes only addresses read between two equal even
+/// versions. A slot that changes meanwhile is never the faulting window's: a window is only mapped,
+/// read and dropped by its own thread, which is in the handler.
 struct Slot {
     taken: AtomicBool,
+    version: AtomicUsize,
     start: AtomicUsize,
     end: AtomicUsize,
     faulted: AtomicBool,
 }
 
-static WINDOWS: [Slot; SLOTS] = [const {
-    Slot {
-        taken: AtomicBool::new(false),
-        start: AtomicUsize::new(0),
-        end: AtomicUsize::new(0),
-        faulted: AtomicBool::new(false),
+static WINDOWS: [Slot; SLOTS] = [const { Slot::free() }; SLOTS];
+
+impl Slot {
+    const fn free() -> Self {
+        Self {
+            taken: AtomicBool::new(false),
+            version: AtomicUsize::new(0),
+            start: AtomicUsize::new(0),
+            end: AtomicUsize::new(0),
+            faulted: AtomicBool::new(false),
+        }
     }
-}; SLOTS];
+
+    /// Sets the window's addresses (`[0, 0)`: none), as one change for the handler.
+    fn set(&self, start: usize, end: usize) {
+        self.version.fetch_add(1, Ordering::AcqRel);
+        self.start.store(start, Ordering::Release);
+        self.end.store(end, Ordering::Release);
+        self.version.fetch_add(1, Ordering::Release);
+    }
+
+    /// Whether `address` lies in the window, read as one; `between` runs between the reads (tests use it to
+    /// change the slot there).
+    fn holds(&self, address: usize, between: impl Fn()) -> bool {
+        let version = self.version.load(Ordering::Acquire);
+        if version % 2 == 1 {
+            return false;
+        }
+        let end = self.end.load(Ordering::Acquire);
+        between();
+        let start = self.start.load(Ordering::Acquire);
+        self.version.load(Ordering::Acquire) == version && start <= address && address < end
+    }
+}
 
 /// Whether the handler is installed (nothing is mapped without it).
 static INSTALLED: OnceLock<bool> = OnceLock::new();
@@ -59,10 +94,8 @@ impl Window {
         match unsafe { MmapOptions::new().offset(offset).len(len).map(file) } {
             Ok(map) => {
                 let start = map.as_ptr() as usize;
-                slot.faulted.store(false, Ordering::Relaxed);
-                slot.end.store(0, Ordering::Release);
-                slot.start.store(start, Ordering::Release);
-                slot.end.store(start + map.len(), Ordering::Release);
+                slot.faulted.store(false, Ordering::Release);
+                slot.set(start, start + map.len());
                 Some(Self { map, slot })
             }
             Err(_) => {
@@ -80,19 +113,12 @@ impl Window {
     pub fn faulted(&self) -> bool {
         self.slot.faulted.load(Ordering::Acquire)
     }
-
-    /// The error the reader reports for a faulted window.
-    pub fn fault_error() -> io::Error {
-        let why = "the file was cut short while being read, or its disk failed";
-        io::Error::other(format!("a page of it could not be read ({why})"))
-    }
 }
 
 impl Drop for Window {
     fn drop(&mut self) {
         // Emptied before the mapping goes, so the handler never claims an address no longer the window's.
-        self.slot.end.store(0, Ordering::Release);
-        self.slot.start.store(0, Ordering::Release);
+        self.slot.set(0, 0);
         self.slot.taken.store(false, Ordering::Release);
     }
 }
@@ -126,8 +152,7 @@ extern "C" fn on_bus_error(_signal: libc::c_int, info: *mut libc::siginfo_t, _co
     // SAFETY: the kernel passes a valid siginfo to an SA_SIGINFO handler.
     let address = unsafe { (*info).si_addr() } as usize;
     for slot in &WINDOWS {
-        let end = slot.end.load(Ordering::Acquire);
-        if slot.start.load(Ordering::Acquire) <= address && address < end {
+        if slot.holds(address, || {}) {
             // SAFETY: the page lies inside a live mapping of ours (the slot is emptied before it is unmapped);
             // replacing it with zeros in place changes nothing else.
             let zeros = unsafe {
@@ -155,6 +180,26 @@ extern "C" fn on_bus_error(_signal: libc::c_int, info: *mut libc::siginfo_t, _co
 mod tests {
     use super::*;
     use std::io::Write;
+
+    /// The interleaving the handler once lost a fault to: it read a slot's `end` (an old window above the
+    /// faulting address), then the slot's thread dropped that window and mapped one below the address, then
+    /// the handler read the new `start`: `[new start, old end)` held the address, and the fault went to
+    /// this slot instead of the faulting window's.
+    #[test]
+    fn a_slot_remapped_while_the_handler_reads_it_does_not_take_the_fault() {
+        let slot = Slot::free();
+        slot.set(0x4000, 0x5000);
+        let address = 0x3000;
+        let remap = || {
+            slot.set(0, 0);
+            slot.set(0x1000, 0x2000);
+        };
+        assert!(!slot.holds(address, remap), "torn addresses are not believed");
+        assert!(!slot.holds(address, || {}), "nor are the new window's");
+        assert!(slot.holds(0x1800, || {}));
+        let torn = Slot { start: AtomicUsize::new(0x1000), end: AtomicUsize::new(0x5000), ..Slot::free() };
+        assert!(torn.holds(address, || {}), "the range a torn read made up would have held it");
+    }
 
     #[test]
     fn a_window_of_a_file_that_shrinks_reads_zeros_and_is_marked() {

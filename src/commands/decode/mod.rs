@@ -407,7 +407,7 @@ impl Decoder {
         for path in serial {
             let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
             let name = path.display().to_string();
-            serial_input::decode(self, &name, file)?;
+            serial_input::decode(self, &name, candump::WatchedFile::new(file))?;
         }
         Ok(())
     }
@@ -447,7 +447,9 @@ impl Decoder {
             let regular = metadata.is_some_and(|m| m.is_file());
             // The workers read a plain file's ranges themselves, through a handle of their own.
             let plain = file.try_clone().ok();
-            let (reader, format) = candump::open_log(file, input).map_err(Failure::from)?;
+            // A file that shrinks while read fails where it ends (candump/shrink.rs).
+            let (reader, format) =
+                candump::open_log(candump::WatchedFile::new(file), input).map_err(Failure::from)?;
             // The progress bar counts text bytes: unknown for a compressed file.
             let size = size.filter(|_| format.compression.is_none());
             if regular && self.parallel_fits() {

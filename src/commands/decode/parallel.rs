@@ -45,10 +45,11 @@ use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::Arc;
 use std::time::Duration;
 
-use anyhow::Result;
+use anyhow::{bail, Result};
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
+use super::interrupt::StopReading;
 use super::ranges::{Piece, Range, Ranges, Sizing, SLICE_BYTES, WINDOW_BYTES};
 use super::summary::Summary;
 use super::{read_error, Decoder, Interrupted, Sink, Skipped};
@@ -263,6 +264,9 @@ pub(super) fn decode(
     };
     let chunk_bytes = decoder.chunk_bytes.unwrap_or(if partial { SUMMARY_CHUNK_BYTES } else { CHUNK_BYTES });
     let (threads, chunk_bytes) = (decoder.threads.min(MAX_THREADS), chunk_bytes.max(1));
+    // Set when this thread stops taking chunks (the end, an error, --strict, a signal): the others stop too.
+    let finished = Arc::new(AtomicBool::new(false));
+    let stop = StopReading::new(decoder.signals.clone(), Arc::clone(&finished));
     // A plain file's size is its text's: the ranges are cut in it.
     let settings = match (plain, size) {
         (Some(file), Some(size)) => {
@@ -274,7 +278,8 @@ pub(super) fn decode(
             let slice_bytes = decoder.chunk_bytes.map_or(SLICE_BYTES, |bytes| bytes.div_ceil(3));
             let window_bytes = decoder.chunk_bytes.map_or(WINDOW_BYTES, |bytes| bytes.div_ceil(2));
             let text_start = byte_order_mark(&file);
-            let ranges = Ranges::new(file, text_start, size, sizing, (slice_bytes, Some(window_bytes)));
+            let ranges = Ranges::new(file, text_start, size, sizing, (slice_bytes, Some(window_bytes)))
+                .stopping(stop.clone());
             Settings { ranges: Some(Arc::new(ranges)), ..settings }
         }
         _ => settings,
@@ -283,11 +288,10 @@ pub(super) fn decode(
     let guess = Mutex::new(Start { carried: LineParser::for_format(format).carried(), ..Start::default() });
     let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
     let (done_tx, done_rx) = mpsc::channel::<Chunk>();
-    // Set when this thread stops taking chunks (the end, an error, --strict, a signal): the others stop too.
-    let finished = Arc::new(AtomicBool::new(false));
     for _ in 0..threads * 2 + 2 {
         let _ = pool_tx.send(Chunk::default());
     }
+    let reader = Stopping { inner: reader, stop };
     let splitter = Splitter::new(reader, Cut { chunk_bytes, stream });
     let source = if let Some(ranges) = &settings.ranges {
         Source::Ranges { ranges: Arc::clone(ranges), pool: Mutex::new(pool_rx) }
@@ -359,6 +363,8 @@ impl Merger<'_> {
         let mut waiting = BTreeMap::new();
         let mut carried = LineParser::for_format(self.settings.format).carried();
         let (mut next, mut consumed) = (0u64, 0u64);
+        // A plain file's last range reads on to the end: until it is merged, the file is not.
+        let mut reached_end = self.settings.ranges.is_none();
         loop {
             let chunk = match done.recv_timeout(WAKE) {
                 Ok(chunk) => chunk,
@@ -374,6 +380,7 @@ impl Merger<'_> {
                     return Err(io::Error::other(Interrupted).into());
                 }
                 self.merge(&mut chunk, &mut carried)?;
+                reached_end |= chunk.range.is_some_and(|range| range.end.is_none());
                 consumed += chunk.bytes;
                 if let Some(bar) = &bar {
                     bar.set_position(consumed);
@@ -384,6 +391,15 @@ impl Merger<'_> {
         }
         if let Some(bar) = bar {
             bar.finish_and_clear();
+        }
+        // Every worker ended: a chunk that never came back would leave the ones after it here, and the
+        // input's tail unsaid. Never seen; said, should it happen, rather than lost.
+        if !waiting.is_empty() || !reached_end {
+            let after = waiting.len();
+            bail!(
+                "internal error: chunk {next} of {} was lost ({after} decoded after it not written)",
+                self.name
+            );
         }
         Ok(())
     }
@@ -770,6 +786,15 @@ fn read_failed(chunk: &mut Chunk, last_newline: Option<usize>, long: &mut Option
 /// Decodes one chunk from `start` into its output (or events), as [`Decoder::candump`] decodes lines: its
 /// text, or the lines of its range read now.
 fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
+    if decode_chunk_from(settings, start, chunk, true) {
+        // A mapped page vanished under the lines decoded: all of them again, read from the file.
+        decode_chunk_from(settings, start, chunk, false);
+    }
+}
+
+/// [`decode_chunk`], its range's lines read from mapped windows if `mapped`; whether they must be read
+/// again without ([`super::ranges::RangeEnd::reread`]).
+fn decode_chunk_from(settings: &Settings, start: &Start, chunk: &mut Chunk, mapped: bool) -> bool {
     chunk.output.clear();
     chunk.events.clear();
     if settings.partial {
@@ -788,7 +813,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     parser.carry_on_from(&start.carried);
     match (chunk.range, &settings.ranges) {
         (Some(range), Some(ranges)) => {
-            let end = ranges.read(range, |piece| {
+            let end = ranges.read(range, mapped, |piece| {
                 match piece {
                     Piece::Lines(text) => decode_lines(&mut lines, &mut parser, text, &[]),
                     Piece::TooLong(length) => {
@@ -798,6 +823,9 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
                 }
                 lines.outcome.stop.is_none()
             });
+            if end.reread {
+                return true;
+            }
             chunk.bytes = end.bytes;
             chunk.read_error = end.error;
         }
@@ -809,6 +837,7 @@ fn decode_chunk(settings: &Settings, start: &Start, chunk: &mut Chunk) {
     outcome.end = parser.carried();
     chunk.events.deltas = parser.delta_sum();
     chunk.outcome = outcome;
+    false
 }
 
 // Long: the line loop of Decoder::candump with its arms (and the -t d one), kept in one piece like that one.
@@ -1030,6 +1059,22 @@ impl ChunkLines<'_> {
             }
             None => outcome.counted.push(Reject { line, message: String::new(), reason, length, count: 1 }),
         }
+    }
+}
+
+/// The input as the workers read it: every read looks at the stop first, so a worker inside an endless line
+/// (a decompression bomb of zeros, which it reads on to its `\n`) lets go at a signal.
+struct Stopping<R> {
+    inner: R,
+    stop: StopReading,
+}
+
+impl<R: Read> Read for Stopping<R> {
+    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
+        if self.stop.now() {
+            return Err(io::Error::other(Interrupted));
+        }
+        self.inner.read(buf)
     }
 }
 

@@ -20,8 +20,10 @@ use std::os::unix::fs::FileExt;
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
+use super::interrupt::StopReading;
 use super::mapped::Window;
-use crate::candump::DEFAULT_MAX_LINE_LEN;
+use super::Interrupted;
+use crate::candump::{self, DEFAULT_MAX_LINE_LEN};
 
 /// Bytes a read asks for: a slice this size and the line it carries over stay in a core's L2 cache.
 pub const SLICE_BYTES: usize = 128 * 1024;
@@ -79,6 +81,11 @@ pub struct RangeEnd {
     /// Bytes of the lines handed over (for the progress bar).
     pub bytes: u64,
     pub error: Option<io::Error>,
+    /// A page of a mapped window vanished while its lines were handed over (the file was cut short, or its
+    /// disk failed): they may hold zeros that were never in the file, so the range must be decoded again
+    /// from its start, read without mapping ([`Ranges::read`] with `mapped` false), which finds the file's
+    /// true end or the disk's error.
+    pub reread: bool,
 }
 
 /// A plain file and the ranges not yet claimed.
@@ -91,6 +98,8 @@ pub struct Ranges {
     /// Bytes mapped at once; `None`: read only.
     window_bytes: Option<usize>,
     next: Mutex<(u64, Option<u64>)>,
+    /// Looked at before every read and window: a line of gigabytes is let go at a signal.
+    stop: Option<StopReading>,
 }
 
 thread_local! {
@@ -110,7 +119,17 @@ impl Ranges {
     ) -> Self {
         let (slice_bytes, window_bytes) = (slice_bytes.max(1), window_bytes.map(|bytes| bytes.max(1)));
         let next = Mutex::new((0, Some(text_start)));
-        Self { file, size, sizing, slice_bytes, window_bytes, next }
+        Self { file, size, sizing, slice_bytes, window_bytes, next, stop: None }
+    }
+
+    /// These ranges, whose reading ends (with an [`Interrupted`] error) once `stop` says so.
+    pub fn stopping(self, stop: StopReading) -> Self {
+        Self { stop: Some(stop), ..self }
+    }
+
+    /// The error a reading ends with when decoding stopped.
+    fn stopped(&self) -> Option<io::Error> {
+        self.stop.as_ref().filter(|stop| stop.now()).map(|_| io::Error::other(Interrupted))
     }
 
     /// The next range in input order; `None` once the range reaching the end was claimed.
@@ -148,6 +167,9 @@ impl Ranges {
         let mut scan = [0u8; SCAN_BYTES];
         let mut pos = at - 1;
         loop {
+            if self.stopped().is_some() {
+                return None;
+            }
             match self.read_at(&mut scan, pos) {
                 Ok(0) | Err(_) => return None,
                 Ok(read) => match memchr(b'\n', &scan[..read]) {
@@ -158,16 +180,18 @@ impl Ranges {
         }
     }
 
-    /// Reads the lines of `range`, handing them to `take` in order until it returns `false` (a stop).
-    pub fn read(&self, range: Range, mut take: impl FnMut(Piece<'_>) -> bool) -> RangeEnd {
+    /// Reads the lines of `range`, handing them to `take` in order until it returns `false` (a stop); from
+    /// mapped windows where they serve, if `mapped`.
+    pub fn read(&self, range: Range, mapped: bool, mut take: impl FnMut(Piece<'_>) -> bool) -> RangeEnd {
         let mut pos = range.start;
-        if let (Some(end), Some(window_bytes)) = (range.end, self.window_bytes) {
+        let window_bytes = self.window_bytes.filter(|_| mapped);
+        if let (Some(end), Some(window_bytes)) = (range.end, window_bytes) {
             let mapped = self.read_mapped(&mut pos, end, window_bytes, &mut take);
             let bytes = pos - range.start;
             match mapped {
                 Mapped::ReadOn => {}
-                Mapped::Stopped => return RangeEnd { bytes, error: None },
-                Mapped::Faulted => return RangeEnd { bytes, error: Some(Window::fault_error()) },
+                Mapped::Stopped => return RangeEnd { bytes, error: None, reread: false },
+                Mapped::Faulted => return RangeEnd { bytes, error: None, reread: true },
             }
         }
         let mut end = self.read_rest(Range { start: pos, ..range }, take);
@@ -193,10 +217,14 @@ impl Ranges {
         // `buf[..filled]` holds the file from `pos`, always a line's start.
         let (mut pos, mut filled) = (range.start, 0);
         let first = pos;
-        let end_of = |pos: u64| RangeEnd { bytes: pos - first, error: None };
+        let end_of = |pos: u64| RangeEnd { bytes: pos - first, error: None, reread: false };
+        let failed = |pos: u64, error| RangeEnd { bytes: pos - first, error: Some(error), reread: false };
         loop {
             if range.end.is_some_and(|end| pos >= end) {
                 return end_of(pos);
+            }
+            if let Some(error) = self.stopped() {
+                return failed(pos, error);
             }
             if let Some(last) = memrchr(b'\n', &buf[..filled]) {
                 let mut lines = last + 1;
@@ -219,9 +247,13 @@ impl Ranges {
                 // Too long: only its length is kept, counted up to its `\n`.
                 let mut length = filled;
                 loop {
+                    if let Some(error) = self.stopped() {
+                        return failed(pos, error);
+                    }
                     match self.read_at(&mut buf[..self.slice_bytes], pos + length as u64) {
                         // The unfinished line before a read error is dropped, as the single thread drops it.
-                        Err(error) => return RangeEnd { bytes: pos - first, error: Some(error) },
+                        Err(error) => return failed(pos, error),
+                        Ok(0) if pos + (length as u64) < self.size => return failed(pos, self.shrank()),
                         Ok(0) => {
                             let more = take(Piece::TooLong(length));
                             pos += length as u64;
@@ -251,7 +283,9 @@ impl Ranges {
             }
             let room = (buf.len() - filled).min(self.slice_bytes);
             match self.read_at(&mut buf[filled..filled + room], pos + filled as u64) {
-                Err(error) => return RangeEnd { bytes: pos - first, error: Some(error) },
+                Err(error) => return failed(pos, error),
+                // The file ends before its size when decoding began: the cut line's start is dropped.
+                Ok(0) if pos + (filled as u64) < self.size => return failed(pos, self.shrank()),
                 Ok(0) => {
                     // The end of the file: its last line may have no `\n`.
                     if filled > 0 {
@@ -274,6 +308,10 @@ impl Ranges {
         take: &mut impl FnMut(Piece<'_>) -> bool,
     ) -> Mapped {
         while *pos < end {
+            if self.stopped().is_some() {
+                // The reads say it.
+                return Mapped::ReadOn;
+            }
             // A file cut short since is read instead: its missing pages would only fault.
             if self.file.metadata().map_or(true, |metadata| metadata.len() < end) {
                 return Mapped::ReadOn;
@@ -298,6 +336,12 @@ impl Ranges {
             }
         }
         Mapped::ReadOn
+    }
+
+    /// The error of a file found shorter than when decoding began.
+    fn shrank(&self) -> io::Error {
+        let now = self.file.metadata().map_or(0, |metadata| metadata.len());
+        candump::shrank(self.size, now)
     }
 
     /// One positioned read (retried when a signal interrupts it).
@@ -328,7 +372,7 @@ mod tests {
         let ranges = Ranges::new(file_of(text), text_start, text.len() as u64, sizing, cuts);
         let mut lines = Vec::new();
         while let Some(range) = ranges.claim() {
-            let end = ranges.read(range, |piece| {
+            let end = ranges.read(range, true, |piece| {
                 match piece {
                     // A whole line over the limit is the decoder's to find (as in a chunk read at once).
                     Piece::Lines(text) => lines.extend(text.split_inclusive(|&b| b == b'\n').map(|line| {
@@ -430,7 +474,7 @@ mod tests {
             let ranges = Ranges::new(dir, 0, 10, Sizing::Fixed(4), (4, window));
             let range = ranges.claim().unwrap();
             let mut taken = 0;
-            let end = ranges.read(range, |_| {
+            let end = ranges.read(range, true, |_| {
                 taken += 1;
                 true
             });
@@ -451,51 +495,63 @@ mod tests {
     }
 
     #[test]
-    fn a_file_cut_short_before_a_range_is_read_gives_the_lines_left() {
+    fn a_file_cut_short_before_a_range_is_read_gives_the_whole_lines_left_and_says_so() {
         let (ranges, handle, claimed) = claimed_then(1024);
-        // Into the range's first page: its second is gone.
-        handle.set_len(8192 + 160).unwrap();
+        // Into the range's first page, mid-line: its second page is gone.
+        handle.set_len(8192 + 168).unwrap();
         let mut lines = 0;
-        let end = ranges.read(claimed[1], |piece| {
+        let end = ranges.read(claimed[1], true, |piece| {
             let Piece::Lines(text) = piece else { panic!("no line is long") };
             lines += text.iter().filter(|&&b| b == b'\n').count();
             assert!(!text.contains(&0), "nothing of the missing page");
+            assert!(text.ends_with(b"\n"), "the cut line is not handed over");
             true
         });
         assert_eq!((lines, end.bytes), (10, 160));
-        assert!(end.error.is_none(), "as a read finds it: the file ends there");
+        let error = end.error.expect("the shorter file is reported");
+        assert_eq!(error.to_string(), "it shrank while being read (16384 bytes, now 8360)");
     }
 
     /// Reads the first range of a file that another program cuts to `length` bytes while the range's window
-    /// is being decoded: the last four bytes the decoder was handed, and how the reading ended.
-    fn read_while_cut_to(length: u64) -> (Vec<u8>, RangeEnd) {
+    /// is being decoded, as a worker does (again without mapping when a window's pages vanished): the lines
+    /// the decoder was handed in the end, whether the first reading had handed over zeros, how it ended.
+    fn read_while_cut_to(length: u64) -> (Vec<u8>, bool, RangeEnd) {
         let (ranges, handle, claimed) = claimed_then(1024);
-        let mut tail = Vec::new();
-        let end = ranges.read(claimed[0], |piece| {
+        let mut zeros = false;
+        let mut first = ranges.read(claimed[0], true, |piece| {
             let Piece::Lines(text) = piece else { panic!("no line is long") };
             handle.set_len(length).unwrap();
-            tail = text[text.len() - 4..].to_vec();
+            zeros |= text.ends_with(&[0; 4]);
             true
         });
-        (tail, end)
+        assert!(first.reread, "the mapped lines are not trusted");
+        let mut lines = Vec::new();
+        first = ranges.read(claimed[0], false, |piece| {
+            let Piece::Lines(text) = piece else { panic!("no line is long") };
+            lines.extend_from_slice(text);
+            true
+        });
+        (lines, zeros, first)
     }
 
     #[test]
-    fn a_file_cut_short_inside_the_last_page_of_its_window_is_an_error_too() {
-        // Into the window's last page: its end reads as zeros, and no page faults.
-        let (tail, end) = read_while_cut_to(8192 - 100);
-        assert_eq!(tail, [0; 4]);
+    fn a_file_cut_short_inside_the_last_page_of_its_window_gives_the_whole_lines_left() {
+        // Into the window's last page, mid-line: its end reads as zeros, and no page faults.
+        let (lines, zeros, end) = read_while_cut_to(8192 - 100);
+        assert!(zeros, "the mapping read zeros past the new end");
+        assert_eq!(lines, b"0123456789abcde\n".repeat(505), "the whole lines before the cut, no zero");
+        assert_eq!(end.bytes, 505 * 16);
         let error = end.error.expect("the shorter file is reported");
-        assert!(error.to_string().contains("cut short while being read"), "{error}");
+        assert_eq!(error.to_string(), "it shrank while being read (16384 bytes, now 8092)");
     }
 
     #[test]
-    fn a_file_cut_short_while_its_window_is_decoded_is_an_error_not_a_crash() {
+    fn a_file_cut_short_while_its_window_is_decoded_counts_no_zero_and_does_not_crash() {
         // Every page of the mapping goes.
-        let (tail, end) = read_while_cut_to(0);
-        assert_eq!(tail, [0; 4], "the vanished page reads as zeros");
-        let error = end.error.expect("the fault is reported");
-        assert!(error.to_string().contains("cut short while being read"), "{error}");
-        assert_eq!(end.bytes, 0, "the faulted window's bytes are not counted as read");
+        let (lines, zeros, end) = read_while_cut_to(0);
+        assert!(zeros, "the vanished page reads as zeros");
+        assert_eq!((lines.len(), end.bytes), (0, 0), "nothing of the faulted window is counted");
+        let error = end.error.expect("the shorter file is reported");
+        assert_eq!(error.to_string(), "it shrank while being read (16384 bytes, now 0)");
     }
 }

@@ -143,6 +143,9 @@ struct HexLines {
     /// The next piece continues a line whose start was already converted.
     mid_line: bool,
     first_line: bool,
+    /// Lines of text that gave no byte and held nothing wrong (a banner, a tool's header, `#` comments):
+    /// skipped, and counted as comments.
+    text_lines: u64,
 }
 
 impl HexLines {
@@ -154,7 +157,13 @@ impl HexLines {
             carry_offset: 0,
             mid_line: false,
             first_line: true,
+            text_lines: 0,
         }
+    }
+
+    /// The start of the line not yet complete (its offset in the input, its bytes), taken out.
+    fn take_carry(&mut self) -> (u64, Vec<u8>) {
+        (self.carry_offset, std::mem::take(&mut self.carry))
     }
 
     /// Converts `data` (at input offset `offset`), appending bytes to `out` and reporting bad characters.
@@ -202,8 +211,29 @@ impl HexLines {
         }
     }
 
-    /// One line (with its `\n`, unless it is the last or a piece of a long one).
+    /// One line (with its `\n`, unless it is the last or a piece of a long one); a line of words that gives no
+    /// byte and nothing wrong is counted as text.
     fn line(&mut self, text: &[u8], offset: u64, out: &mut Vec<u8>, bad: &mut impl FnMut(u64, HexError)) {
+        let continues = self.mid_line;
+        let (before, mut wrong) = (out.len(), false);
+        self.convert_line(text, offset, out, &mut |at, error| {
+            wrong = true;
+            bad(at, error);
+        });
+        let words =
+            text.iter().any(|b| !(b.is_ascii_hexdigit() || b.is_ascii_whitespace() || b",;:xX".contains(b)));
+        if !continues && out.len() == before && !wrong && words {
+            self.text_lines += 1;
+        }
+    }
+
+    fn convert_line(
+        &mut self,
+        text: &[u8],
+        offset: u64,
+        out: &mut Vec<u8>,
+        bad: &mut impl FnMut(u64, HexError),
+    ) {
         let continues = std::mem::replace(&mut self.mid_line, false);
         let mut start = 0;
         if !continues {
@@ -345,52 +375,52 @@ fn layout_of(token: &[u8], rest: &[u8]) -> Layout {
 
 pub fn decode(decoder: &mut Decoder, name: &str, input: impl Read) -> Result<()> {
     let mut input = decoder.live(input);
-    let mut stream = StreamDecoder::new();
     let mut chunk = vec![0u8; CHUNK];
-    let mut bytes = Vec::with_capacity(CHUNK);
-    let mut events = Vec::new();
-    let mut problems = Vec::new();
     let rejected_before = decoder.stats.rejected_total();
 
     let filled = read_sample(&mut input, &mut chunk, name)?;
-    let mut hex = hex_converter(&chunk[..filled], name)?;
+    let hex = hex_converter(&chunk[..filled], name)?;
+    let mut capture =
+        Capture { name, stream: StreamDecoder::new(), hex, events: Vec::new(), problems: Vec::new() };
+    let mut bytes = Vec::with_capacity(CHUNK);
+    // Text before binary frames (a terminal program's banner): skipped, and its bytes counted as such.
+    let mut text_before: Option<(u64, StreamStats)> = None;
 
-    let mut text_offset = 0u64;
-    let mut read = filled;
-    loop {
-        if read == 0 {
-            break;
-        }
+    let (mut offset, mut read) = (0u64, filled);
+    while read > 0 {
         let data = &chunk[..read];
-        let input_bytes: &[u8] = match &mut hex {
-            Some(converter) => {
-                bytes.clear();
-                converter.feed(data, text_offset, &mut bytes, &mut |at, error| problems.push((at, error)));
-                report_hex_problems(decoder, name, &mut problems)?;
-                &bytes
+        match capture.hex.as_ref().and_then(|_| binary_start(data)) {
+            Some(at) => {
+                // The line holding the first binary byte starts the raw capture: the text before it is done.
+                let line_start = memchr::memrchr(b'\n', &data[..at]).map_or(0, |newline| newline + 1);
+                capture.feed(decoder, &data[..line_start], offset, &mut bytes)?;
+                let mut converter = capture.hex.take().expect("hex text before");
+                let (carry_offset, mut raw) = converter.take_carry();
+                let raw_from = if raw.is_empty() { offset + line_start as u64 } else { carry_offset };
+                // Its bytes are counted as skipped bytes of the capture, not as text lines too.
+                converter.text_lines = 0;
+                capture.end_of_text(decoder, &mut converter, &mut bytes)?;
+                let text = std::mem::take(&mut capture.stream).finish();
+                text_before = Some((raw_from, text));
+                raw.extend_from_slice(&data[line_start..]);
+                capture.feed(decoder, &raw, raw_from, &mut bytes)?;
             }
-            None => data,
-        };
-        text_offset += read as u64;
-        stream.feed(input_bytes, |event| events.push(event));
-        for event in events.drain(..) {
-            emit(decoder, name, event)?;
+            None => capture.feed(decoder, data, offset, &mut bytes)?,
         }
+        offset += read as u64;
         read = input.read(&mut chunk).map_err(|error| read_error(error, name))?;
     }
-    if let Some(converter) = &mut hex {
-        bytes.clear();
-        converter.finish(&mut bytes, &mut |at, error| problems.push((at, error)));
-        report_hex_problems(decoder, name, &mut problems)?;
-        stream.feed(&bytes, |event| events.push(event));
-        for event in events.drain(..) {
-            emit(decoder, name, event)?;
-        }
+    if let Some(mut converter) = capture.hex.take() {
+        capture.end_of_text(decoder, &mut converter, &mut bytes)?;
+        capture.hex = Some(converter);
     }
-    let stats = stream.finish();
+    let mut stats = capture.stream.finish();
+    if let Some((text_bytes, text)) = text_before {
+        stats = with_text_before(stats, text_bytes, &text);
+    }
     let rejected = decoder.stats.rejected_total() - rejected_before;
     decoder.stats.serial.push((name.to_string(), stats));
-    let hex_text = hex.is_some().then_some(text_offset);
+    let hex_text = capture.hex.is_some().then_some(offset);
     if stats.frames == 0 && (stats.bytes > 0 || rejected > 0) {
         let message = no_frames_message(name, &stats, rejected, hex_text);
         if decoder.strict {
@@ -399,6 +429,97 @@ pub fn decode(decoder: &mut Decoder, name: &str, input: impl Read) -> Result<()>
         crate::say!("tracerctl: {message}");
     }
     Ok(())
+}
+
+/// A capture being decoded: its stream decoder, and while it reads as hex text, the converter.
+struct Capture<'a> {
+    name: &'a str,
+    stream: StreamDecoder,
+    hex: Option<HexLines>,
+    events: Vec<StreamEvent>,
+    problems: Vec<(u64, HexError)>,
+}
+
+impl Capture<'_> {
+    /// Decodes `data` (at input offset `offset`): converted first while the capture is hex text.
+    fn feed(&mut self, decoder: &mut Decoder, data: &[u8], offset: u64, bytes: &mut Vec<u8>) -> Result<()> {
+        let input_bytes: &[u8] = match &mut self.hex {
+            Some(converter) => {
+                bytes.clear();
+                let problems = &mut self.problems;
+                converter.feed(data, offset, bytes, &mut |at, error| problems.push((at, error)));
+                report_hex_problems(decoder, self.name, problems)?;
+                bytes
+            }
+            None => data,
+        };
+        self.decode(decoder, input_bytes)
+    }
+
+    /// The end of the hex text: its unfinished last line converted, its text lines counted.
+    fn end_of_text(
+        &mut self,
+        decoder: &mut Decoder,
+        converter: &mut HexLines,
+        bytes: &mut Vec<u8>,
+    ) -> Result<()> {
+        bytes.clear();
+        let problems = &mut self.problems;
+        converter.finish(bytes, &mut |at, error| problems.push((at, error)));
+        report_hex_problems(decoder, self.name, problems)?;
+        decoder.stats.skipped.comment += std::mem::take(&mut converter.text_lines);
+        self.decode(decoder, bytes)
+    }
+
+    fn decode(&mut self, decoder: &mut Decoder, bytes: &[u8]) -> Result<()> {
+        let events = &mut self.events;
+        self.stream.feed(bytes, |event| events.push(event));
+        for event in self.events.drain(..) {
+            emit(decoder, self.name, event)?;
+        }
+        Ok(())
+    }
+}
+
+/// Where binary data starts in what was read of a capture that began as text: the first control character
+/// (but TAB, CR, LF, form feed, and ESC of a terminal's colours) or invalid UTF-8 with another within the
+/// next 64 bytes (a raw frame has several: its A5 and low bytes), so one stray byte in a hex dump is not.
+fn binary_start(data: &[u8]) -> Option<usize> {
+    let binary = |at: usize| {
+        let byte = data[at];
+        match byte {
+            b'\t' | b'\n' | b'\r' | 0x0C | 0x1B => false,
+            0..0x20 | 0x7F => true,
+            0..0x80 => false,
+            // Not part of valid UTF-8 (a character cut off by the end of the read is not evidence).
+            _ => {
+                let lead = (0..4).filter_map(|back| at.checked_sub(back)).find(|&i| data[i] & 0xC0 != 0x80);
+                let from = lead.unwrap_or(at);
+                match std::str::from_utf8(&data[from..(from + 4).min(data.len())]) {
+                    Ok(_) => false,
+                    Err(error) if error.valid_up_to() > at - from => false,
+                    Err(error) => error.error_len().is_some(),
+                }
+            }
+        }
+    };
+    let first = (0..data.len()).find(|&at| binary(at))?;
+    let more = (first + 1..(first + 64).min(data.len())).filter(|&at| binary(at)).count();
+    (more >= 1).then_some(first)
+}
+
+/// The stats of a capture whose first `text_bytes` bytes were text: those are counted as skipped bytes of the
+/// capture (so its bytes are the file's), with what the text itself gave.
+fn with_text_before(raw: StreamStats, text_bytes: u64, text: &StreamStats) -> StreamStats {
+    StreamStats {
+        bytes: raw.bytes + text_bytes,
+        frames: raw.frames + text.frames,
+        bad_checksum: raw.bad_checksum + text.bad_checksum,
+        bad_length: raw.bad_length + text.bad_length,
+        bad_type: raw.bad_type + text.bad_type,
+        skipped_bytes: raw.skipped_bytes + text_bytes,
+        sync_losses: raw.sync_losses + text.sync_losses,
+    }
 }
 
 /// Reads the start of the input, which decides what the capture is; a live port is decided on less, so it
@@ -585,6 +706,15 @@ mod tests {
         assert!(looks_like_candump(b"  can0  211   [8]  00 00 01 03 00 00 00 B1\n"));
         assert!(!looks_like_candump(b"5A A5 0A 55 01 02 00 0A 00 00 00 00 6B\n"));
         assert!(!looks_like_candump(b"RX: 5A A5 0A 55\n"));
+    }
+
+    #[test]
+    fn binary_starts_at_the_first_of_several_binary_bytes() {
+        assert_eq!(binary_start(b"Welcome\r\n\x1b[0m\n\x5A\xA5\x0A\x55\x01\x02"), Some(15));
+        assert_eq!(binary_start("[12:34:56] \u{2190} 5A A5\n".as_bytes()), None, "UTF-8 is text");
+        assert_eq!(binary_start(b"5A A5\x00 0A 55\n"), None, "one stray byte is not binary data");
+        let cut = "5A A5 \u{2190}".as_bytes();
+        assert_eq!(binary_start(&cut[..cut.len() - 1]), None, "a character cut by the read is not either");
     }
 
     #[test]
