@@ -4,6 +4,7 @@
 
 mod compressed_input;
 mod dashboard;
+mod dashboard_driver;
 mod dashboard_keys;
 mod dashboard_screens;
 mod decode;
@@ -28,6 +29,7 @@ mod monitor_modes;
 mod parallel_decode;
 mod parallel_summary;
 mod plot;
+mod pty_robot;
 mod recording;
 mod robot_commands;
 mod send_raw;
