@@ -26,7 +26,6 @@ mod long_functions;
 mod mcap;
 mod monitor;
 mod monitor_modes;
-mod parallel_decode;
 mod parallel_summary;
 mod plot;
 mod pty_robot;
