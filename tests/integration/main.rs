@@ -13,10 +13,6 @@ mod docs;
 mod doctor;
 mod drive;
 mod drive_output;
-#[cfg(target_os = "linux")]
-mod fault_peer;
-#[cfg(target_os = "linux")]
-mod faults;
 mod formats;
 mod fuzz;
 mod generated;
