@@ -944,8 +944,11 @@ impl<T: Clone + Send + Sync + 'static> clap::builder::TypedValueParser for Compl
 
 // How to reach the robot; the same for every subcommand (`decode` reads `--serial` as a capture file).
 //
-// Options of one link are refused with another (`--iface` with `--sim`, `--baud` without `--serial`,
-// `--speed` without `--replay`): clap checks them, so help and completions say the same. A plain comment,
+// Options of one link are refused with another (`--iface` with `--sim`): clap checks them among the options
+// given on one side of the command name. What crosses it (`--sim monitor --iface can0`) and what one option
+// needs (`--speed` needs `--replay`, `--baud` needs `--serial`) is checked after parsing
+// (`LinkArgs::misuse`): clap evaluates a global option's `requires` on the command's own arguments only, so
+// `--replay x.log monitor --speed 4` was refused. A plain comment,
 // not a doc comment: clap would take a flattened struct's doc as the top-level `--help` description.
 #[derive(Debug, Args)]
 #[command(next_help_heading = LINK_HEADING)]
@@ -959,7 +962,7 @@ pub struct LinkArgs {
     pub serial: Vec<PathBuf>,
 
     /// Serial baud rate (with --serial) [default: 115200]
-    #[arg(long, global = true, value_name = "BAUD", requires = "serial", conflicts_with_all = ["sim", "replay", "iface"], value_parser = clap::value_parser!(u32).range(1..=4_000_000))]
+    #[arg(long, global = true, value_name = "BAUD", conflicts_with_all = ["sim", "replay", "iface"], value_parser = clap::value_parser!(u32).range(1..=4_000_000))]
     pub baud: Option<u32>,
 
     /// Drive an in-process virtual TRACER, not a robot
@@ -975,7 +978,7 @@ pub struct LinkArgs {
     pub replay: Option<PathBuf>,
 
     /// Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]
-    #[arg(long, global = true, value_name = "N", requires = "replay", conflicts_with_all = ["sim", "serial", "iface"], allow_negative_numbers = true, value_parser = number_in(REPLAY_SPEED))]
+    #[arg(long, global = true, value_name = "N", conflicts_with_all = ["sim", "serial", "iface"], allow_negative_numbers = true, value_parser = number_in(REPLAY_SPEED))]
     pub speed: Option<f64>,
 }
 
@@ -1045,13 +1048,168 @@ const LINK_TIPS: &[(&str, &str)] = &[
 ];
 
 /// Parses the process's command line; on a usage error, prints clap's message (plus what the link
-/// options involved are for) and exits 2.
+/// options involved are for, or the tracerctl spelling of a can-utils habit) and exits 2.
 pub fn parse() -> Cli {
     let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
-    match <Cli as clap::Parser>::try_parse_from(&args) {
-        Ok(cli) => cli,
-        Err(error) => with_tips(error, &args).exit(),
+    try_parse_from(&args).unwrap_or_else(|error| error.exit())
+}
+
+/// The command line parsed and checked as [`parse`] does it, with the same tips in its usage errors.
+pub fn try_parse_from(args: &[std::ffi::OsString]) -> Result<Cli, clap::Error> {
+    <Cli as clap::Parser>::try_parse_from(args)
+        .and_then(|cli| match cli.link.misuse().or_else(|| interface_as_frame(&cli.command)) {
+            Some(error) => Err(error),
+            None => Ok(cli),
+        })
+        .map_err(|error| habit_tip(error, args).unwrap_or_else(|error| with_tips(error, args)))
+}
+
+/// The pairs of link options that exclude each other, by the rule of each option's `conflicts_with_all`.
+const LINK_CONFLICTS: &[(&str, &str)] = &[
+    ("--iface", "--serial"),
+    ("--iface", "--sim"),
+    ("--iface", "--replay"),
+    ("--serial", "--sim"),
+    ("--serial", "--replay"),
+    ("--baud", "--sim"),
+    ("--baud", "--replay"),
+    ("--baud", "--iface"),
+    ("--sim", "--replay"),
+    ("--speed", "--sim"),
+    ("--speed", "--serial"),
+    ("--speed", "--iface"),
+];
+
+impl LinkArgs {
+    /// A link option given with one it excludes, or without the one it needs, wherever each was given;
+    /// the error clap gives for these, with the same tips.
+    fn misuse(&self) -> Option<clap::Error> {
+        use clap::error::{ContextKind, ContextValue, ErrorKind};
+        let given = |option: &str| match option {
+            "--iface" => self.iface.is_some(),
+            "--serial" => !self.serial.is_empty(),
+            "--baud" => self.baud.is_some(),
+            "--sim" => self.sim,
+            "--replay" => self.replay.is_some(),
+            _ => self.speed.is_some(),
+        };
+        if let Some((option, other)) = LINK_CONFLICTS.iter().find(|(a, b)| given(a) && given(b)) {
+            return Some(usage_error_with(
+                ErrorKind::ArgumentConflict,
+                None,
+                vec![
+                    (ContextKind::InvalidArg, ContextValue::String(option.to_string())),
+                    (ContextKind::PriorArg, ContextValue::String(other.to_string())),
+                ],
+            ));
+        }
+        let needs = [("--speed", "--replay", "--replay <FILE>"), ("--baud", "--serial", "--serial <PATH>")];
+        let (_, _, needed) = needs.iter().find(|(option, needed, _)| given(option) && !given(needed))?;
+        Some(usage_error_with(
+            ErrorKind::MissingRequiredArgument,
+            None,
+            vec![(ContextKind::InvalidArg, ContextValue::Strings(vec![needed.to_string()]))],
+        ))
     }
+}
+
+/// `send-raw can0 121#...`, as cansend is called: the interface given where the frames go.
+fn interface_as_frame(command: &Command) -> Option<clap::Error> {
+    let Command::SendRaw(args) = command else { return None };
+    let first = args.frames.first().filter(|frame| looks_like_interface(frame))?;
+    Some(habit_error("send-raw", first, None, interface_tip(first, "send-raw")))
+}
+
+/// `can0`, `vcan1`, `slcan0`: a name that ends in a digit and cannot be hex (so never an RS232 frame).
+fn looks_like_interface(text: &str) -> bool {
+    let bytes = text.as_bytes();
+    (2..=15).contains(&bytes.len())
+        && bytes[0].is_ascii_alphabetic()
+        && bytes[bytes.len() - 1].is_ascii_digit()
+        && bytes.iter().all(u8::is_ascii_alphanumeric)
+        && !bytes.iter().all(u8::is_ascii_hexdigit)
+}
+
+fn interface_tip(name: &str, subcommand: &str) -> String {
+    let subcommand = if subcommand.is_empty() { "COMMAND" } else { subcommand };
+    format!(
+        "the interface is `--iface {name}`: tracerctl --iface {name} {subcommand} (candump and cansend take it \
+         as their first argument)"
+    )
+}
+
+/// The tracerctl spelling of a can-utils habit clap does not know: an interface name as an argument
+/// (`monitor can0`), `--interface can0`, and drive's `--time 2s` or `-d 2s`. The error, rebuilt with that
+/// tip in place of clap's guess (`--time` is closest to `--sim`); anything else comes back unchanged.
+fn habit_tip(error: clap::Error, args: &[std::ffi::OsString]) -> Result<clap::Error, clap::Error> {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    if !matches!(error.kind(), ErrorKind::UnknownArgument | ErrorKind::InvalidSubcommand) {
+        return Err(error);
+    }
+    let invalid = [ContextKind::InvalidArg, ContextKind::InvalidSubcommand].into_iter().find_map(|kind| {
+        match error.get(kind) {
+            Some(ContextValue::String(invalid)) => Some(invalid.clone()),
+            _ => None,
+        }
+    });
+    let Some(invalid) = invalid else { return Err(error) };
+    let args: Vec<&str> = args.iter().filter_map(|arg| arg.to_str()).collect();
+    let (flag, inline) = invalid.split_once('=').map_or((invalid.as_str(), None), |(f, v)| (f, Some(v)));
+    // The value after the flag, as the user typed it.
+    let value = inline.map(str::to_string).or_else(|| {
+        let at = args.iter().position(|arg| *arg == invalid.as_str())?;
+        args.get(at + 1).filter(|value| !value.starts_with('-')).map(|value| value.to_string())
+    });
+    let value = value.or_else(|| {
+        let prefix = format!("{flag}=");
+        args.iter().find_map(|arg| arg.strip_prefix(&prefix)).map(str::to_string)
+    });
+    let top = command();
+    let subcommand =
+        args.iter().skip(1).find_map(|arg| top.find_subcommand(arg)).map_or("", |sub| sub.get_name());
+    let (suggested, tip) = if looks_like_interface(&invalid) {
+        (None, interface_tip(&invalid, subcommand))
+    } else if flag == "--interface" {
+        (Some("--iface"), interface_tip(value.as_deref().unwrap_or("NAME"), subcommand))
+    } else if subcommand == "drive" && matches!(flag, "--time" | "-d") {
+        let time = value.unwrap_or_else(|| "DURATION".to_string());
+        (Some("--for"), format!("drive's time is `--for {time}` (or `--duration {time}`), e.g. 2s, 1500ms"))
+    } else {
+        return Err(error);
+    };
+    Ok(habit_error(subcommand, &invalid, suggested, tip))
+}
+
+/// An "unexpected argument" usage error (exit 2) with the tracerctl spelling as its tip.
+fn habit_error(subcommand: &str, invalid: &str, suggested: Option<&str>, tip: String) -> clap::Error {
+    use clap::error::{ContextKind, ContextValue, ErrorKind};
+    let mut context = vec![(ContextKind::InvalidArg, ContextValue::String(invalid.to_string()))];
+    if let Some(suggested) = suggested {
+        context.push((ContextKind::SuggestedArg, ContextValue::String(suggested.to_string())));
+    }
+    context.push((ContextKind::Suggested, ContextValue::StyledStrs(vec![tip.into()])));
+    usage_error_with(ErrorKind::UnknownArgument, Some(subcommand), context)
+}
+
+/// A usage error as clap words it from `context`, with the usage line of `subcommand` (or the top level).
+fn usage_error_with(
+    kind: clap::error::ErrorKind,
+    subcommand: Option<&str>,
+    context: Vec<(clap::error::ContextKind, clap::error::ContextValue)>,
+) -> clap::Error {
+    use clap::error::{ContextKind, ContextValue};
+    let mut top = command();
+    top.build();
+    let usage = match subcommand.and_then(|name| top.find_subcommand_mut(name)) {
+        Some(sub) => sub.render_usage(),
+        None => top.render_usage(),
+    };
+    let mut error = clap::Error::new(kind).with_cmd(&top);
+    for (kind, value) in context {
+        error.insert(kind, value);
+    }
+    error.insert(ContextKind::Usage, ContextValue::StyledStr(usage));
+    error
 }
 
 fn with_tips(mut error: clap::Error, args: &[std::ffi::OsString]) -> clap::Error {
@@ -1271,8 +1429,8 @@ mod tests {
     }
 
     fn usage_error(args: &[&str]) -> String {
-        use clap::Parser;
-        let error = Cli::try_parse_from(args).expect_err("a usage error");
+        let args: Vec<std::ffi::OsString> = args.iter().map(Into::into).collect();
+        let error = try_parse_from(&args).expect_err("a usage error");
         assert_eq!(error.exit_code(), 2, "{error}");
         error.to_string()
     }
@@ -1356,14 +1514,30 @@ mod tests {
             &["tracerctl", "--sim", "--baud", "9600", "monitor"],
             &["tracerctl", "--replay", "x.log", "--baud", "9600", "monitor"],
             &["tracerctl", "monitor", "--raw", "--format", "json"],
+            // The same across the command name.
+            &["tracerctl", "--sim", "monitor", "--speed", "2"],
+            &["tracerctl", "--sim", "monitor", "--iface", "can1"],
+            &["tracerctl", "--serial", "/dev/ttyUSB0", "monitor", "--replay", "x.log"],
+            &["tracerctl", "--sim", "monitor", "--baud", "9600"],
+            &["tracerctl", "monitor", "--baud", "9600"],
+            &["tracerctl", "--iface", "can0", "monitor", "--speed", "2"],
         ] {
             usage_error(args);
         }
-        use clap::Parser;
-        let ok =
-            |args: &[&str]| Cli::try_parse_from(args).unwrap_or_else(|error| panic!("{args:?}: {error}"));
+        let ok = |args: &[&str]| {
+            let args: Vec<std::ffi::OsString> = args.iter().map(Into::into).collect();
+            try_parse_from(&args).unwrap_or_else(|error| panic!("{args:?}: {error}"))
+        };
         let cli = ok(&["tracerctl", "--replay", "x.log", "--speed", "2", "monitor"]);
         assert_eq!(cli.link.speed(), 2.0);
+        // A global option after the command sees one given before it (the README's example was refused:
+        // "--replay not provided").
+        assert_eq!(ok(&["tracerctl", "--replay", "x.log", "monitor", "--speed", "4"]).link.speed(), 4.0);
+        assert_eq!(ok(&["tracerctl", "monitor", "--replay", "x.log", "--speed", "4"]).link.speed(), 4.0);
+        assert_eq!(
+            ok(&["tracerctl", "--serial", "/dev/ttyUSB0", "monitor", "--baud", "9600"]).link.baud(),
+            9600
+        );
         let cli = ok(&["tracerctl", "--serial", "/dev/ttyUSB0", "--baud", "9600", "monitor"]);
         assert_eq!(cli.link.baud(), 9600);
         assert_eq!(ok(&["tracerctl", "--sim", "monitor"]).link.baud(), DEFAULT_BAUD);
@@ -1398,14 +1572,41 @@ mod tests {
 
     #[test]
     fn the_tip_says_what_the_option_is_for() {
-        use clap::Parser;
-        let args: Vec<std::ffi::OsString> =
-            ["tracerctl", "--sim", "drive", "--speed", "0.3"].iter().map(Into::into).collect();
-        let error = with_tips(Cli::try_parse_from(&args).unwrap_err(), &args).to_string();
+        let error = usage_error(&["tracerctl", "--sim", "drive", "--speed", "0.3"]);
         assert!(
             error.contains("--speed sets the replay speed and needs --replay; drive's speed is --linear"),
             "{error}"
         );
         assert!(!error.contains("--baud sets"), "{error}");
+    }
+
+    #[test]
+    fn can_utils_habits_get_the_tracerctl_spelling() {
+        let iface = "the interface is `--iface can0`";
+        for (args, tip) in [
+            (&["tracerctl", "monitor", "can0"][..], iface),
+            (&["tracerctl", "send-raw", "can0", "121#01031E0000000005"], iface),
+            (&["tracerctl", "--interface", "can0", "monitor"], iface),
+            (&["tracerctl", "monitor", "--interface", "can0"], iface),
+            (&["tracerctl", "monitor", "--interface=can0"], iface),
+            (&["tracerctl", "can0", "monitor"], iface),
+            (&["tracerctl", "drive", "--linear", "0.2", "--time", "2s"], "drive's time is `--for 2s`"),
+            (&["tracerctl", "drive", "--linear", "0.2", "-d", "2s"], "drive's time is `--for 2s`"),
+        ] {
+            let message = usage_error(args);
+            assert!(message.contains(tip), "{args:?}: {message}");
+            assert!(!message.contains("'--sim'"), "{args:?}: {message}");
+        }
+        let message = usage_error(&["tracerctl", "drive", "--time", "2s"]);
+        assert!(message.contains("unexpected argument '--time' found"), "{message}");
+        assert!(message.contains("a similar argument exists: '--for'"), "{message}");
+        assert!(message.contains("Usage: tracerctl drive"), "{message}");
+        let message = usage_error(&["tracerctl", "send-raw", "vcan1", "123#00"]);
+        assert!(message.contains("unexpected argument 'vcan1' found"), "{message}");
+        assert!(message.contains("the interface is `--iface vcan1`"), "{message}");
+        // An RS232 frame in hex and other mistakes keep their own errors.
+        assert!(!looks_like_interface("5AA50A550102000A00000000"));
+        assert!(!looks_like_interface("beef1") && looks_like_interface("slcan0"));
+        assert!(!usage_error(&["tracerctl", "monitor", "--bogus"]).contains("tip: the interface"));
     }
 }

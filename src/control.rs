@@ -805,6 +805,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn mode_first_then_motion_then_zeros_on_stop() {
         let (sender, frames) = mpsc::channel();
         let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
@@ -827,6 +828,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_stalled_input_is_zeroed_by_the_watchdog() {
         let (sender, frames) = mpsc::channel();
         let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
@@ -846,6 +848,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_kick_sends_the_new_target_at_once() {
         let (sender, frames) = mpsc::channel();
         let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
@@ -869,6 +872,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_panic_on_the_driving_thread_unwinds_into_zeros() {
         let (sender, frames) = mpsc::channel();
         let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
@@ -887,6 +891,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn dropping_the_sender_stops_the_robot() {
         let (sender, frames) = mpsc::channel();
         let tx: Arc<dyn FrameTx> = Arc::new(Recorder(Mutex::new(sender)));
@@ -972,6 +977,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_gap_in_the_senders_clock_zeroes_the_ramp_and_holds_until_resumed() {
         let link = Arc::new(FaultyLink::default());
         // The 30th send stalls 300 ms: the sender is at full speed by then (0.3 m/s at 100 m/s²).
@@ -998,6 +1004,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_halt_is_zero_at_once_with_no_ramp_and_holds() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits { max_linear: 1.5, linear_accel: 100.0, ..Limits::default() });
@@ -1019,6 +1026,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_release_brakes_from_0_15_to_zero_within_150_ms() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits::default());
@@ -1031,6 +1039,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn suspend_returns_once_the_zero_frame_has_left() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits { linear_accel: 100.0, linear_decel: 100.0, ..Limits::default() });
@@ -1042,6 +1051,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn stop_frames_that_cannot_be_sent_are_not_reported_as_sent() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits::default());
@@ -1055,6 +1065,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn a_full_transmit_queue_is_counted_and_the_stop_frames_are_retried() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits { linear_accel: 100.0, linear_decel: 100.0, ..Limits::default() });
@@ -1073,6 +1084,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn motion_is_held_back_behind_a_backlog_and_the_backlog_is_discarded_before_the_stop() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits { linear_accel: 100.0, ..Limits::default() });
@@ -1096,6 +1108,7 @@ mod tests {
     }
 
     #[test]
+    #[ignore = "timing group: the sender's own 20 ms clock on a real thread; .ci/run runs it alone"]
     fn stop_frames_stuck_in_a_queue_that_never_drains_are_not_a_confirmed_stop() {
         let link = Arc::new(FaultyLink::default());
         let sender = start(&link, Limits::default());

@@ -9,6 +9,7 @@ pub mod can_interface;
 pub mod channel;
 pub mod replay;
 pub mod serial;
+pub mod serial_access;
 #[cfg(target_os = "linux")]
 pub mod socketcan;
 

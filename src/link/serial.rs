@@ -9,6 +9,7 @@ use std::time::Duration;
 use parking_lot::Mutex;
 use serialport::SerialPort;
 
+use super::serial_access::{device_access, permission_denied_text};
 use super::{now_timestamp, Discarded, FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
 use crate::protocol::serial::{StreamDecoder, StreamEvent};
 use crate::protocol::Wire;
@@ -201,10 +202,9 @@ fn open_error(name: &str, error: serialport::Error) -> anyhow::Error {
             "serial port {name} does not exist ({error}): plug in the adapter and look for it with \
              `ls /dev/ttyUSB* /dev/ttyACM*` and `dmesg | tail`"
         ),
-        ErrorKind::Io(io::ErrorKind::PermissionDenied) => anyhow::anyhow!(
-            "permission denied opening {name}: add yourself to the dialout group \
-             (`sudo usermod -aG dialout $USER`, then log in again)"
-        ),
+        ErrorKind::Io(io::ErrorKind::PermissionDenied) => {
+            anyhow::anyhow!(permission_denied_text(name, device_access(Path::new(name)).as_ref()))
+        }
         _ => anyhow::anyhow!("cannot open serial port {name}: {error}"),
     }
 }

@@ -2,8 +2,11 @@
 // Test diagnostics may print; the closed-stream rule (clippy.toml) is for the tool itself.
 #![allow(clippy::disallowed_macros)]
 
+#[path = "../parallel_decode/awkward.rs"]
+mod awkward;
 mod compressed_input;
 mod dashboard;
+mod dashboard_driver;
 mod dashboard_keys;
 mod dashboard_motion;
 mod dashboard_screens;
@@ -19,10 +22,6 @@ mod doctor_interrupted;
 mod drive;
 mod drive_output;
 mod drive_refusals;
-#[cfg(target_os = "linux")]
-mod fault_peer;
-#[cfg(target_os = "linux")]
-mod faults;
 mod formats;
 mod fuzz;
 mod generated;
@@ -32,9 +31,9 @@ mod long_functions;
 mod mcap;
 mod monitor;
 mod monitor_modes;
-mod parallel_decode;
 mod parallel_summary;
 mod plot;
+mod pty_robot;
 mod recording;
 mod robot_commands;
 mod send_raw;

@@ -11,6 +11,7 @@ use tracerctl::protocol::message::{Message, MotionState, SystemState};
 use tracerctl::protocol::serial::SerialEncoder;
 
 use super::util::{data, json_lines, stderr, stdout, tracerctl};
+pub use super::util::{signal, wait_with_timeout};
 
 fn monitor(args: &[&str]) -> Output {
     tracerctl().args(args).output().unwrap()
@@ -219,23 +220,6 @@ fn a_closed_pipe_ends_quietly_and_a_signal_with_128_plus_its_number() {
     let lines = json_lines(&output);
     assert!(lines.len() > 50, "frames up to the signal were written: {}", lines.len());
     assert_eq!(totals(&output)[0], lines.len() as u64);
-}
-
-pub fn signal(pid: u32, signal: i32) {
-    // SAFETY: kill(2) on our own child.
-    assert_eq!(unsafe { libc::kill(pid as libc::pid_t, signal) }, 0);
-}
-
-pub fn wait_with_timeout(mut child: std::process::Child, timeout: Duration) -> Output {
-    let deadline = Instant::now() + timeout;
-    while child.try_wait().unwrap().is_none() {
-        if Instant::now() > deadline {
-            let _ = child.kill();
-            panic!("tracerctl did not end within {timeout:?}");
-        }
-        std::thread::sleep(Duration::from_millis(10));
-    }
-    child.wait_with_output().unwrap()
 }
 
 #[test]

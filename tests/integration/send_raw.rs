@@ -1,17 +1,9 @@
 //! `tracerctl send-raw` through the in-process simulator and a real pseudo-terminal.
 
-use std::io::Read;
-use std::process::{Command, Output, Stdio};
-use std::sync::atomic::{AtomicBool, Ordering};
-use std::sync::{Arc, Mutex};
-use std::thread::JoinHandle;
-use std::time::{Duration, Instant};
+use std::process::Output;
 
-use serialport::SerialPort;
-use tracerctl::protocol::serial::{SerialFrame, StreamDecoder, StreamEvent};
-
-use super::monitor::{signal, wait_with_timeout};
 use super::util::{stderr, stdout, tracerctl};
+pub(crate) use crate::pty_robot::PtyRobot;
 
 fn send_raw(args: &[&str]) -> Output {
     tracerctl().args(args).output().unwrap()
@@ -79,54 +71,6 @@ fn cansend_sloppiness_is_an_error_and_nothing_is_sent() {
     assert!(stderr(&output).contains("--fix-checksum is for RS232 frames"), "{}", stderr(&output));
 }
 
-/// The robot's side of a pseudo-terminal: records every frame the host writes, with its arrival time.
-pub struct PtyRobot {
-    pub path: String,
-    frames: Arc<Mutex<Vec<(Instant, SerialFrame)>>>,
-    bytes: Arc<Mutex<Vec<u8>>>,
-    stop: Arc<AtomicBool>,
-    thread: Option<JoinHandle<()>>,
-    _slave: serialport::TTYPort,
-}
-
-impl PtyRobot {
-    pub fn start() -> Self {
-        let (mut master, slave) = serialport::TTYPort::pair().expect("a pseudo-terminal pair");
-        let path = slave.name().unwrap();
-        master.set_timeout(Duration::from_millis(2)).unwrap();
-        let frames = Arc::new(Mutex::new(Vec::new()));
-        let bytes = Arc::new(Mutex::new(Vec::new()));
-        let stop = Arc::new(AtomicBool::new(false));
-        let thread = {
-            let (frames, bytes, stop) = (Arc::clone(&frames), Arc::clone(&bytes), Arc::clone(&stop));
-            std::thread::spawn(move || {
-                let mut decoder = StreamDecoder::new();
-                let mut buffer = [0u8; 256];
-                while !stop.load(Ordering::SeqCst) {
-                    let Ok(read) = master.read(&mut buffer) else { continue };
-                    let now = Instant::now();
-                    bytes.lock().unwrap().extend_from_slice(&buffer[..read]);
-                    decoder.feed(&buffer[..read], |event| {
-                        if let StreamEvent::Frame { frame, .. } = event {
-                            frames.lock().unwrap().push((now, frame));
-                        }
-                    });
-                }
-            })
-        };
-        Self { path, frames, bytes, stop, thread: Some(thread), _slave: slave }
-    }
-
-    pub fn finish(mut self) -> (Vec<(Instant, SerialFrame)>, Vec<u8>) {
-        std::thread::sleep(Duration::from_millis(100));
-        self.stop.store(true, Ordering::SeqCst);
-        self.thread.take().unwrap().join().unwrap();
-        let frames = self.frames.lock().unwrap().clone();
-        let bytes = self.bytes.lock().unwrap().clone();
-        (frames, bytes)
-    }
-}
-
 #[test]
 fn rs232_hex_with_a_computed_checksum_reaches_the_port_byte_for_byte() {
     let robot = PtyRobot::start();
@@ -155,93 +99,4 @@ fn rs232_hex_with_a_computed_checksum_reaches_the_port_byte_for_byte() {
         send_raw(&["--serial", "/dev/null", "send-raw", "--fix-checksum", "5AA50A550102000A00000000"]);
     assert_eq!(output.status.code(), Some(2));
     assert!(stderr(&output).contains("0x5501 motion_command"), "{}", stderr(&output));
-}
-
-#[test]
-fn sigint_during_repeats_stops_the_robot_at_once() {
-    let robot = PtyRobot::start();
-    let child = repeat_motion(&robot, 50);
-    // 300 ms after the first frame arrives.
-    let deadline = Instant::now() + Duration::from_secs(5);
-    let first = loop {
-        if let Some((at, _)) = robot.frames.lock().unwrap().first() {
-            break *at;
-        }
-        assert!(Instant::now() < deadline, "no frame arrived");
-        std::thread::sleep(Duration::from_millis(1));
-    };
-    std::thread::sleep((first + Duration::from_millis(300)).saturating_duration_since(Instant::now()));
-    let signalled = Instant::now();
-    signal(child.id(), libc::SIGINT);
-    let output = wait_with_timeout(child, Duration::from_secs(5));
-    let (frames, _) = robot.finish();
-    assert_eq!(output.status.code(), Some(130), "{}", stderr(&output));
-    let percent = |frame: &SerialFrame| (frame.command, frame.payload[2] as i8, frame.payload[3] as i8);
-    let moving: Vec<&(Instant, SerialFrame)> =
-        frames.iter().take_while(|(_, frame)| percent(frame) == (1, 10, 0)).collect();
-    assert!((13..=18).contains(&moving.len()), "{} motion frames before the signal", moving.len());
-    // A fixed 20 ms schedule.
-    let last_moving = moving.last().unwrap().0;
-    let mean = last_moving.duration_since(first).as_secs_f64() * 1000.0 / (moving.len() - 1) as f64;
-    assert!((18.0..=22.0).contains(&mean), "mean period {mean:.1} ms");
-    let tail = &frames[moving.len()..];
-    assert_eq!(tail.len(), 3, "then only the zero-velocity frames: {tail:?}");
-    assert!(tail.iter().all(|(_, frame)| percent(frame) == (1, 0, 0)), "{tail:?}");
-    let late = tail[0].0.saturating_duration_since(signalled);
-    assert!(late < Duration::from_millis(50), "zeros {late:?} after the signal");
-    let errors = stderr(&output);
-    assert!(errors.contains("stopped by SIGINT after"), "{errors}");
-    assert!(stdout(&output).contains("then 3 zero-velocity frames"), "{}", stdout(&output));
-}
-
-/// `send-raw --force --repeat N --period 20` of a 10 % RS232 motion frame to `robot`.
-fn repeat_motion(robot: &PtyRobot, repeat: u32) -> std::process::Child {
-    Command::new(env!("CARGO_BIN_EXE_tracerctl"))
-        .args([
-            "--serial",
-            &robot.path,
-            "send-raw",
-            "--force",
-            "--fix-checksum",
-            "--period",
-            "20",
-            "--repeat",
-        ])
-        .arg(repeat.to_string())
-        .arg("5AA50A550102000A00000000")
-        .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap()
-}
-
-/// Ctrl-Z (SIGTSTP) during repeats of a motion frame: zero-velocity frames first, and after SIGCONT the
-/// repeats do not carry on (a suspension never resumes motion).
-#[test]
-fn sigtstp_during_repeats_sends_zeros_and_never_resumes() {
-    let robot = PtyRobot::start();
-    let child = repeat_motion(&robot, 100);
-    let deadline = Instant::now() + Duration::from_secs(5);
-    while robot.frames.lock().unwrap().len() < 10 {
-        assert!(Instant::now() < deadline, "no frames arrived");
-        std::thread::sleep(Duration::from_millis(1));
-    }
-    let signalled = Instant::now();
-    signal(child.id(), libc::SIGTSTP);
-    std::thread::sleep(Duration::from_millis(500));
-    signal(child.id(), libc::SIGCONT);
-    let output = wait_with_timeout(child, Duration::from_secs(5));
-    let (frames, _) = robot.finish();
-    let percent = |frame: &SerialFrame| (frame.command, frame.payload[2] as i8, frame.payload[3] as i8);
-    let after: Vec<(Duration, (u8, i8, i8))> = frames
-        .iter()
-        .filter(|(at, _)| *at >= signalled)
-        .map(|(at, frame)| (at.duration_since(signalled), percent(frame)))
-        .collect();
-    let first_zero = after.iter().position(|(_, p)| *p == (1, 0, 0)).expect("zeros after SIGTSTP");
-    assert!(after[first_zero].0 < Duration::from_millis(50), "zeros {:?} after SIGTSTP", after[first_zero].0);
-    assert!(after[first_zero..].iter().all(|(_, p)| *p == (1, 0, 0)), "nothing moves after: {after:?}");
-    assert!(frames.len() < 60, "the 100 repeats did not carry on after SIGCONT: {} frames", frames.len());
-    assert_eq!(output.status.code(), Some(1), "{}", stderr(&output));
-    assert!(stderr(&output).contains("suspended (SIGTSTP)"), "{}", stderr(&output));
 }

@@ -1,5 +1,7 @@
 //! A fake robot on the master side of a real pseudo-terminal: it sends RS232 system status every 20 ms and
 //! records every frame the host sends, with its arrival time.
+// Shared by the integration tests and the timing group (tests/timing): each binary uses a part.
+#![allow(dead_code)]
 
 use std::io::{Read, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -99,4 +101,10 @@ impl Drop for FakeRobot {
 /// A healthy robot in serial mode, 25.9 V, no faults.
 pub fn healthy() -> SystemState {
     SystemState { control_mode: 2, battery_decivolts: 259, ..SystemState::default() }
+}
+
+/// (linear %, angular %) of an RS232 motion control frame, or None for other frames.
+pub fn percent(frame: &SerialFrame) -> Option<(i8, i8)> {
+    (frame.frame_type == 0x55 && frame.command == 0x01)
+        .then(|| (frame.payload[2] as i8, frame.payload[3] as i8))
 }

@@ -333,3 +333,55 @@ fn clear_errors_succeeds_when_only_a_self_clearing_warning_remains() {
          cannot reset a warning)"
     );
 }
+
+/// A serial port this user may not open is explained from its real owner, group and mode: run as `nobody`
+/// (setpriv, as root here: root itself bypasses the permission check) on a file of each mode.
+#[cfg(target_os = "linux")]
+#[test]
+fn a_port_that_cannot_be_opened_is_explained_from_its_owner_group_and_mode() {
+    use std::os::unix::fs::PermissionsExt;
+    // SAFETY: geteuid has no preconditions.
+    if unsafe { libc::geteuid() } != 0 {
+        eprintln!("not root: setpriv cannot run tracerctl as another user; the message is unit-tested");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::set_permissions(dir.path(), std::fs::Permissions::from_mode(0o755)).unwrap();
+    let port = dir.path().join("ttyUSB0");
+    std::fs::write(&port, b"").unwrap();
+    let as_nobody = |group: &str, mode: u32, groups: &str| {
+        let status = std::process::Command::new("chgrp").arg(group).arg(&port).status().unwrap();
+        assert!(status.success(), "chgrp {group}");
+        std::fs::set_permissions(&port, std::fs::Permissions::from_mode(mode)).unwrap();
+        let output = std::process::Command::new("setpriv")
+            .args(["--reuid=65534", "--regid=65534", groups])
+            .arg(env!("CARGO_BIN_EXE_tracerctl"))
+            .arg("--serial")
+            .arg(&port)
+            .arg("monitor")
+            .output()
+            .expect("setpriv (util-linux)");
+        assert_eq!(output.status.code(), Some(1));
+        String::from_utf8_lossy(&output.stderr).trim_end().to_string()
+    };
+    let path = port.display();
+    assert_eq!(
+        as_nobody("dialout", 0o660, "--clear-groups"),
+        format!(
+            "tracerctl: permission denied opening {path} (-rw-rw---- root:dialout): only root and the dialout \
+             group may open it; add yourself to the group (`sudo usermod -aG dialout $USER`, then log in again)"
+        )
+    );
+    // Not a dialout device: dialout is not suggested.
+    let closed = as_nobody("root", 0o600, "--clear-groups");
+    assert_eq!(
+        closed,
+        format!(
+            "tracerctl: permission denied opening {path} (-rw------- root:root): only root may open it; give it a \
+             group with a udev rule (docs/troubleshooting.md, Serial ports) or run as root"
+        )
+    );
+    let other_group = as_nobody("disk", 0o660, "--clear-groups");
+    assert!(other_group.contains("root:disk") && other_group.contains("usermod -aG disk"), "{other_group}");
+    assert!(!other_group.contains("dialout"), "{other_group}");
+}

@@ -1,7 +1,10 @@
 //! Helpers shared by the integration tests: run the real binary, find fixtures.
+// Shared by the integration tests and the timing group (tests/timing): each binary uses a part.
+#![allow(dead_code)]
 
 use std::path::PathBuf;
 use std::process::Output;
+use std::time::{Duration, Instant};
 
 use assert_cmd::Command;
 
@@ -33,4 +36,23 @@ pub fn decode_json(args: &[&str]) -> Vec<serde_json::Value> {
     let output = tracerctl().arg("decode").arg("--format").arg("json").args(args).output().unwrap();
     assert!(output.status.success(), "decode failed: {}", stderr(&output));
     json_lines(&output)
+}
+
+/// Sends `signal` to a child process.
+pub fn signal(pid: u32, signal: i32) {
+    // SAFETY: kill(2) on our own child.
+    assert_eq!(unsafe { libc::kill(pid as libc::pid_t, signal) }, 0);
+}
+
+/// Waits for a child to end; kills it and fails the test after `timeout`.
+pub fn wait_with_timeout(mut child: std::process::Child, timeout: Duration) -> Output {
+    let deadline = Instant::now() + timeout;
+    while child.try_wait().unwrap().is_none() {
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            panic!("tracerctl did not end within {timeout:?}");
+        }
+        std::thread::sleep(Duration::from_millis(10));
+    }
+    child.wait_with_output().unwrap()
 }

@@ -2,20 +2,82 @@
 //! the `--plot` SVG) on every fixture and on logs whose chunk boundaries are forced everywhere
 //! (`TRACERCTL_CHUNK_BYTES`), in every mode: text, JSON, CSV, `--summary` (text and JSON), `--plot`,
 //! `--delta-stamps`, `--strict`.
+//!
+//! The sweeps run decode thousands of times: in forks of this process (the command line through
+//! `cli::try_parse_from` and `cli::run`, as src/main.rs runs it), not as processes of the debug binary, whose
+//! every start loads 80 MB; standard input, a live pipe and `-j0` still run the real binary. Its own test
+//! binary without libtest's harness: a fork is safe only while this process has no other thread.
+// Test diagnostics may print; the closed-stream rule (clippy.toml) is for the tool itself.
+#![allow(clippy::disallowed_macros)]
 
+mod awkward;
+#[path = "../integration/util.rs"]
+mod util;
+
+use awkward::awkward_log;
+
+use std::ffi::OsString;
+use std::io::{Read, Seek, Write};
+use std::os::fd::AsRawFd;
+use std::os::unix::process::ExitStatusExt;
 use std::path::{Path, PathBuf};
-use std::process::Output;
+use std::process::{ExitStatus, Output};
 
 use crate::util::{data, stderr, stdout, tracerctl};
 
 /// Runs `decode` with `threads` (and tiny chunks when given) on `path`.
 fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str]) -> Output {
-    let mut command = tracerctl();
-    command.arg("decode").arg(format!("-j{threads}")).args(extra).arg(path);
-    if let Some(bytes) = chunk_bytes {
-        command.env("TRACERCTL_CHUNK_BYTES", bytes.to_string());
+    let mut args: Vec<OsString> = vec!["tracerctl".into(), "decode".into(), format!("-j{threads}").into()];
+    args.extend(extra.iter().map(OsString::from));
+    args.push(path.into());
+    in_a_fork(&args, chunk_bytes)
+}
+
+/// Runs the command line as src/main.rs does, in a fork of this process (no exec: no loading of the debug
+/// binary), its descriptors 1 and 2 sent to files; what it wrote and its exit status. A fork, not a call
+/// here: decode's signal listener is made for one run per process, and a failing run must not take the
+/// sweep's own output with it.
+fn in_a_fork(args: &[OsString], chunk_bytes: Option<usize>) -> Output {
+    let (mut out, mut err) = (tempfile::tempfile().unwrap(), tempfile::tempfile().unwrap());
+    let _ = std::io::stdout().flush();
+    // SAFETY: this process has one thread (no libtest harness), so the child inherits no lock held by
+    // another thread; the child only runs tracerctl's own code and leaves with _exit.
+    let pid = unsafe { libc::fork() };
+    assert!(pid >= 0, "fork: {}", std::io::Error::last_os_error());
+    if pid == 0 {
+        match chunk_bytes {
+            Some(bytes) => std::env::set_var("TRACERCTL_CHUNK_BYTES", bytes.to_string()),
+            None => std::env::remove_var("TRACERCTL_CHUNK_BYTES"),
+        }
+        // SAFETY: dup2 onto this child's own descriptors 1 and 2 from two open files.
+        unsafe {
+            libc::dup2(out.as_raw_fd(), 1);
+            libc::dup2(err.as_raw_fd(), 2);
+        }
+        let code = std::panic::catch_unwind(|| match tracerctl::cli::try_parse_from(args) {
+            Ok(cli) => tracerctl::cli::run(cli).unwrap_or_else(|error| tracerctl::exit::report(&error)),
+            Err(error) => {
+                let _ = error.print();
+                u8::try_from(error.exit_code()).unwrap_or(1)
+            }
+        })
+        .unwrap_or(101);
+        let _ = std::io::stdout().flush();
+        // SAFETY: ends the child at once, as the process would end after main; no destructors of the
+        // parent's state run twice.
+        unsafe { libc::_exit(i32::from(code)) };
     }
-    command.output().unwrap()
+    let mut status = 0;
+    // SAFETY: waits for the child just forked, with a valid status pointer.
+    let waited = unsafe { libc::waitpid(pid, &mut status, 0) };
+    assert_eq!(waited, pid, "waitpid: {}", std::io::Error::last_os_error());
+    let read = |file: &mut std::fs::File| {
+        let mut bytes = Vec::new();
+        file.rewind().unwrap();
+        file.read_to_end(&mut bytes).unwrap();
+        bytes
+    };
+    Output { status: ExitStatus::from_raw(status), stdout: read(&mut out), stderr: read(&mut err) }
 }
 
 fn assert_same(single: &Output, parallel: &Output, what: &str) {
@@ -91,7 +153,6 @@ fn files_under(dir: &Path, found: &mut Vec<PathBuf>) {
     }
 }
 
-#[test]
 fn every_fixture_decodes_the_same_with_threads() {
     let mut files = Vec::new();
     files_under(&data(""), &mut files);
@@ -103,43 +164,6 @@ fn every_fixture_decodes_the_same_with_threads() {
     }
 }
 
-/// Every awkward line kind, with chunk boundaries falling before, inside and after each: CRLF endings,
-/// bad lines, an error frame's continuation text, a count-byte wrap of 0x211, DROPCOUNT, a Pengutronix
-/// header, over-long lines (one a log line padded with spaces, after an error frame), blank lines, and a
-/// last line without a newline.
-pub(crate) fn awkward_log() -> String {
-    let mut log = String::new();
-    for count in 250..=262u32 {
-        let count = count % 256;
-        log.push_str(&format!("(1700000000.{count:06}) can0 211#00000103000000{count:02X}\n"));
-        match count % 6 {
-            0 => log.push_str("(1700000000.500000) can0 221#0096000000000000\r\n"),
-            1 => log.push_str("this line is not candump\n\n   \n"),
-            2 => log.push_str(
-                " (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME\n\
-                 \tcontroller-problem{}\n\tbus-off\n",
-            ),
-            3 => {
-                log.push_str("DROPCOUNT: dropped 3 CAN frames on 'can0' socket (total drops 3)\n# comment\n")
-            }
-            4 => log.push_str(
-                "interface = can1, family = 29, type = 3, proto = 1\n<0x211> [8] 00 00 01 03 00 00 00 b1 \n",
-            ),
-            _ => log.push_str("(1700000000.1) can0 211#ZZ\r\n211#00000103000000B1\n\tstray text\n"),
-        }
-    }
-    log.push_str(&"x".repeat(70_000));
-    log.push('\n');
-    // A log line past the line limit (spaces after its stamp) right after an error frame: rejected whole as
-    // too long, never parsed, so the TAB line after it is still the error frame's text.
-    log.push_str(" (000.000000)  can0  20000080   [8]  00 00 00 00 00 00 00 00   ERRORFRAME\n");
-    log.push_str(&format!("(1700000000.777777){}can0 211#00000103000000B1\n", " ".repeat(70_000)));
-    log.push_str("\tbus-off\n");
-    log.push_str("(1700000000.999999) can0 311#0000000A00000014");
-    log
-}
-
-#[test]
 fn chunk_boundaries_anywhere_change_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("awkward.log");
@@ -233,7 +257,6 @@ fn trc_log() -> String {
     log
 }
 
-#[test]
 fn asc_and_trc_logs_decode_the_same_with_threads() {
     let dir = tempfile::tempdir().unwrap();
     let files = [
@@ -284,7 +307,6 @@ fn session_log() -> String {
     log
 }
 
-#[test]
 fn the_summary_and_the_plot_are_one_pass_over_any_chunking() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("session.log");
@@ -324,7 +346,6 @@ fn delta_log() -> String {
     log
 }
 
-#[test]
 fn delta_stamps_sum_across_chunks() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("td.txt");
@@ -346,7 +367,6 @@ fn delta_stamps_sum_across_chunks() {
 /// 0x151 is decoded by what the traffic before it says: after a V1-only frame, as V1, so a checksum that does
 /// not match makes it invalid (with no traffic seen it would be a V2 system state). Chunks of one line each
 /// are decoded from a guess of the traffic before; without the check of that guess some would say V2.
-#[test]
 fn the_protocol_verdict_crosses_chunk_boundaries() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("v1.log");
@@ -369,7 +389,6 @@ fn the_protocol_verdict_crosses_chunk_boundaries() {
 /// what is left each, the first ones small; reads of 128 KiB inside them): a 4 MiB log whose first frame
 /// makes every 0x151 after it a V1 frame (so the ranges claimed before that verdict is known are decoded
 /// again), with lines over the 64 KiB limit across the first cuts, decodes as one thread decodes it.
-#[test]
 fn a_large_plain_log_decodes_the_same_over_the_default_ranges() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("large.log");
@@ -409,7 +428,6 @@ fn a_large_plain_log_decodes_the_same_over_the_default_ranges() {
 
 /// A compressed file is read through its decompressor and chunked like a plain one; a truncated one writes
 /// the same lines before the same error.
-#[test]
 fn compressed_files_decode_the_same_with_threads() {
     use std::io::Write;
     let dir = tempfile::tempdir().unwrap();
@@ -431,7 +449,6 @@ fn compressed_files_decode_the_same_with_threads() {
     assert!(stderr(&cut).contains("truncated gzip data"), "{}", stderr(&cut));
 }
 
-#[test]
 fn strict_stops_at_the_same_line_with_the_same_message() {
     let path = data("decode/bad_line15.log");
     for bytes in [1, 10, 100, 1000] {
@@ -443,7 +460,6 @@ fn strict_stops_at_the_same_line_with_the_same_message() {
     }
 }
 
-#[test]
 fn zero_threads_is_a_usage_error() {
     let output = tracerctl().args(["decode", "-j0"]).arg(data("decode/good14.log")).output().unwrap();
     assert_eq!(output.status.code(), Some(2), "{}", stderr(&output));
@@ -451,7 +467,6 @@ fn zero_threads_is_a_usage_error() {
 
 /// Standard input (a pipe) is chunked at whatever each read returns (at most the chunk size), and written
 /// exactly as one thread writes it, in every mode; compressed input on a pipe too.
-#[test]
 fn standard_input_decodes_the_same_with_threads() {
     let modes: &[&[&str]] = &[
         &["-f", "text"],
@@ -486,7 +501,6 @@ fn standard_input_decodes_the_same_with_threads() {
 
 /// `candump | tracerctl decode -j2 -`: each line is written soon after it arrives, while the writer still
 /// runs (in `-t d` mode too, where the main thread writes the text).
-#[test]
 fn a_live_stream_is_written_line_by_line_with_threads() {
     use std::io::{BufRead, Write};
     use std::process::{Command, Stdio};
@@ -525,4 +539,63 @@ fn a_live_stream_is_written_line_by_line_with_threads() {
         drop(stdin);
         assert!(child.wait().unwrap().success());
     }
+}
+
+/// Every test of this file, in order.
+const TESTS: &[(&str, fn())] = &[
+    ("every_fixture_decodes_the_same_with_threads", every_fixture_decodes_the_same_with_threads),
+    ("chunk_boundaries_anywhere_change_nothing", chunk_boundaries_anywhere_change_nothing),
+    ("asc_and_trc_logs_decode_the_same_with_threads", asc_and_trc_logs_decode_the_same_with_threads),
+    (
+        "the_summary_and_the_plot_are_one_pass_over_any_chunking",
+        the_summary_and_the_plot_are_one_pass_over_any_chunking,
+    ),
+    ("delta_stamps_sum_across_chunks", delta_stamps_sum_across_chunks),
+    ("the_protocol_verdict_crosses_chunk_boundaries", the_protocol_verdict_crosses_chunk_boundaries),
+    (
+        "a_large_plain_log_decodes_the_same_over_the_default_ranges",
+        a_large_plain_log_decodes_the_same_over_the_default_ranges,
+    ),
+    ("compressed_files_decode_the_same_with_threads", compressed_files_decode_the_same_with_threads),
+    (
+        "strict_stops_at_the_same_line_with_the_same_message",
+        strict_stops_at_the_same_line_with_the_same_message,
+    ),
+    ("zero_threads_is_a_usage_error", zero_threads_is_a_usage_error),
+    ("standard_input_decodes_the_same_with_threads", standard_input_decodes_the_same_with_threads),
+    (
+        "a_live_stream_is_written_line_by_line_with_threads",
+        a_live_stream_is_written_line_by_line_with_threads,
+    ),
+];
+
+/// libtest's interface as far as cargo and nextest use it: `--list`, and a name filter (`--exact` too).
+fn main() {
+    std::env::remove_var("NO_COLOR");
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    if args.iter().any(|arg| arg == "--list") {
+        for (name, _) in TESTS {
+            println!("{name}: test");
+        }
+        return;
+    }
+    let exact = args.iter().any(|arg| arg == "--exact");
+    let mut skip_value = false;
+    let filter = args.iter().find(|arg| {
+        let value = !arg.starts_with('-') && !skip_value;
+        skip_value = matches!(arg.as_str(), "--format" | "--test-threads" | "--skip" | "--color" | "-Z");
+        value
+    });
+    let chosen = |name: &str| {
+        filter.is_none_or(|filter| if exact { name == filter } else { name.contains(filter.as_str()) })
+    };
+    let mut passed = 0;
+    for (name, test) in TESTS.iter().filter(|(name, _)| chosen(name)) {
+        let started = std::time::Instant::now();
+        println!("test {name} ...");
+        test();
+        println!("test {name} ... ok ({:.1} s)", started.elapsed().as_secs_f64());
+        passed += 1;
+    }
+    println!("\ntest result: ok. {passed} passed; 0 failed");
 }
