@@ -18,7 +18,7 @@ fn decode(path: &Path, threads: u16, chunk_bytes: Option<usize>, extra: &[&str])
     command.output().unwrap()
 }
 
-fn assert_same(single: &Output, parallel: &Output, what: &str) {
+pub(super) fn assert_same(single: &Output, parallel: &Output, what: &str) {
     assert_eq!(stdout(parallel), stdout(single), "stdout of {what}");
     assert_eq!(stderr(parallel), stderr(single), "stderr of {what}");
     assert_eq!(parallel.status.code(), single.status.code(), "exit status of {what}");
@@ -107,7 +107,7 @@ fn every_fixture_decodes_the_same_with_threads() {
 /// bad lines, an error frame's continuation text, a count-byte wrap of 0x211, DROPCOUNT, a Pengutronix
 /// header, over-long lines (one a log line padded with spaces, after an error frame), blank lines, and a
 /// last line without a newline.
-fn awkward_log() -> String {
+pub(super) fn awkward_log() -> String {
     let mut log = String::new();
     for count in 250..=262u32 {
         let count = count % 256;
@@ -152,7 +152,7 @@ fn chunk_boundaries_anywhere_change_nothing() {
 /// A Vector ASC log whose header changes how the lines after it read halfway (`base dec`, then `base hex`
 /// again), with the lines every ASC writer leaves: measurement events, statistics, error frames, remote and
 /// CAN FD frames, CRLF endings, a bad line and an unknown event.
-fn asc_log() -> String {
+pub(super) fn asc_log() -> String {
     let mut log = String::from(
         "date Tue Nov 24 10:00:00.000 2026\nbase hex  timestamps absolute\ninternal events logged\n\
          Begin Triggerblock Tue Nov 24 10:00:00.000 2026\n   0.000000 Start of measurement\n",
@@ -199,7 +199,7 @@ fn asc_log() -> String {
 
 /// A PEAK trc 2.1 trace whose `;$COLUMNS=` header changes the columns halfway (the reserved column left out,
 /// then back), with status and error lines, events, remote and FD frames, CRLF endings and a bad line.
-fn trc_log() -> String {
+pub(super) fn trc_log() -> String {
     let mut log = String::from(
         ";$FILEVERSION=2.1\n;$STARTTIME=46350.4166666667\n;$COLUMNS=N,O,T,B,I,d,R,L,D\n;\n\
          ;   Start time: 24.11.2026 10:00:00.000.0\n",
@@ -258,7 +258,7 @@ fn asc_and_trc_logs_decode_the_same_with_threads() {
 /// A session for the summary and the plot: 0x211 whose count byte wraps 0xFF -> 0x00 and then skips, a
 /// 3-second gap, mode and vehicle-state changes, faults coming and going, an E-stop, motion and motor frames,
 /// an invalid frame (a V1 0x151 after V1 traffic), bad lines, error frames with their text, CRLF endings.
-fn session_log() -> String {
+pub(super) fn session_log() -> String {
     let mut log = String::new();
     let mut at = 1_700_000_000_000_000u64;
     for tick in 0..400u32 {
