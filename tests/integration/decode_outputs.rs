@@ -181,6 +181,13 @@ fn a_full_disk_is_one_line_naming_the_file() {
             .output()
             .unwrap();
         assert_disk_full(&stdout_full, "standard output", &format!("{threads} > /dev/full"));
+        let summary_full = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["decode", threads, "--summary"])
+            .arg(&log)
+            .stdout(std::fs::File::create("/dev/full").unwrap())
+            .output()
+            .unwrap();
+        assert_disk_full(&summary_full, "standard output", &format!("{threads} --summary > /dev/full"));
     }
 }
 

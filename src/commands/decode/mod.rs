@@ -836,8 +836,13 @@ impl Decoder {
                         .with_context(|| format!("cannot write {}", path.display()))?,
                     None => {
                         let mut out = io::stdout().lock();
-                        out.write_all(report.as_bytes())?;
-                        out.flush()?;
+                        // The kind kept (a closed pipe stays quiet), the message naming the output.
+                        let named = |error: io::Error| {
+                            let name = "standard output".to_string();
+                            io::Error::new(error.kind(), OutputFailed { name, error })
+                        };
+                        out.write_all(report.as_bytes()).map_err(named)?;
+                        out.flush().map_err(named)?;
                     }
                 }
             }
