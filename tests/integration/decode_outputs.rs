@@ -294,6 +294,24 @@ fn no_frames_at_all_is_exit_3_with_the_reason_in_decode_and_replay() {
             stderr(&monitor)
         );
     }
+    // Text whose every line is rejected: the first ten shown, the totals, then the reason, last.
+    let garbage = write("garbage.log", "RX 0x211 00 00 01 03 00 00 00 B1\n".repeat(20).as_bytes());
+    for threads in ["-j1", "-j2"] {
+        let output = tracerctl().args(["decode", threads, &garbage]).output().unwrap();
+        let errors = stderr(&output);
+        assert_eq!(output.status.code(), Some(3), "{errors}");
+        assert_eq!(errors.matches(": column 1: not a candump line").count(), 10, "{errors}");
+        assert!(errors.contains("decoded 0 frames from 20 lines; rejected 20 lines"), "{errors}");
+        let reason = format!(
+            "tracerctl: no frames in {garbage}: all 20 lines rejected or skipped (20 rejected, 0 skipped)"
+        );
+        assert_eq!(errors.lines().last(), Some(reason.as_str()), "{errors}");
+    }
+    // Several inputs without a frame: every reason on the one line.
+    let both = tracerctl().args(["decode", &empty, &comments]).output().unwrap();
+    let reasons =
+        format!("no frames in {empty}: empty; no frames in {comments}: all 3 lines blank or comments");
+    one_line(&both, &reasons, "decode empty comments");
     // Standard input too, and an empty RS232 capture.
     let piped = tracerctl().args(["decode", "-"]).write_stdin(Vec::new()).output().unwrap();
     one_line(&piped, "no frames in <stdin>: empty", "decode - < empty");

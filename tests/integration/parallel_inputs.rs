@@ -60,6 +60,7 @@ fn several_inputs_of_every_kind_decode_as_one_thread_decodes_them() {
         &["--summary"],
         &["--summary", "-f", "json"],
         &["--strict"],
+        &["--delta-stamps", "-f", "json"],
         &plot,
         &[plot[0], plot[1], "--summary"],
     ];
