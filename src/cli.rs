@@ -117,7 +117,8 @@ Inputs are candump logs in any variant (candump -l/-L files, console output with
 timestamps, -x, -a, -e, colour), '-' for standard input, or frames in cansend syntax ({EXAMPLE_FRAME}).
 Bad lines are reported with file:line and the reason, counted, and skipped (--strict stops at the first).
 
-Exit status: 0 success, 1 error, 2 usage error, 3 bad input with --strict.";
+Exit status: 0 success, 1 error, 2 usage error (an output that is an input too), 3 bad input
+(with --strict; a format it does not read; no frames at all).";
 
 #[derive(Debug, Args)]
 pub struct DecodeArgs {
@@ -1021,6 +1022,16 @@ impl LinkArgs {
         }
     }
 
+    /// An output of a live command (`monitor --log`, `dashboard --record`) that is the replayed log or the
+    /// serial port: refused before it is created (exit 2).
+    fn refuse_overwriting(&self, option: &str, output: Option<&std::path::Path>) -> anyhow::Result<()> {
+        use commands::same_file::{refuse_overwriting, Named};
+        let Some(path) = output else { return Ok(()) };
+        let replay = self.replay.iter().map(|path| Named { option: "--replay", path });
+        let serial = self.serial.iter().map(|path| Named { option: "--serial", path });
+        refuse_overwriting(&replay.chain(serial).collect::<Vec<_>>(), &[Named { option, path }])
+    }
+
     /// `decode` reads files: the options of live links do not apply (its `--serial` are captures).
     fn refuse_live(&self) -> anyhow::Result<()> {
         let live = [
@@ -1277,6 +1288,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         ),
         Command::Monitor(args) => {
             let options = args.options()?;
+            link.refuse_overwriting("--log", options.log.as_deref())?;
             commands::monitor::run(&global(link.choice()?), &options)
         }
         Command::Drive(args) => {
@@ -1294,6 +1306,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::Dashboard(args) => {
             let options = args.options()?;
+            link.refuse_overwriting("--record", options.record.as_deref())?;
             commands::dashboard::run(&global(link.choice()?), &options)
         }
     }

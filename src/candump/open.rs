@@ -260,6 +260,8 @@ enum Advice {
     Utf16,
     /// No converter we know of: record with candump instead.
     RecordAgain,
+    /// Raw bytes, perhaps an RS232 capture: `decode --serial` reads those.
+    Serial,
 }
 
 impl Refusal {
@@ -275,6 +277,7 @@ impl Refusal {
             }
             Advice::Wireshark => "open it in Wireshark, or record the bus with `candump -L can0 > FILE.log`".to_string(),
             Advice::Utf16 => format!("convert it with `iconv -f UTF-16 -t UTF-8 {file} > {file}.utf8` (a PowerShell `>` writes UTF-16)"),
+            Advice::Serial => format!("an RS232 capture? use `tracerctl decode --serial {file}`"),
             Advice::RecordAgain => {
                 "no converter is known; record the bus with `candump -L can0 > FILE.log` instead".to_string()
             }
@@ -309,6 +312,9 @@ fn sniff(head: &[u8], at_end: bool) -> Option<Sniffed> {
     };
     if binary.is_some() {
         return binary;
+    }
+    if looks_binary(head) {
+        return refuse("binary data, not a text log", Advice::Serial);
     }
     let text = head.strip_prefix(UTF8_BOM).unwrap_or(head);
     // Complete lines only (the last one is complete at the end of input), without blank ones.
@@ -365,6 +371,15 @@ fn sniff(head: &[u8], at_end: bool) -> Option<Sniffed> {
         };
     }
     Some(one_line_format(first, first_trimmed))
+}
+
+/// Whether the start of the input is raw bytes rather than text: more than one byte in 16 is a control
+/// character no log holds (tabs, line ends, form feeds and the escapes of coloured console output aside).
+/// Random data has about one in ten; a log with a stray corrupted byte stays text, and is read line by line.
+fn looks_binary(head: &[u8]) -> bool {
+    let control =
+        head.iter().filter(|&&byte| matches!(byte, 0x00..=0x08 | 0x0E..=0x1A | 0x1C..=0x1F | 0x7F)).count();
+    control * 16 > head.len()
 }
 
 /// Formats recognisable from their first line alone.

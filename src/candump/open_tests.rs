@@ -198,3 +198,38 @@ fn a_corrupt_compressed_header_is_a_read_error_naming_the_compression() {
     assert!(message.starts_with("cannot read bad.gz: ") && message.contains("gzip"), "{message}");
     assert_eq!(crate::exit::Failure::from(error).code, crate::exit::FAILURE);
 }
+
+/// Raw bytes (an RS232 capture, random data) are refused in one line that points at `--serial`; text with a
+/// stray control byte, coloured console output and a compressed log are still text.
+#[test]
+fn binary_data_is_refused_as_not_a_text_log() {
+    let mut state = 0x2545_F491_4F6C_DD1Du64;
+    let random: Vec<u8> = (0..3000)
+        .map(|_| {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 32) as u8
+        })
+        .collect();
+    // Two RS232 frames: 5A A5, length, type, command, payload, id, checksum.
+    let serial: &[u8] = b"\x5A\xA5\x0A\xAA\x01\x00\x00\x01\x03\x00\x00\x00\xB1\x5A\xA5\x0A\xAA\x02\x00\x00\x00\x00\x00\x00\x01\x0C";
+    for (bytes, name) in [(random.as_slice(), "random.bin"), (serial, "port.bin")] {
+        let error = open(bytes, name).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{name} is binary data, not a text log, which tracerctl does not read: an RS232 capture? use \
+                 `tracerctl decode --serial {name}`"
+            )
+        );
+        assert_eq!(crate::exit::Failure::from(error).code, crate::exit::DATA_ERROR);
+        assert!(open(&compress(Compression::Gzip, bytes), name).is_err(), "{name} compressed");
+    }
+    let mut stray = LOG.to_vec();
+    stray[60] = 0;
+    let colour = b"\x1b[1;31m  can0  211   [8]  00 00 01 03 00 00 00 B1\x1b[0m\n";
+    for text in [&stray[..], colour, LOG] {
+        assert_eq!(open(text, "x.log").unwrap().1.text, TextFormat::Candump, "{text:?}");
+    }
+}

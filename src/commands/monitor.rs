@@ -86,9 +86,10 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         LinkChoice::Replay { .. } => None,
         _ => Some(1.0),
     };
+    let (link, simulator) = session::open_link(&choice, global.sim_config())?;
+    // Created (truncated) only once the link opened: a log that cannot be read leaves the file as it was.
     let log =
         args.log.as_deref().map(|path| LogFile::create(path, "monitor", global.protocol)).transpose()?;
-    let (link, simulator) = session::open_link(&choice, global.sim_config())?;
     let flag = signals::listen(|_| {})?;
     let options = Settings {
         format: args.format,

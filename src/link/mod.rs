@@ -45,6 +45,8 @@ pub struct RxStats {
     pub serial_sync_losses: u64,
     /// A replayed log: lines that are not candump lines (see [`FrameRx::take_notes`] for where and why).
     pub rejected_lines: u64,
+    /// A replayed log: lines read (frames, rejected lines, blank lines and comments).
+    pub replayed_lines: u64,
 }
 
 /// The sending half. `&self`, so one handle can be shared by several threads. Sending never blocks for

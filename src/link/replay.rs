@@ -44,6 +44,7 @@ impl ReplayRx {
         loop {
             let Some(raw) = self.reader.next_line()? else { return Ok(None) };
             self.lines += 1;
+            self.stats.replayed_lines += 1;
             let (number, text) = match raw {
                 RawLine::Line { number, text } => (number, text),
                 RawLine::TooLong { number, len } => {
@@ -118,12 +119,18 @@ impl FrameRx for ReplayRx {
     }
 }
 
-/// For a replayed log that gave no frame at all and had lines rejected, the words for it (the exit status is
-/// then 3, a data error).
+/// For a replayed log that gave no frame at all, the words for it (the exit status is then 3, a data error,
+/// as `decode` says of a log without frames): empty, only blank lines and comments, or lines rejected.
 pub fn nothing_replayed(name: &str, stats: &RxStats) -> Option<String> {
-    (stats.frames == 0 && stats.rejected_lines > 0).then(|| {
-        format!("nothing to replay: {name} has no candump frames ({} lines rejected)", stats.rejected_lines)
-    })
+    if stats.frames > 0 {
+        return None;
+    }
+    let why = match (stats.replayed_lines, stats.rejected_lines) {
+        (0, _) => "is empty".to_string(),
+        (lines, 0) => format!("has no candump frames ({lines} lines, all blank or comments)"),
+        (_, rejected) => format!("has no candump frames ({rejected} lines rejected)"),
+    };
+    Some(format!("nothing to replay: {name} {why}"))
 }
 
 /// Opens `path` for replay at `speed` (0 = as fast as possible). Any log `decode` reads replays:
@@ -195,10 +202,19 @@ mod tests {
         let end = link.rx.recv(Duration::from_secs(1)).unwrap_err();
         assert_eq!(end.kind(), io::ErrorKind::UnexpectedEof);
         assert_eq!(nothing_replayed(&name, &link.rx.stats()), None, "a frame was replayed");
-        let stats = RxStats { rejected_lines: 3, ..RxStats::default() };
+        let stats = RxStats { rejected_lines: 3, replayed_lines: 5, ..RxStats::default() };
         assert_eq!(
             nothing_replayed("x.log", &stats).unwrap(),
             "nothing to replay: x.log has no candump frames (3 lines rejected)"
+        );
+        let stats = RxStats { replayed_lines: 2, ..RxStats::default() };
+        assert_eq!(
+            nothing_replayed("x.log", &stats).unwrap(),
+            "nothing to replay: x.log has no candump frames (2 lines, all blank or comments)"
+        );
+        assert_eq!(
+            nothing_replayed("x.log", &RxStats::default()).unwrap(),
+            "nothing to replay: x.log is empty"
         );
     }
 }

@@ -67,12 +67,18 @@ fn dropcount_totals_saturate_instead_of_overflowing() {
     let line = "DROPCOUNT: dropped 9999999999999999999 CAN frames on 'can0' socket (total drops 3)\n";
     let log = write_temp(&dir, "drops.log", line.repeat(2).as_bytes());
     let output = tracerctl().args(["decode"]).arg(&log).output().unwrap();
-    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    // No frame at all: exit 3 (issue 28; exit 0 before), the totals still said before the reason.
+    assert_eq!(output.status.code(), Some(3), "{}", stderr(&output));
     assert!(
         stderr(&output).contains("candump reported 18446744073709551615 dropped frames"),
         "{}",
         stderr(&output)
     );
+    let reason = format!(
+        "tracerctl: no frames in {}: all 2 lines rejected or skipped (0 rejected, 2 skipped)",
+        log.display()
+    );
+    assert_eq!(stderr(&output).lines().last(), Some(reason.as_str()), "{}", stderr(&output));
 }
 
 // ---- 2. nothing lost on a later error ----
@@ -404,13 +410,17 @@ fn random_bytes_say_there_are_no_frames() {
         })
         .collect();
     let path = write_temp(&dir, "random.bin", &bytes);
+    // No frame at all is bad input: exit 3 with the reason last (issue 28; this exited 0 before).
     let output = tracerctl().args(["decode", "--serial"]).arg(&path).output().unwrap();
-    assert_eq!(output.status.code(), Some(0));
+    assert_eq!(output.status.code(), Some(3));
     assert_eq!(stdout(&output), "");
     let errors = stderr(&output);
-    assert!(errors.contains("no TRACER frames in "), "{errors}");
-    assert!(errors.contains("random.bin: 1000000 bytes, none part of a valid 5A A5 frame"), "{errors}");
     assert!(errors.contains("random.bin: 1000000 bytes, 0 frames, 1000000 bytes skipped"), "{errors}");
+    let reason = format!(
+        "tracerctl: no TRACER frames in {}: 1000000 bytes, none part of a valid 5A A5 frame; 20 bad length bytes",
+        path.display()
+    );
+    assert_eq!(errors.lines().last(), Some(reason.as_str()), "{errors}");
     let output = tracerctl().args(["decode", "--strict", "--serial"]).arg(&path).output().unwrap();
     assert_eq!(output.status.code(), Some(3));
 }

@@ -2,8 +2,6 @@
 // Test diagnostics may print; the closed-stream rule (clippy.toml) is for the tool itself.
 #![allow(clippy::disallowed_macros)]
 
-#[path = "../parallel_decode/awkward.rs"]
-mod awkward;
 mod compressed_input;
 mod dashboard;
 mod dashboard_driver;
@@ -12,6 +10,7 @@ mod dashboard_motion;
 mod dashboard_screens;
 mod decode;
 mod decode_losses;
+mod decode_outputs;
 #[cfg(target_os = "linux")]
 mod decode_shrinks;
 #[cfg(target_os = "linux")]
@@ -31,6 +30,9 @@ mod long_functions;
 mod mcap;
 mod monitor;
 mod monitor_modes;
+mod parallel_inputs;
+#[path = "../parallel_decode/logs.rs"]
+mod parallel_logs;
 mod parallel_summary;
 mod plot;
 mod pty_robot;

@@ -9,7 +9,7 @@ use std::process::Output;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
 
-use crate::awkward::awkward_log;
+use crate::parallel_logs::awkward_log;
 use crate::util::tracerctl;
 
 /// The modes the loss was seen in and those around it: (arguments, whether a plot is written).

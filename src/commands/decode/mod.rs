@@ -19,6 +19,7 @@ use std::rc::Rc;
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 
+use super::same_file::{self, Named};
 use super::Global;
 use crate::candump::{
     self, Line, LineParser, LineReader, LogFormat, RawLine, Reason, RejectTally, Rejected, Rejection,
@@ -91,9 +92,13 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         let output = match &args.output {
             Some(path) => {
                 let file = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
-                Output { buffer, out: Box::new(io::BufWriter::new(file)), line_buffered: false }
+                let out = Box::new(io::BufWriter::new(file));
+                Output { buffer, out, line_buffered: false, name: path.display().to_string(), failed: false }
             }
-            None => Output { buffer, out: Box::new(stdout.lock()), line_buffered: stdout_is_terminal },
+            None => {
+                let (out, name) = (Box::new(stdout.lock()), "standard output".to_string());
+                Output { buffer, out, line_buffered: stdout_is_terminal, name, failed: false }
+            }
         };
         Sink::Lines { writer, output: Rc::new(RefCell::new(output)) }
     };
@@ -111,6 +116,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         signals,
         threads: args.threads,
         chunk_bytes: args.chunk_bytes,
+        frameless: Vec::new(),
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
@@ -131,22 +137,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         crate::say!("tracerctl: {}: {}", decoder.signals.name(), totals_line(&decoder.stats));
         return Ok(status);
     }
-    match result {
-        Ok(()) => {
-            decoder.write_out(args)?;
-            decoder.report_totals();
-            Ok(SUCCESS)
-        }
-        Err(error) => {
-            // Everything decoded before the error is written first; the error is the last word. A
-            // summary or plot of nothing (the first input was refused) would only hide the error.
-            // An MCAP file is finished (summary, index) whatever came before the error.
-            if decoder.stats.anything_read() || matches!(decoder.sink, Sink::Lines { .. } | Sink::Mcap(_)) {
-                decoder.write_out_or_say(args);
-            }
-            Err(error)
-        }
-    }
+    decoder.finish(args, result)
 }
 
 /// Usage errors found before any input is read.
@@ -161,7 +152,17 @@ fn check_arguments(args: &Options) -> Result<()> {
     if let Some(path) = &args.plot {
         plot::check_path(path)?;
     }
-    Ok(())
+    // Before any output is created: an output that is an input would be emptied before it is read.
+    let input = |path| Named { option: "the input", path };
+    let mut inputs: Vec<Named> = args.inputs.iter().map(|name| input(Path::new(name))).collect();
+    if args.inputs.is_empty() && args.serial.is_empty() {
+        inputs.push(input(Path::new("-")));
+    }
+    inputs.extend(args.serial.iter().map(|path| Named { option: "--serial", path }));
+    let outputs = [("-o", &args.output), ("--plot", &args.plot)];
+    let outputs: Vec<Named> =
+        outputs.iter().filter_map(|(option, path)| Some(Named { option, path: path.as_deref()? })).collect();
+    same_file::refuse_overwriting(&inputs, &outputs)
 }
 
 /// The decoded text not yet written. Shared with [`LiveInput`], which writes it out before each read of
@@ -171,31 +172,52 @@ struct Output {
     out: Box<dyn Write>,
     /// Every event is written at once (standard output is a terminal).
     line_buffered: bool,
+    /// The file's path, or `standard output`, for messages.
+    name: String,
+    /// A write failed (a full disk): the error was returned once, and nothing more is written.
+    failed: bool,
 }
 
 impl Output {
     fn flush(&mut self) -> io::Result<()> {
-        if !self.buffer.is_empty() {
-            let result = self.out.write_all(&self.buffer);
-            self.buffer.clear();
-            result?;
+        if self.failed {
+            return Ok(());
         }
-        self.out.flush()
+        self.write_through(&[])?;
+        self.out.flush().map_err(|error| self.failure(error))
     }
 
     /// Writes what is buffered, then `bytes` straight through (a decoded chunk: no copy into the buffer).
     fn write_through(&mut self, bytes: &[u8]) -> io::Result<()> {
+        if self.failed {
+            return Ok(());
+        }
         if !self.buffer.is_empty() {
             let result = self.out.write_all(&self.buffer);
             self.buffer.clear();
-            result?;
+            result.map_err(|error| self.failure(error))?;
         }
-        self.out.write_all(bytes)?;
+        self.out.write_all(bytes).map_err(|error| self.failure(error))?;
         if self.line_buffered {
-            self.out.flush()?;
+            self.out.flush().map_err(|error| self.failure(error))?;
         }
         Ok(())
     }
+
+    /// `error` with the output's name; the output is given up.
+    fn failure(&mut self, error: io::Error) -> io::Error {
+        self.failed = true;
+        io::Error::new(error.kind(), OutputFailed { name: self.name.clone(), error })
+    }
+}
+
+/// A failed write of the output, naming it: `cannot write out.csv: No space left on device (os error 28)`.
+/// Inside an `io::Error` of the same kind, so a closed pipe is still told apart (and stays quiet).
+#[derive(Debug, thiserror::Error)]
+#[error("cannot write {name}: {error}")]
+struct OutputFailed {
+    name: String,
+    error: io::Error,
 }
 
 enum Sink {
@@ -231,15 +253,18 @@ impl McapOutput {
     }
 }
 
-/// A failed write of the MCAP file, with its path (what was written before stays readable up to the last
-/// complete chunk).
+/// A failed write of the MCAP file, with its path and the system's reason (what was written before stays
+/// readable up to the last complete chunk).
 fn mcap_error(path: &Path, error: ::mcap::McapError) -> anyhow::Error {
-    anyhow::anyhow!("cannot write {}: {error}", path.display())
+    match error {
+        ::mcap::McapError::Io(error) => anyhow::anyhow!("cannot write {}: {error}", path.display()),
+        other => anyhow::anyhow!("cannot write {}: {other}", path.display()),
+    }
 }
 
 /// A write of the output failed inside a read of the input (see [`LiveInput`]).
 #[derive(Debug, thiserror::Error)]
-#[error("cannot write the output: {0}")]
+#[error("{0}")]
 struct WriteFailed(io::Error);
 
 /// A termination signal arrived while reading.
@@ -378,6 +403,15 @@ fn serial_losses(stats: &protocol::serial::StreamStats) -> bool {
     stats.skipped_bytes > 0 || stats.bad_checksum > 0 || stats.bad_length > 0 || stats.bad_type > 0
 }
 
+/// The run's counts when an input began: what the input itself added is told from them.
+#[derive(Clone, Copy)]
+struct InputStart {
+    lines: u64,
+    decoded_lines: u64,
+    rejected_lines: u64,
+    skipped: Skipped,
+}
+
 /// The decoding pipeline shared by every input kind.
 pub struct Decoder {
     protocol: ProtocolHint,
@@ -397,6 +431,8 @@ pub struct Decoder {
     threads: usize,
     /// Chosen by the mode unless a test set it ([`parallel::CHUNK_BYTES`], [`parallel::SUMMARY_CHUNK_BYTES`]).
     chunk_bytes: Option<usize>,
+    /// Why each input that gave no frame gave none (`no frames in NAME: empty`).
+    frameless: Vec<String>,
 }
 
 impl Decoder {
@@ -474,7 +510,7 @@ impl Decoder {
         let parser = LineParser::for_format(format);
         let mut parser = if self.delta_stamps { parser.with_delta_timestamps() } else { parser };
         let bar = self.progress_bar(size);
-        let before = (self.stats.decoded_lines, self.stats.rejected_lines, self.stats.skipped);
+        let before = self.input_start();
         let mut consumed = 0u64;
         loop {
             // The common log lines buffered: parsing each finds its end (no search for the `\n` first).
@@ -586,21 +622,45 @@ impl Decoder {
         }
     }
 
-    /// Says so when a log gave no frame at all although it had lines other than blanks and comments.
-    #[inline(never)]
-    fn note_no_frames(&self, name: &str, before: (u64, u64, Skipped)) {
-        let decoded = self.stats.decoded_lines - before.0;
-        let rejected = self.stats.rejected_lines - before.1;
-        let skipped = self.stats.skipped.total() - before.2.total();
-        let skipped_blank = self.stats.skipped.blank - before.2.blank;
-        let skipped_comment = self.stats.skipped.comment - before.2.comment;
-        if decoded == 0 && rejected + skipped > skipped_blank + skipped_comment {
-            crate::say!(
-                "tracerctl: no frames in {name}: all {} lines rejected or skipped ({rejected} rejected, \
-                 {skipped} skipped)",
-                rejected + skipped
-            );
+    /// The run's counts as an input begins.
+    fn input_start(&self) -> InputStart {
+        let stats = &self.stats;
+        InputStart {
+            lines: stats.lines,
+            decoded_lines: stats.decoded_lines,
+            rejected_lines: stats.rejected_lines,
+            skipped: stats.skipped,
         }
+    }
+
+    /// Notes why a log gave no frame at all (empty, only blank lines and comments, or nothing readable).
+    #[inline(never)]
+    fn note_no_frames(&mut self, name: &str, before: InputStart) {
+        let lines = self.stats.lines - before.lines;
+        let decoded = self.stats.decoded_lines - before.decoded_lines;
+        let rejected = self.stats.rejected_lines - before.rejected_lines;
+        let skipped = self.stats.skipped.total() - before.skipped.total();
+        let skipped_blank = self.stats.skipped.blank - before.skipped.blank;
+        let skipped_comment = self.stats.skipped.comment - before.skipped.comment;
+        if decoded > 0 {
+            return;
+        }
+        let why = if lines == 0 {
+            "empty".to_string()
+        } else if rejected + skipped == skipped_blank + skipped_comment {
+            format!("all {lines} lines blank or comments")
+        } else {
+            format!(
+                "all {} lines rejected or skipped ({rejected} rejected, {skipped} skipped)",
+                rejected + skipped
+            )
+        };
+        self.note_frameless(format!("no frames in {name}: {why}"));
+    }
+
+    /// An input that gave no frame: the error when no input gave one, otherwise said after the output.
+    pub(super) fn note_frameless(&mut self, message: String) {
+        self.frameless.push(message);
     }
 
     fn progress_bar(&self, size: Option<u64>) -> Option<ProgressBar> {
@@ -664,10 +724,16 @@ impl Decoder {
                 }
             }
             Sink::Summary(summary) => summary.event(event),
-            Sink::Mcap(Some(mcap)) => {
-                mcap.writer.event(event).map_err(|error| mcap_error(&mcap.path, error))?
+            Sink::Mcap(slot) => {
+                if let Some(mcap) = slot {
+                    if let Err(error) = mcap.writer.event(event) {
+                        let error = mcap_error(&mcap.path, error);
+                        // The file takes nothing more (a full disk): not finished, and the error said once.
+                        *slot = None;
+                        return Err(error);
+                    }
+                }
             }
-            Sink::Mcap(None) => {}
         }
         if let Some(plot) = &mut self.plot {
             plot.event(event);
@@ -715,6 +781,46 @@ impl Decoder {
         Ok(())
     }
 
+    /// The end of a run that was not interrupted: the output written out, then the exit status. No frame
+    /// at all is bad input, whatever it was (empty, only comments, every line rejected): exit 3 with the
+    /// reason as the last word, after what was written (a CSV header, the summary) and the totals.
+    fn finish(&mut self, args: &Options, result: Result<()>) -> Result<u8> {
+        match result {
+            Ok(()) if self.stats.frames > 0 => {
+                self.write_out(args)?;
+                for reason in &self.frameless {
+                    crate::say!("tracerctl: {reason}");
+                }
+                self.report_totals();
+                Ok(SUCCESS)
+            }
+            Ok(()) => {
+                self.write_out_before_error(args);
+                self.report_totals();
+                let reasons = std::mem::take(&mut self.frameless);
+                let message = if reasons.is_empty() {
+                    "no frames in the input".to_string()
+                } else {
+                    reasons.join("; ")
+                };
+                Err(Failure::data(message).into())
+            }
+            Err(error) => {
+                self.write_out_before_error(args);
+                Err(error)
+            }
+        }
+    }
+
+    /// Everything decoded before an error is written first; the error is the last word. A summary or plot
+    /// of nothing (the first input was refused) would only hide the error. An MCAP file is finished
+    /// (summary, index) whatever came before the error.
+    fn write_out_before_error(&mut self, args: &Options) {
+        if self.stats.anything_read() || matches!(self.sink, Sink::Lines { .. } | Sink::Mcap(_)) {
+            self.write_out_or_say(args);
+        }
+    }
+
     /// Writes what was decoded: the rest of the output, or the summary; then the plot.
     fn write_out(&mut self, args: &Options) -> Result<()> {
         match &mut self.sink {
@@ -732,8 +838,13 @@ impl Decoder {
                         .with_context(|| format!("cannot write {}", path.display()))?,
                     None => {
                         let mut out = io::stdout().lock();
-                        out.write_all(report.as_bytes())?;
-                        out.flush()?;
+                        // The kind kept (a closed pipe stays quiet), the message naming the output.
+                        let named = |error: io::Error| {
+                            let name = "standard output".to_string();
+                            io::Error::new(error.kind(), OutputFailed { name, error })
+                        };
+                        out.write_all(report.as_bytes()).map_err(named)?;
+                        out.flush().map_err(named)?;
                     }
                 }
             }

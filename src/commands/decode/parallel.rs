@@ -284,7 +284,7 @@ pub(super) fn decode(
         }
         _ => settings,
     };
-    let before = (decoder.stats.decoded_lines, decoder.stats.rejected_lines, decoder.stats.skipped);
+    let before = decoder.input_start();
     let guess = Mutex::new(Start { carried: LineParser::for_format(format).carried(), ..Start::default() });
     let (pool_tx, pool_rx) = mpsc::channel::<Chunk>();
     let (done_tx, done_rx) = mpsc::channel::<Chunk>();
@@ -331,6 +331,7 @@ pub(super) fn decode(
             settings: &settings,
             guess: &guess,
             size,
+            lines_before: before.lines,
             deltas: DeltaSum::default(),
         };
         let result = merger.run(&done_rx, &pool_tx);
@@ -353,6 +354,8 @@ struct Merger<'a> {
     settings: &'a Settings,
     guess: &'a Mutex<Start>,
     size: Option<u64>,
+    /// The lines of the inputs before this one: a chunk's first line number counts from this input's start.
+    lines_before: u64,
     /// `-t d`: the sum of the deltas of the chunks merged so far.
     deltas: DeltaSum,
 }
@@ -427,7 +430,8 @@ impl Merger<'_> {
             }
         }
         let decoder = &mut *self.decoder;
-        let base = decoder.stats.lines;
+        // Line numbers count within this input, as one thread's reader counts them.
+        let base = decoder.stats.lines - self.lines_before;
         let outcome = &chunk.outcome;
         let stats = &mut decoder.stats;
         stats.lines += outcome.lines;

@@ -421,12 +421,15 @@ pub fn decode(decoder: &mut Decoder, name: &str, input: impl Read) -> Result<()>
     let rejected = decoder.stats.rejected_total() - rejected_before;
     decoder.stats.serial.push((name.to_string(), stats));
     let hex_text = capture.hex.is_some().then_some(offset);
-    if stats.frames == 0 && (stats.bytes > 0 || rejected > 0) {
-        let message = no_frames_message(name, &stats, rejected, hex_text);
+    if stats.frames == 0 {
+        let message = match (stats.bytes, rejected, hex_text) {
+            (0, 0, None | Some(0)) => format!("no TRACER frames in {name}: empty"),
+            _ => no_frames_message(name, &stats, rejected, hex_text),
+        };
         if decoder.strict {
             return Err(Failure::data(message).into());
         }
-        crate::say!("tracerctl: {message}");
+        decoder.note_frameless(message);
     }
     Ok(())
 }
