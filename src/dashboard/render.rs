@@ -16,8 +16,8 @@ use ratatui::widgets::{Block, Clear, Gauge, Paragraph, RenderDirection, Row, Spa
 use ratatui::Frame;
 
 use super::app::{
-    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, Protocol, StatusAge,
-    BATTERY_GAUGE_TOP_DV,
+    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, Protocol, Shown,
+    StatusAge, SystemView, BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
 use crate::protocol::catalog::{self, Direction};
@@ -340,47 +340,52 @@ const REPLAY_ENDED: &str = "replay ended";
 
 /// The one thing to know now, worst first.
 fn alert_text(app: &App, width: usize) -> (Tone, String) {
-    let shown = &app.shown;
+    match link_alert(&app.shown) {
+        Ok(system) => robot_alert(app, system, width),
+        Err(alert) => alert,
+    }
+}
+
+/// The link's alert, worst first, or the fresh system status when the link has none.
+fn link_alert(shown: &Shown) -> Result<SystemView, (Tone, String)> {
     if shown.link_ended {
-        return (
+        return Err((
             Tone::Info,
             format!(
                 "[info] {REPLAY_ENDED}: the log's last values stay on screen; {} quits",
                 keys::key_name(keys::Action::Quit)
             ),
-        );
+        ));
     }
     if let Some(error) = &shown.link_error {
-        return (Tone::Alarm, format!("[fault] LINK FAILED: {error}"));
+        return Err((Tone::Alarm, format!("[fault] LINK FAILED: {error}")));
     }
-    let system = match (shown.status_age, shown.system) {
-        (StatusAge::Stale { deciseconds }, _) => {
-            return (
-                Tone::Alarm,
-                format!(
-                    "[fault] STALE: no status for {}: every value on screen is old (robot off? cable? bus?)",
-                    age_text(deciseconds)
-                ),
-            );
-        }
-        (StatusAge::Fresh, Some(system)) => system,
-        _ if !shown.received_any => {
-            return (
-                Tone::Warning,
-                format!(
-                    "[warning] nothing received on {} yet: is the robot on, is this the right link?",
-                    shown.link_name
-                ),
-            );
-        }
-        _ => {
-            return (
-                Tone::Warning,
-                "[warning] frames arrive but no system status yet: is this a TRACER, is --protocol right?"
-                    .to_string(),
-            );
-        }
-    };
+    match (shown.status_age, shown.system) {
+        (StatusAge::Stale { deciseconds }, _) => Err((
+            Tone::Alarm,
+            format!(
+                "[fault] STALE: no status for {}: every value on screen is old (robot off? cable? bus?)",
+                age_text(deciseconds)
+            ),
+        )),
+        (StatusAge::Fresh, Some(system)) => Ok(system),
+        _ if !shown.received_any => Err((
+            Tone::Warning,
+            format!(
+                "[warning] nothing received on {} yet: is the robot on, is this the right link?",
+                shown.link_name
+            ),
+        )),
+        _ => Err((
+            Tone::Warning,
+            "[warning] frames arrive but no system status yet: is this a TRACER, is --protocol right?"
+                .to_string(),
+        )),
+    }
+}
+
+/// The robot's alert from its fresh status, worst first: E-stop, faults, the mode, warnings, then arming.
+fn robot_alert(app: &App, system: SystemView, width: usize) -> (Tone, String) {
     let state = system.state();
     let faults = app.faults();
     let blocking: Vec<&FaultLine> = faults.iter().filter(|f| f.info.severity.blocks_driving()).collect();
