@@ -244,40 +244,10 @@ impl Ranges {
                 }
             }
             if filled > keep {
-                // Too long: only its length is kept, counted up to its `\n`.
-                let mut length = filled;
-                loop {
-                    if let Some(error) = self.stopped() {
-                        return failed(pos, error);
-                    }
-                    match self.read_at(&mut buf[..self.slice_bytes], pos + length as u64) {
-                        // The unfinished line before a read error is dropped, as the single thread drops it.
-                        Err(error) => return failed(pos, error),
-                        Ok(0) if pos + (length as u64) < self.size => return failed(pos, self.shrank()),
-                        Ok(0) => {
-                            let more = take(Piece::TooLong(length));
-                            pos += length as u64;
-                            if !more {
-                                return end_of(pos);
-                            }
-                            filled = 0;
-                            break;
-                        }
-                        Ok(read) => match memchr(b'\n', &buf[..read]) {
-                            Some(at) => {
-                                length += at;
-                                let more = take(Piece::TooLong(length));
-                                pos += length as u64 + 1;
-                                if !more {
-                                    return end_of(pos);
-                                }
-                                buf.copy_within(at + 1..read, 0);
-                                filled = read - at - 1;
-                                break;
-                            }
-                            None => length += read,
-                        },
-                    }
+                match self.skip_long(buf, pos, filled, &mut take) {
+                    Ok(next) => (pos, filled) = next,
+                    Err((at, None)) => return end_of(at),
+                    Err((at, Some(error))) => return failed(at, error),
                 }
                 continue;
             }
@@ -294,6 +264,45 @@ impl Ranges {
                     return end_of(pos + filled as u64);
                 }
                 Ok(read) => filled += read,
+            }
+        }
+    }
+
+    /// The rest of a line longer than the limit at `pos`, whose first `length` bytes were read: only its
+    /// length is handed over, counted up to its `\n`. Returns where the next line starts and how many of its
+    /// bytes `buf` holds; or where the reading ended, with the error if it failed (the unfinished line
+    /// before a read error is dropped, as the single thread drops it).
+    fn skip_long(
+        &self,
+        buf: &mut [u8],
+        pos: u64,
+        mut length: usize,
+        take: &mut impl FnMut(Piece<'_>) -> bool,
+    ) -> Result<(u64, usize), (u64, Option<io::Error>)> {
+        loop {
+            if let Some(error) = self.stopped() {
+                return Err((pos, Some(error)));
+            }
+            match self.read_at(&mut buf[..self.slice_bytes], pos + length as u64) {
+                Err(error) => return Err((pos, Some(error))),
+                Ok(0) if pos + (length as u64) < self.size => return Err((pos, Some(self.shrank()))),
+                Ok(0) => {
+                    let next = pos + length as u64;
+                    return if take(Piece::TooLong(length)) { Ok((next, 0)) } else { Err((next, None)) };
+                }
+                Ok(read) => {
+                    let Some(at) = memchr(b'\n', &buf[..read]) else {
+                        length += read;
+                        continue;
+                    };
+                    length += at;
+                    let next = pos + length as u64 + 1;
+                    if !take(Piece::TooLong(length)) {
+                        return Err((next, None));
+                    }
+                    buf.copy_within(at + 1..read, 0);
+                    return Ok((next, read - at - 1));
+                }
             }
         }
     }
