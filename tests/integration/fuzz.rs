@@ -246,17 +246,25 @@ fn mutated_logs_through_every_decode_mode() {
         let what = |mode: &str| format!("decode {mode} on {}", names.join(" "));
         let run = |args: &[&str]| tracerctl().arg("decode").args(args).args(&names).output().unwrap();
 
+        // Exit 3 without --strict: an input in a format tracerctl does not read (a mutant turned binary), or no
+        // input of the batch held a single frame (issue 28), when nothing is written.
         let text = run(&[]);
-        check_run(&what("(text)"), &text, &[0, 2]);
+        check_run(&what("(text)"), &text, &[0, 2, 3]);
+        let refused = String::from_utf8_lossy(&text.stderr).contains("which tracerctl does not read");
+        assert!(
+            text.status.code() != Some(3) || text.stdout.is_empty() || refused,
+            "{}: frames and exit 3",
+            what("(text)")
+        );
 
         let json = run(&["-f", "json"]);
-        for line in check_run(&what("-f json"), &json, &[0, 2]).lines() {
+        for line in check_run(&what("-f json"), &json, &[0, 2, 3]).lines() {
             serde_json::from_str::<serde_json::Value>(line)
                 .unwrap_or_else(|error| panic!("{}: {error} in {line:?}", what("-f json")));
         }
 
         let csv = run(&["-f", "csv"]);
-        let records = csv_records(&check_run(&what("-f csv"), &csv, &[0, 2]));
+        let records = csv_records(&check_run(&what("-f csv"), &csv, &[0, 2, 3]));
         if let Some((&header, rows)) = records.split_first() {
             assert!(header > 8, "{}: header of {header} columns", what("-f csv"));
             for (row, &fields) in rows.iter().enumerate() {
@@ -266,7 +274,7 @@ fn mutated_logs_through_every_decode_mode() {
 
         for args in [&["--summary"][..], &["--summary", "-f", "json"]] {
             let summary = run(args);
-            let out = check_run(&what(&args.join(" ")), &summary, &[0, 2]);
+            let out = check_run(&what(&args.join(" ")), &summary, &[0, 2, 3]);
             if args.len() > 1 && summary.status.success() {
                 serde_json::from_str::<serde_json::Value>(&out)
                     .unwrap_or_else(|error| panic!("{}: {error}", what("--summary -f json")));
@@ -289,7 +297,13 @@ fn mutated_logs_through_every_decode_mode() {
         // Standard input: this batch's mutants one after the other.
         let stdin: Vec<u8> = batch.iter().flat_map(|path| std::fs::read(path).unwrap()).collect();
         let piped = tracerctl().args(["decode", "-f", "json", "-"]).write_stdin(stdin).output().unwrap();
-        for line in check_run(&format!("decode - (batch {number})"), &piped, &[0, 2]).lines() {
+        let piped_frames = check_run(&format!("decode - (batch {number})"), &piped, &[0, 2, 3]);
+        let refused = String::from_utf8_lossy(&piped.stderr).contains("which tracerctl does not read");
+        assert!(
+            piped.status.code() != Some(3) || piped_frames.is_empty() || refused,
+            "batch {number}: exit 3"
+        );
+        for line in piped_frames.lines() {
             serde_json::from_str::<serde_json::Value>(line).expect("JSON line from standard input");
         }
     }

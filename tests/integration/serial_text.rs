@@ -78,6 +78,8 @@ fn a_capture_of_text_alone_counts_its_lines() {
     let path = write(&dir, "words.txt", banner(300, "\n").as_bytes());
     let output = tracerctl().args(["decode", "--summary", "--serial"]).arg(&path).output().unwrap();
     let report = String::from_utf8_lossy(&output.stdout);
-    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    // No frames at all is bad input (exit 3, its reason last), but every line is still counted.
+    assert_eq!(output.status.code(), Some(3), "{}", stderr(&output));
+    assert!(stderr(&output).contains("no TRACER frames in"), "{}", stderr(&output));
     assert!(report.contains("decoded 0 frames; skipped 300 lines: 300 comment;"), "{report}");
 }
