@@ -286,7 +286,7 @@ struct LogHead<'a> {
 /// [`parse_log_fast`] on the line at the start of `line`, which may go on past the line's `\n`: the line is
 /// found by parsing it, so a buffer of lines needs no search for each line's end. Writes the frame into
 /// `frame` (left as it was when the line is not taken) and returns the rest.
-#[inline]
+#[inline(always)]
 fn parse_log_line_into<'a>(
     line: &[u8],
     last_iface: &'a mut String,
