@@ -830,33 +830,70 @@ fn feedback_stops() {
 #[test]
 fn robot_does_not_follow() {
     let mut verdict = Verdict::new("robot_does_not_follow");
-    for (state, word) in [(exception(), "exception"), (healthy(), "normal")] {
-        verdict.case(&format!("status {word}"), |verdict| {
-            let robot = FaultyRobot::with(Some(state), MotionFeedback::StandStill);
-            let mut drive = Drive::spawn(&robot, &["--linear", "0.3", "--for", "2s"]);
-            let outcome = drive.finish(Duration::from_secs(8));
-            settle();
+    verdict.case("status normal", |verdict| {
+        let robot = FaultyRobot::with(Some(healthy()), MotionFeedback::StandStill);
+        let mut drive = Drive::spawn(&robot, &["--linear", "0.3", "--for", "2s"]);
+        let outcome = drive.finish(Duration::from_secs(8));
+        settle();
 
-            let motion = robot.motion();
-            verdict.exit(&outcome, 4);
-            let line =
-                outcome.stderr.lines().find(|line| line.contains("the robot did not follow the command"));
-            verdict.check(line.is_some(), "stderr says \"the robot did not follow the command\"");
-            if let Some(line) = line {
-                verdict.check(
-                    line.contains(word) && line.contains("serial"),
-                    format!("with the reason ({word}, mode serial) on that line"),
-                );
-            }
-            verdict.stderr_has(&outcome, "distance 0.00 m");
-            verdict.stderr_has(&outcome, "peak measured +0.000 m/s");
-            verdict.check(!outcome.stderr.contains("(time up)"), "not reported as \"time up\"");
-            verdict.ends_with_zero(&motion);
-            verdict.no_unasked_stall(&outcome);
-            verdict.evidence(&motion, drive.spawned, &[], &outcome);
-        });
-    }
+        let motion = robot.motion();
+        verdict.exit(&outcome, 4);
+        let line = outcome.stderr.lines().find(|line| line.contains("the robot did not follow the command"));
+        verdict.check(line.is_some(), "stderr says \"the robot did not follow the command\"");
+        if let Some(line) = line {
+            verdict.check(
+                line.contains("normal") && line.contains("serial"),
+                "with the reason (normal, mode serial) on that line",
+            );
+        }
+        verdict.stderr_has(&outcome, "distance 0.00 m");
+        verdict.stderr_has(&outcome, "peak measured +0.000 m/s");
+        verdict.check(!outcome.stderr.contains("(time up)"), "not reported as \"time up\"");
+        verdict.ends_with_zero(&motion);
+        verdict.no_unasked_stall(&outcome);
+        verdict.evidence(&motion, drive.spawned, &[], &outcome);
+    });
+    // A robot in the vehicle state exception ignores commands: drive does not start (issue 28, as for an
+    // E-stop), and says why.
+    verdict.case("status exception", |verdict| {
+        let robot = FaultyRobot::with(Some(exception()), MotionFeedback::StandStill);
+        let mut drive = Drive::spawn(&robot, &["--linear", "0.3", "--for", "2s"]);
+        let outcome = drive.finish(Duration::from_secs(8));
+        settle();
+
+        let motion = robot.motion();
+        verdict.exit(&outcome, 4);
+        verdict.stderr_has(&outcome, "not driving: the robot reports a system exception");
+        verdict.check(motion.iter().all(|(_, speed)| *speed == (0, 0)), "nothing that moves was sent");
+        verdict.evidence(&motion, drive.spawned, &[], &outcome);
+    });
     verdict.conclude();
+}
+
+/// The robot turns to the vehicle state exception at full speed (a latched fault): zeros soon after, as for
+/// an E-stop (250 ms, the same allowance), nothing non-zero after, exit 4, the reason said (issue 28: it
+/// went on commanding for 1.75 s and ended on "did not follow").
+#[test]
+fn exception_mid_drive() {
+    scenario("exception_mid_drive", |verdict| {
+        let robot = FaultyRobot::start(healthy());
+        let mut drive = Drive::spawn(&robot, &["--linear", "0.3", "--for", "20s"]);
+        if reach(verdict, &robot, &mut drive, "full speed (20 %)", at_full_speed).is_none() {
+            return;
+        }
+        let raised_at = Instant::now();
+        robot.set_status(Some(exception()));
+        let outcome = drive.finish(Duration::from_secs(5));
+        settle();
+
+        let motion = robot.motion();
+        verdict.zero_within(&motion, raised_at, Duration::from_millis(250), "the exception");
+        verdict.ends_with_zero(&motion);
+        verdict.exit(&outcome, 4);
+        verdict.stderr_has(&outcome, "the robot reports a system exception");
+        verdict.no_unasked_stall(&outcome);
+        verdict.evidence(&motion, drive.spawned, &[("exception", raised_at)], &outcome);
+    });
 }
 
 /// The E-stop is pressed at full speed (the status says so from then on): zeros soon after the first E-stop
