@@ -1104,22 +1104,24 @@ impl LinkArgs {
             "--replay" => self.replay.is_some(),
             _ => self.speed.is_some(),
         };
-        if let Some((option, other)) = LINK_CONFLICTS.iter().find(|(a, b)| given(a) && given(b)) {
+        let needs = [("--speed", "--replay", "--replay <FILE>"), ("--baud", "--serial", "--serial <PATH>")];
+        // What an option needs first: `--sim drive --speed 0.3` meant a drive speed, which the tip says.
+        if let Some((_, _, needed)) = needs.iter().find(|(option, needed, _)| given(option) && !given(needed))
+        {
             return Some(usage_error_with(
-                ErrorKind::ArgumentConflict,
+                ErrorKind::MissingRequiredArgument,
                 None,
-                vec![
-                    (ContextKind::InvalidArg, ContextValue::String(option.to_string())),
-                    (ContextKind::PriorArg, ContextValue::String(other.to_string())),
-                ],
+                vec![(ContextKind::InvalidArg, ContextValue::Strings(vec![needed.to_string()]))],
             ));
         }
-        let needs = [("--speed", "--replay", "--replay <FILE>"), ("--baud", "--serial", "--serial <PATH>")];
-        let (_, _, needed) = needs.iter().find(|(option, needed, _)| given(option) && !given(needed))?;
+        let (option, other) = LINK_CONFLICTS.iter().find(|(a, b)| given(a) && given(b))?;
         Some(usage_error_with(
-            ErrorKind::MissingRequiredArgument,
+            ErrorKind::ArgumentConflict,
             None,
-            vec![(ContextKind::InvalidArg, ContextValue::Strings(vec![needed.to_string()]))],
+            vec![
+                (ContextKind::InvalidArg, ContextValue::String(option.to_string())),
+                (ContextKind::PriorArg, ContextValue::String(other.to_string())),
+            ],
         ))
     }
 }

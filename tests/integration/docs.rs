@@ -1,7 +1,11 @@
 //! Every ```console example in README.md and docs/*.md is run against the real binary and must print
-//! exactly what the document shows (standard error included unless the command redirects it).
+//! exactly what the document shows (standard error included unless the command redirects it). Every ```sh
+//! block is run too, line by line, on the simulator, a replay or tests/data (exit status 0), unless the
+//! line before it says why not (`<!-- sh: not run: REASON -->`, a reason this test checks against the block)
+//! or how it runs (`<!-- sh: run in a new HOME ... -->`: the per-user install).
 
 use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
 
 fn documents() -> Vec<PathBuf> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -69,4 +73,212 @@ fn documented_examples_print_what_the_documents_say() {
     }
     assert!(failures.is_empty(), "{} of {checked} examples differ:\n{}", failures.len(), failures.join("\n"));
     assert!(checked >= 20, "only {checked} examples found");
+}
+
+/// One ```sh block: the marker on the line before it (the text after `<!-- sh: `), its lines, and where.
+struct ShBlock {
+    marker: Option<String>,
+    body: String,
+    at: String,
+}
+
+fn sh_blocks(document: &Path) -> Vec<ShBlock> {
+    let text = std::fs::read_to_string(document).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let mut blocks = Vec::new();
+    for (index, line) in lines.iter().enumerate() {
+        if *line != "```sh" {
+            continue;
+        }
+        let marker = index
+            .checked_sub(1)
+            .and_then(|before| lines[before].strip_prefix("<!-- sh: "))
+            .map(|marker| marker.trim_end_matches("-->").trim().to_string());
+        let body: Vec<&str> = lines[index + 1..].iter().take_while(|line| **line != "```").copied().collect();
+        blocks.push(ShBlock {
+            marker,
+            body: body.join("\n"),
+            at: format!("{}:{}", document.display(), index + 1),
+        });
+    }
+    blocks
+}
+
+/// Why a block is not run, and what the block must show for that reason to hold.
+const NOT_RUN: &[(&str, &[&str])] = &[
+    // A CAN interface or serial port of a real robot (can0 is also tracerctl's default link).
+    ("robot", &["can0", "/dev/ttyUSB", "tracerctl monitor", "tracerctl doctor"]),
+    // Loads kernel modules or creates interfaces.
+    ("root", &["sudo "]),
+    // Installs into the system or the user's home.
+    ("install", &["cargo install", "dpkg -i"]),
+    // Minutes of generated data, profilers, fuzzers.
+    ("benchmark", &["bench", "gen_log", "valgrind", "afl", "/usr/bin/time"]),
+    // The dashboard draws on a terminal until q.
+    ("terminal", &["dashboard"]),
+    // Runs cargo, which this suite cannot do inside its own run.
+    ("cargo", &["cargo test"]),
+];
+
+/// The status a runnable line ends with when it is not 0: a simulator with an E-stop is not drivable.
+const EXPECTED_STATUS: &[(&str, i32)] = &[("--fault estop@0s doctor", 4)];
+
+/// The files the examples read, by the name the documents give them: a copy of a fixture.
+fn placeholders(dir: &Path) {
+    let data = |name: &str| {
+        std::fs::read(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data").join(name)).unwrap()
+    };
+    let session = data("tracer_session.log");
+    for name in ["capture.log", "session.log", "candump-2024-05-01.log", "a.log", "old-robot.log"] {
+        std::fs::write(dir.join(name), &session).unwrap();
+    }
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    std::io::Write::write_all(&mut gz, &session).unwrap();
+    std::fs::write(dir.join("b.log.gz"), gz.finish().unwrap()).unwrap();
+    std::fs::write(dir.join("capture.log.zst"), zstd::encode_all(&session[..], 3).unwrap()).unwrap();
+    std::fs::write(dir.join("trace.asc"), data("formats/vector.asc")).unwrap();
+    for name in ["capture.bin", "uart.bin"] {
+        std::fs::write(dir.join(name), data("decode/serial_xxd.txt")).unwrap();
+    }
+    for shared in ["tests", "docs", "completions"] {
+        std::os::unix::fs::symlink(Path::new(env!("CARGO_MANIFEST_DIR")).join(shared), dir.join(shared))
+            .unwrap();
+    }
+}
+
+fn path_with_binary() -> String {
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    format!("{}:{}", binary.parent().unwrap().display(), std::env::var("PATH").unwrap_or_default())
+}
+
+/// Runs `script` with bash in `dir`; (status, stdout and stderr), or a failure after `limit`. The output goes
+/// to a file, so that a long one never blocks the command.
+fn run_bash(
+    script: &str,
+    dir: &Path,
+    envs: &[(&str, &str)],
+    limit: Duration,
+) -> Result<(i32, String), String> {
+    let mut log = tempfile::tempfile().unwrap();
+    let mut child = std::process::Command::new("bash")
+        .arg("-c")
+        .arg(script)
+        .current_dir(dir)
+        .env("PATH", path_with_binary())
+        .envs(envs.iter().copied())
+        .env_remove("NO_COLOR")
+        .env_remove("TRACERCTL_IFACE")
+        .stdin(std::process::Stdio::null())
+        .stdout(log.try_clone().unwrap())
+        .stderr(log.try_clone().unwrap())
+        .spawn()
+        .unwrap();
+    let deadline = Instant::now() + limit;
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if Instant::now() > deadline {
+            let _ = child.kill();
+            let _ = child.wait();
+            return Err(format!("still running after {limit:?}"));
+        }
+        std::thread::sleep(Duration::from_millis(20));
+    };
+    let mut text = String::new();
+    std::io::Seek::rewind(&mut log).unwrap();
+    std::io::Read::read_to_string(&mut log, &mut text).unwrap();
+    Ok((status.code().unwrap_or(-1), text))
+}
+
+#[cfg(unix)]
+#[test]
+fn every_sh_block_runs_or_says_why_not() {
+    let dir = tempfile::tempdir().unwrap();
+    placeholders(dir.path());
+    let (mut ran, mut failures) = (0, Vec::new());
+    for document in documents() {
+        for block in sh_blocks(&document) {
+            match block.marker.as_deref() {
+                Some(marker) if marker.starts_with("not run: ") => {
+                    let reason = marker["not run: ".len()..].split_whitespace().next().unwrap_or_default();
+                    match NOT_RUN.iter().find(|(name, _)| *name == reason) {
+                        Some((_, shows)) if shows.iter().any(|needle| block.body.contains(needle)) => {}
+                        Some(_) => failures.push(format!(
+                            "{}: not run for '{reason}', which the block does not show",
+                            block.at
+                        )),
+                        None => failures.push(format!("{}: unknown reason '{reason}'", block.at)),
+                    }
+                }
+                Some(marker) if marker.starts_with("run in a new HOME") => {}
+                Some(marker) => failures.push(format!("{}: unknown marker '{marker}'", block.at)),
+                None => {
+                    for line in block.body.lines().filter(|line| !line.trim_start().starts_with('#')) {
+                        let expected = EXPECTED_STATUS
+                            .iter()
+                            .find(|(text, _)| line.contains(text))
+                            .map_or(0, |(_, status)| *status);
+                        match run_bash(line, dir.path(), &[], Duration::from_secs(60)) {
+                            Ok((status, _)) if status == expected => {}
+                            Ok((status, output)) => failures.push(format!(
+                                "{}: $ {line}\nexit status {status}, not {expected}:\n{output}",
+                                block.at
+                            )),
+                            Err(why) => failures.push(format!("{}: $ {line}\n{why}", block.at)),
+                        }
+                        ran += 1;
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    assert!(ran >= 20, "only {ran} lines ran");
+}
+
+/// The README's per-user install, run in a new HOME: man-db finds the pages through PATH alone (no MANPATH,
+/// nothing in ~/.local/bin), and a new bash completes tracerctl from ~/.bashrc without the bash-completion
+/// package.
+#[cfg(unix)]
+#[test]
+fn the_per_user_install_works_on_a_plain_system() {
+    let readme = Path::new(env!("CARGO_MANIFEST_DIR")).join("README.md");
+    let block = sh_blocks(&readme)
+        .into_iter()
+        .find(|block| block.marker.as_deref().is_some_and(|marker| marker.starts_with("run in a new HOME")))
+        .expect("the README's per-user install block");
+    let home = tempfile::tempdir().unwrap();
+    let home_text = home.path().to_str().unwrap();
+    let repository = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let installed = run_bash(
+        &format!("set -e\n{}", block.body),
+        repository,
+        &[("HOME", home_text)],
+        Duration::from_secs(30),
+    );
+    assert_eq!(installed.as_ref().map(|(status, _)| *status), Ok(0), "{installed:?}");
+    // `cargo install` made ~/.cargo/bin, which rustup puts on PATH.
+    std::fs::create_dir_all(home.path().join(".cargo/bin")).unwrap();
+    let man = std::process::Command::new("man")
+        .args(["-w", "tracerctl-drive"])
+        .env_clear()
+        .env("HOME", home_text)
+        .env("PATH", format!("{home_text}/.cargo/bin:/usr/bin:/bin"))
+        .output()
+        .expect("man-db is installed (apt-get install man-db)");
+    let found = String::from_utf8_lossy(&man.stdout);
+    assert_eq!(found.trim(), format!("{home_text}/.cargo/share/man/man1/tracerctl-drive.1"), "{man:?}");
+    let completion =
+        "source ~/.bashrc; COMP_WORDS=(tracerctl das); COMP_CWORD=1; _tracerctl tracerctl das tracerctl; \
+                      complete -p tracerctl; echo \"${COMPREPLY[*]}\"";
+    let completed = std::process::Command::new("bash")
+        .args(["--norc", "-c", completion])
+        .env_clear()
+        .env("HOME", home_text)
+        .env("PATH", "/usr/bin:/bin")
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&completed.stdout);
+    assert!(text.contains("-F _tracerctl tracerctl") && text.contains("dashboard dash"), "{completed:?}");
 }

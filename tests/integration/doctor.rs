@@ -340,6 +340,7 @@ fn doctor_json(link: &[&str], options: &[&str]) -> (i32, Value, String) {
 }
 
 #[test]
+#[ignore = "timing group: the status rate of a simulator process (starved on a busy machine); .ci/run runs it alone"]
 fn over_rs232_the_simulator_process_passes_and_the_probe_selects_serial_mode() {
     let sim = Simulator::start(&[]);
     let (code, report, errors) = doctor_json(&["--serial", &sim.path], &["--probe"]);

@@ -385,3 +385,19 @@ fn a_port_that_cannot_be_opened_is_explained_from_its_owner_group_and_mode() {
     assert!(other_group.contains("root:disk") && other_group.contains("usermod -aG disk"), "{other_group}");
     assert!(!other_group.contains("dialout"), "{other_group}");
 }
+
+/// can-utils habits through the real binary: exit 2 and the tracerctl spelling (every spelling is in
+/// cli.rs's unit tests).
+#[test]
+fn can_utils_habits_are_usage_errors_with_the_tracerctl_spelling() {
+    for (args, tip) in [
+        (&["monitor", "can0"][..], "tip: the interface is `--iface can0`: tracerctl --iface can0 monitor"),
+        (&["send-raw", "can0", "121#01031E0000000005"], "tip: the interface is `--iface can0`"),
+        (&["drive", "--time", "2s"], "tip: drive's time is `--for 2s`"),
+    ] {
+        let output = crate::util::tracerctl().args(args).output().unwrap();
+        let errors = crate::util::stderr(&output);
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {errors}");
+        assert!(errors.contains(tip), "{args:?}: {errors}");
+    }
+}
