@@ -199,6 +199,7 @@ fn finish(mut child: Child) -> (Option<i32>, String) {
 }
 
 #[test]
+#[ignore = "timing group: reaches full speed within 5 s and reads the wire after 50 ms, which a busy machine misses; .ci/run runs it alone"]
 fn a_closed_stdout_stops_the_robot_and_never_panics() {
     // Closed once the robot drives at full speed: the next status line cannot be written.
     let robot = FakeRobot::start(healthy());

@@ -141,6 +141,7 @@ const PER_10MS_SIM: usize = 50;
 /// of them at once, stamped within a millisecond, after a silence warning.
 #[cfg(target_os = "linux")]
 #[test]
+#[ignore = "timing group: the spacing of the stamps of frames read under a stalled reader, which a busy machine stretches; .ci/run runs it alone"]
 fn a_stdout_nobody_reads_delays_no_stamp_of_frames_read_from_a_serial_port() {
     let robot = FakeRobot::start(healthy());
     let run =
