@@ -785,6 +785,11 @@ impl SimArgs {
         if link.replay.is_some() {
             return Err(usage("`sim` serves a link: --replay does not apply"));
         }
+        if self.pty && cfg!(not(unix)) {
+            return Err(usage(
+                "--pty needs Unix pseudo-terminals: on Windows serve on one end of a null-modem pair (com0com) with --serial COMn",
+            ));
+        }
         if self.pty && (link.iface.is_some() || !link.serial.is_empty()) {
             return Err(usage(
                 "--pty serves on a new pseudo-terminal: leave out --iface and --serial (or drop --pty to serve on them)",

@@ -4,7 +4,9 @@
 use std::sync::atomic::{AtomicI32, Ordering};
 use std::sync::Arc;
 
-use anyhow::{Context, Result};
+#[cfg(unix)]
+use anyhow::Context;
+use anyhow::Result;
 
 /// The termination signals every command that can move the robot handles.
 #[cfg(unix)]
@@ -91,12 +93,91 @@ fn listen_inner(
     Ok(flag)
 }
 
-#[cfg(not(unix))]
+/// On Windows, the console's control events stand for the signals: Ctrl-C and Ctrl-Break for SIGINT, closing
+/// the console window, logging off and shutting down for SIGHUP (the terminal went away), with the same
+/// messages and exit statuses as on Linux. There is no Ctrl-Z job control, so `before_stop` never runs.
+#[cfg(windows)]
+pub fn listen(on_signal: impl Fn(i32) + Send + 'static) -> Result<SignalFlag> {
+    console::listen(Box::new(on_signal))
+}
+
+#[cfg(windows)]
+pub fn listen_suspendable(
+    on_signal: impl Fn(i32) + Send + 'static,
+    _before_stop: impl Fn() + Send + 'static,
+) -> Result<SignalFlag> {
+    console::listen(Box::new(on_signal))
+}
+
+#[cfg(windows)]
+mod console {
+    use std::sync::atomic::{AtomicI32, Ordering};
+    use std::sync::Arc;
+    use std::time::Duration;
+
+    use anyhow::{bail, Result};
+    use parking_lot::Mutex;
+    use windows_sys::core::BOOL;
+    use windows_sys::Win32::System::Console::{
+        SetConsoleCtrlHandler, CTRL_BREAK_EVENT, CTRL_CLOSE_EVENT, CTRL_C_EVENT, CTRL_LOGOFF_EVENT,
+        CTRL_SHUTDOWN_EVENT,
+    };
+
+    use super::SignalFlag;
+
+    const SIGINT: i32 = 2;
+    const SIGHUP: i32 = 1;
+    /// How long a closing console waits for the command to finish on its own once the robot is stopped;
+    /// Windows ends the process 5 s after the close whatever the handler does.
+    const CLOSE_GRACE: Duration = Duration::from_secs(3);
+
+    type Listener = (Arc<AtomicI32>, Box<dyn Fn(i32) + Send>);
+
+    /// Every flag and callback of this process; the handler is a plain function, so they live here.
+    static LISTENERS: Mutex<Vec<Listener>> = Mutex::new(Vec::new());
+
+    pub(super) fn listen(on_signal: Box<dyn Fn(i32) + Send>) -> Result<SignalFlag> {
+        let flag = SignalFlag::default();
+        let mut listeners = LISTENERS.lock();
+        if listeners.is_empty() {
+            // SAFETY: `handle` is a valid handler for the whole life of the process (a plain function).
+            if unsafe { SetConsoleCtrlHandler(Some(handle), 1) } == 0 {
+                bail!("cannot install the console control handler: {}", std::io::Error::last_os_error());
+            }
+        }
+        listeners.push((Arc::clone(&flag.0), on_signal));
+        Ok(flag)
+    }
+
+    /// Runs on a thread Windows starts for the event: an ordinary thread, so the callbacks (which stop the
+    /// robot and return once the zero frames have left) run here, before anything can end the process.
+    unsafe extern "system" fn handle(event: u32) -> BOOL {
+        let signal = match event {
+            CTRL_C_EVENT | CTRL_BREAK_EVENT => SIGINT,
+            CTRL_CLOSE_EVENT | CTRL_LOGOFF_EVENT | CTRL_SHUTDOWN_EVENT => SIGHUP,
+            _ => return 0,
+        };
+        // A second event while the first is handled waits here; the robot is stopped by then.
+        let listeners = LISTENERS.lock();
+        for (flag, on_signal) in listeners.iter() {
+            flag.store(signal, Ordering::SeqCst);
+            on_signal(signal);
+        }
+        drop(listeners);
+        if signal == SIGHUP {
+            // Returning lets Windows end the process at once: give the command its own exit first.
+            std::thread::sleep(CLOSE_GRACE);
+        }
+        1
+    }
+}
+
+#[cfg(not(any(unix, windows)))]
 pub fn listen(_on_signal: impl Fn(i32) + Send + 'static) -> Result<SignalFlag> {
     Ok(SignalFlag::default())
 }
 
-#[cfg(not(unix))]
+#[cfg(not(any(unix, windows)))]
 pub fn listen_suspendable(
     _on_signal: impl Fn(i32) + Send + 'static,
     _before_stop: impl Fn() + Send + 'static,

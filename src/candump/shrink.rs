@@ -74,6 +74,7 @@ mod tests {
         assert_eq!(error.to_string(), "it shrank while being read (14 bytes, now 6)");
     }
 
+    #[cfg(unix)]
     #[test]
     fn a_whole_file_and_a_grown_one_end_as_usual() {
         let (mut watched, handle) = watched(b"one\n");

@@ -37,9 +37,19 @@ pub(crate) fn local_to_epoch([year, month, day, hour, minute, second]: [u64; 6])
         (tm.tm_mday, tm.tm_hour, tm.tm_min, tm.tm_sec) =
             (field(day)?, field(hour)?, field(minute)?, field(second)?);
         tm.tm_isdst = -1;
-        libc::mktime(&mut tm)
+        mktime(&mut tm)
     };
     u64::try_from(epoch).ok()
+}
+
+#[cfg(unix)]
+use libc::mktime;
+
+#[cfg(windows)]
+extern "C" {
+    // The C runtime's 64-bit mktime (libc declares no mktime for Windows).
+    #[link_name = "_mktime64"]
+    fn mktime(tm: *mut libc::tm) -> i64;
 }
 
 impl Timestamp {

@@ -388,6 +388,7 @@ impl<'a> Driving<'a> {
         self.blocked.is_some()
     }
 
+    #[cfg(unix)]
     fn suspend(&self) {
         if let Some(stopper) = self.slot.lock().as_ref() {
             stopper.suspend(SUSPEND_WAIT);
@@ -668,11 +669,16 @@ impl<'a> Loop<'a> {
     }
 
     /// Ctrl-Z in raw mode is a key: do what the shell's Ctrl-Z would, safely (zero first).
+    #[cfg(unix)]
     fn on_suspend(&self) {
         self.driving.suspend();
         crate::dashboard::terminal::restore();
         let _ = signal_hook::low_level::raise(signal_hook::consts::SIGSTOP);
     }
+
+    /// Windows consoles have no job control: Ctrl-Z is not a key the dashboard acts on.
+    #[cfg(not(unix))]
+    fn on_suspend(&self) {}
 
     /// This tick's target from the keys held, through the driving side's holds and blocks.
     fn command(&mut self) {

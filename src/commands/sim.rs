@@ -51,18 +51,30 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     serve_until_done(config, link, args.duration)
 }
 
+/// A new pseudo-terminal, its name announced on standard output.
+#[cfg(unix)]
+fn open_pty(stdout: &mut impl Write) -> Result<Link> {
+    let (master, slave) = serialport::TTYPort::pair().context("cannot create a pseudo-terminal")?;
+    let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no name")?;
+    // Close our handle on the terminal side so the host can open it (it is opened exclusively).
+    drop(slave);
+    write!(stdout, "PTY {path}\nconnect with: tracerctl --serial {path} monitor\n")?;
+    stdout.flush()?;
+    link::serial::from_port(Box::new(master), &path, true)
+}
+
+/// The command line refuses `--pty` where there are no pseudo-terminals.
+#[cfg(not(unix))]
+fn open_pty(_: &mut impl Write) -> Result<Link> {
+    anyhow::bail!("--pty needs Unix pseudo-terminals")
+}
+
 /// The link to serve on (a new pseudo-terminal with `pty`), announced on standard output; the wire follows.
 fn open_served_link(global: &Global, pty: bool, config: &mut SimConfig) -> Result<Link> {
     let mut stdout = std::io::stdout().lock();
     let link = if pty {
         config.wire = SimWire::Serial;
-        let (master, slave) = serialport::TTYPort::pair().context("cannot create a pseudo-terminal")?;
-        let path = serialport::SerialPort::name(&slave).context("the pseudo-terminal has no name")?;
-        // Close our handle on the terminal side so the host can open it (it is opened exclusively).
-        drop(slave);
-        write!(stdout, "PTY {path}\nconnect with: tracerctl --serial {path} monitor\n")?;
-        stdout.flush()?;
-        link::serial::from_port(Box::new(master), &path, true)?
+        open_pty(&mut stdout)?
     } else {
         match global.link.clone() {
             LinkChoice::Serial { path, baud } => {

@@ -242,6 +242,8 @@ pub const BINDINGS: &[Binding] = &[
         footer: Some(footer("?", "help", "help", None)),
         watching: Watching::Works,
     },
+    // Windows consoles have no job control.
+    #[cfg(unix)]
     Binding {
         shown: "^Z",
         keys: &[bind(Chord::Ctrl('z'), Action::Suspend, InDialog::Works)],

@@ -209,7 +209,8 @@ fn open_error(name: &str, error: serialport::Error) -> anyhow::Error {
     }
 }
 
-#[cfg(test)]
+// Every test here needs a pseudo-terminal pair.
+#[cfg(all(test, unix))]
 mod tests {
     use super::*;
     use crate::protocol::codec::Codec;

@@ -106,15 +106,8 @@ fn push_fraction(out: &mut Vec<u8>, nanos: u32, nine_digits: bool) {
 }
 
 /// `YYYY-MM-DD HH:MM:SS.ffffff` in the local time zone; false when the C library cannot convert the stamp.
-#[cfg(unix)]
 fn push_local_date(out: &mut Vec<u8>, ts: &Timestamp, nine_digits: bool) -> bool {
-    let Ok(secs) = libc::time_t::try_from(ts.secs) else { return false };
-    // SAFETY: an all-zero `tm` is a valid value (integers and a null zone name pointer).
-    let mut tm: libc::tm = unsafe { std::mem::zeroed() };
-    // SAFETY: both pointers are to live locals; localtime_r is the thread-safe form and writes only `tm`.
-    if unsafe { libc::localtime_r(&secs, &mut tm) }.is_null() {
-        return false;
-    }
+    let Some(tm) = local_fields(ts.secs) else { return false };
     push_padded(out, i64::from(tm.tm_year) + 1900, 4);
     out.push(b'-');
     push_padded(out, i64::from(tm.tm_mon) + 1, 2);
@@ -130,14 +123,31 @@ fn push_local_date(out: &mut Vec<u8>, ts: &Timestamp, nine_digits: bool) -> bool
     true
 }
 
-/// Without POSIX's localtime_r the seconds are shown instead.
-#[cfg(not(unix))]
-fn push_local_date(_: &mut Vec<u8>, _: &Timestamp, _: bool) -> bool {
-    false
+/// The local calendar fields of `secs` since the epoch (POSIX's thread-safe `localtime_r`).
+#[cfg(unix)]
+fn local_fields(secs: u64) -> Option<libc::tm> {
+    // libc marks time_t deprecated on musl (its width changed in musl 1.2); it is the type localtime_r takes.
+    #[allow(deprecated)]
+    let secs = libc::time_t::try_from(secs).ok()?;
+    // SAFETY: an all-zero `tm` is a valid value (integers and a null zone name pointer).
+    let mut tm: libc::tm = unsafe { std::mem::zeroed() };
+    // SAFETY: both pointers are to live locals; localtime_r is the thread-safe form and writes only `tm`.
+    let converted = !unsafe { libc::localtime_r(&secs, &mut tm) }.is_null();
+    converted.then_some(tm)
+}
+
+/// The local calendar fields of `secs` since the epoch (the C runtime's thread-safe `localtime_s`).
+#[cfg(windows)]
+fn local_fields(secs: u64) -> Option<libc::tm> {
+    let secs = libc::time_t::try_from(secs).ok()?;
+    // SAFETY: an all-zero `tm` is a valid value (integers only on Windows).
+    let mut tm: libc::tm = unsafe { std::mem::zeroed() };
+    // SAFETY: both pointers are to live locals; localtime_s writes only `tm`.
+    let converted = unsafe { libc::localtime_s(&mut tm, &secs) } == 0;
+    converted.then_some(tm)
 }
 
 /// A non-negative number with leading zeros to `width` digits (years before 1000 included).
-#[cfg(unix)]
 fn push_padded(out: &mut Vec<u8>, value: i64, width: usize) {
     let mut buffer = itoa::Buffer::new();
     let text = buffer.format(value).as_bytes();

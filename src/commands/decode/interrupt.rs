@@ -38,7 +38,7 @@ pub fn listen() -> Result<SignalFlag> {
     use std::time::Duration;
 
     // SAFETY: pthread_self has no preconditions.
-    let main_thread = unsafe { libc::pthread_self() };
+    let main_thread = MainThread(unsafe { libc::pthread_self() });
     let forwarding = AtomicBool::new(false);
     let flag = crate::signals::listen(move |signal| {
         if forwarding.swap(true, Ordering::SeqCst) {
@@ -46,8 +46,7 @@ pub fn listen() -> Result<SignalFlag> {
         }
         // The process exits as soon as the main thread sees the flag; until then, keep waking it.
         loop {
-            // SAFETY: the main thread lives until the process exits, which ends this loop too.
-            unsafe { libc::pthread_kill(main_thread, signal) };
+            main_thread.wake(signal);
             std::thread::sleep(Duration::from_millis(50));
         }
     })?;
@@ -63,6 +62,25 @@ pub fn listen() -> Result<SignalFlag> {
         }
     }
     Ok(flag)
+}
+
+/// The main thread's handle, for the signal thread to wake it. musl's `pthread_t` is a pointer, so not
+/// `Send` by itself.
+#[cfg(target_os = "linux")]
+#[derive(Clone, Copy)]
+struct MainThread(libc::pthread_t);
+
+// SAFETY: a pthread_t is an opaque handle, valid from any thread of the process; it is only passed to
+// pthread_kill, never dereferenced.
+#[cfg(target_os = "linux")]
+unsafe impl Send for MainThread {}
+
+#[cfg(target_os = "linux")]
+impl MainThread {
+    fn wake(&self, signal: i32) {
+        // SAFETY: the main thread lives until the process exits, which ends the caller's loop too.
+        unsafe { libc::pthread_kill(self.0, signal) };
+    }
 }
 
 /// Elsewhere the flag is seen before the next read (a stream that goes quiet waits for its next line).

@@ -3,9 +3,15 @@
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
 mod interrupt;
+#[cfg(unix)]
+mod mapped;
+// No mapping elsewhere: the workers read by position (ranges.rs).
+#[cfg(not(unix))]
+#[path = "unmapped.rs"]
 mod mapped;
 mod parallel;
 mod plot;
+mod positioned;
 mod ranges;
 mod serial_input;
 pub mod summary;

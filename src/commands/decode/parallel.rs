@@ -1084,9 +1084,8 @@ impl<R: Read> Read for Stopping<R> {
 
 /// Where a plain file's text starts: after a UTF-8 byte-order mark (as [`candump::open_log`] reads it).
 fn byte_order_mark(file: &File) -> u64 {
-    use std::os::unix::fs::FileExt;
     let mut head = [0u8; 3];
-    match file.read_at(&mut head, 0) {
+    match super::positioned::read_at(file, &mut head, 0) {
         Ok(3) if head == *candump::UTF8_BOM => 3,
         _ => 0,
     }

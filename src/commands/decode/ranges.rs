@@ -15,7 +15,6 @@
 use std::cell::RefCell;
 use std::fs::File;
 use std::io;
-use std::os::unix::fs::FileExt;
 
 use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
@@ -356,7 +355,7 @@ impl Ranges {
     /// One positioned read (retried when a signal interrupts it).
     fn read_at(&self, buf: &mut [u8], offset: u64) -> io::Result<usize> {
         loop {
-            match self.file.read_at(buf, offset) {
+            match super::positioned::read_at(&self.file, buf, offset) {
                 Err(error) if error.kind() == io::ErrorKind::Interrupted => {}
                 other => return other,
             }

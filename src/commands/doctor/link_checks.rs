@@ -6,6 +6,7 @@ use std::path::Path;
 use super::report::Check;
 
 /// The robot's CAN bitrate.
+#[cfg(target_os = "linux")]
 const ROBOT_BITRATE: u32 = 500_000;
 /// The robot's RS232 baud rate.
 const ROBOT_BAUD: u32 = 115_200;

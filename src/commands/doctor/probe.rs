@@ -9,6 +9,7 @@ use anyhow::Result;
 
 use super::report::Check;
 use crate::commands::live;
+#[cfg(target_os = "linux")]
 use crate::link::LinkKind;
 use crate::protocol::message::{MessageKind, MotionCommand};
 use crate::protocol::{catalog, ControlMode, Wire};
