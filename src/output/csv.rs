@@ -1,6 +1,7 @@
 //! CSV with a fixed header: the event columns, then one column per field name of any message.
 
 use super::number::*;
+use super::short_text::push_short;
 use super::text::{push_name, push_version};
 use super::{direction_name, Event, Shape};
 use crate::protocol::fields::{ALL_FIELD_NAMES, MAX_FIELDS};
@@ -14,7 +15,7 @@ pub fn header(out: &mut Vec<u8>) {
         if index > 0 {
             out.push(b',');
         }
-        out.extend_from_slice(name.as_bytes());
+        push_short(out, name.as_bytes());
     }
     out.push(b'\n');
 }
@@ -27,16 +28,16 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
     push_cell(out, event.iface);
     out.push(b',');
     if let Some(dir) = event.dir {
-        out.extend_from_slice(direction_name(dir).as_bytes());
+        push_short(out, direction_name(dir).as_bytes());
     }
     out.push(b',');
     event.push_id(out);
     out.push(b',');
     if let Some(wire) = event.wire_name() {
-        out.extend_from_slice(wire.as_bytes());
+        push_short(out, wire.as_bytes());
     }
     out.push(b',');
-    out.extend_from_slice(event.msg_name().as_bytes());
+    push_short(out, event.msg_name().as_bytes());
     out.push(b',');
     event.push_data(out);
     out.push(b',');
@@ -81,7 +82,7 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
 
 fn push_commas(out: &mut Vec<u8>, count: usize) {
     const COMMAS: [u8; ALL_FIELD_NAMES.len()] = [b','; ALL_FIELD_NAMES.len()];
-    out.extend_from_slice(&COMMAS[..count]);
+    push_short(out, &COMMAS[..count]);
 }
 
 fn push_value(out: &mut Vec<u8>, value: &Value) {
@@ -89,7 +90,7 @@ fn push_value(out: &mut Vec<u8>, value: &Value) {
         Value::Int(value) => push_int(out, value),
         Value::Decimal { raw, scale } => push_decimal(out, raw, scale),
         Value::Code { value, .. } => push_int(out, value),
-        Value::Bool(value) => out.extend_from_slice(if value { b"true" } else { b"false" }),
+        Value::Bool(value) => push_short(out, if value { b"true" } else { b"false" }),
         Value::Name { raw, name } => push_name(out, raw, name),
         // Flag names never contain commas; ';' keeps them in one cell.
         Value::Flags(flags) => {
@@ -97,7 +98,7 @@ fn push_value(out: &mut Vec<u8>, value: &Value) {
                 if index > 0 {
                     out.push(b';');
                 }
-                out.extend_from_slice(info.name.as_bytes());
+                push_short(out, info.name.as_bytes());
             }
         }
         Value::Version(version) => push_version(out, version),
@@ -107,7 +108,7 @@ fn push_value(out: &mut Vec<u8>, value: &Value) {
 /// A text cell, quoted when it contains a separator, quote or line break (RFC 4180).
 fn push_cell(out: &mut Vec<u8>, text: &str) {
     if !text.bytes().any(|b| matches!(b, b',' | b'"' | b'\n' | b'\r')) {
-        out.extend_from_slice(text.as_bytes());
+        push_short(out, text.as_bytes());
         return;
     }
     out.push(b'"');

@@ -1,7 +1,7 @@
 //! One JSON object per line; the schema is documented in docs/json.md and must stay stable.
 
 use super::number::*;
-use super::short_text::{field_keys, ShortText};
+use super::short_text::{field_keys, push_short, ShortText};
 use super::text::{push_name, push_version};
 use super::{direction_name, Event, Shape};
 use crate::protocol::fields::ALL_FIELD_NAMES;
@@ -11,20 +11,20 @@ use crate::protocol::{for_each_field, Decoded, Value};
 /// per-frame object and MCAP's `/tracer/raw` messages both write them.
 #[inline]
 pub fn push_frame_keys(out: &mut Vec<u8>, event: &Event) {
-    out.extend_from_slice(b"\"iface\":");
+    push_short(out, b"\"iface\":");
     push_string(out, event.iface);
-    out.extend_from_slice(b",\"id\":\"");
+    push_short(out, b",\"id\":\"");
     event.push_id(out);
-    out.extend_from_slice(b"\",\"data\":\"");
+    push_short(out, b"\",\"data\":\"");
     event.push_data(out);
     out.push(b'"');
 }
 
 pub fn write(out: &mut Vec<u8>, event: &Event) {
     push_header(out, event);
-    out.extend_from_slice(b",\"fields\":{");
+    push_short(out, b",\"fields\":{");
     push_fields(out, event);
-    out.extend_from_slice(b"}\n");
+    push_short(out, b"}\n");
 }
 
 /// `{"ts":...,"ts_ns":...,"iface":...,"id":...,"data":...,"msg":...,"wire":...,"dir":...`: what every line
@@ -32,18 +32,18 @@ pub fn write(out: &mut Vec<u8>, event: &Event) {
 /// `ts`'s decimals.
 #[inline]
 fn push_header(out: &mut Vec<u8>, event: &Event) {
-    out.extend_from_slice(b"{\"ts\":");
+    push_short(out, b"{\"ts\":");
     match &event.ts {
         Some(ts) => push_timestamp_and_nanos(out, ts, b",\"ts_ns\":"),
-        None => out.extend_from_slice(b"null,\"ts_ns\":null"),
+        None => push_short(out, b"null,\"ts_ns\":null"),
     }
     out.push(b',');
     push_frame_keys(out, event);
-    out.extend_from_slice(b",\"msg\":\"");
-    out.extend_from_slice(event.msg_name().as_bytes());
-    out.extend_from_slice(b"\",\"wire\":");
+    push_short(out, b",\"msg\":\"");
+    push_short(out, event.msg_name().as_bytes());
+    push_short(out, b"\",\"wire\":");
     push_name_or_null(out, event.wire_name());
-    out.extend_from_slice(b",\"dir\":");
+    push_short(out, b",\"dir\":");
     push_name_or_null(out, event.dir.map(direction_name));
 }
 
@@ -53,10 +53,10 @@ fn push_name_or_null(out: &mut Vec<u8>, name: Option<&str>) {
     match name {
         Some(name) => {
             out.push(b'"');
-            out.extend_from_slice(name.as_bytes());
+            push_short(out, name.as_bytes());
             out.push(b'"');
         }
-        None => out.extend_from_slice(b"null"),
+        None => push_short(out, b"null"),
     }
 }
 
@@ -70,26 +70,26 @@ fn push_fields(out: &mut Vec<u8>, event: &Event) {
             out.push(b'}');
         }
         Shape::Invalid(error) => {
-            out.extend_from_slice(b"},\"error\":\"");
+            push_short(out, b"},\"error\":\"");
             super::push_display(out, &error, push_escaped);
             out.push(b'"');
         }
         Shape::ErrorFrame(error) => {
-            out.extend_from_slice(b"\"classes\":");
+            push_short(out, b"\"classes\":");
             push_string_array(out, error.class_names());
-            out.extend_from_slice(b",\"controller\":");
+            push_short(out, b",\"controller\":");
             push_string_array(out, error.controller_names());
             if let Some((tx, rx)) = error.counters {
-                out.extend_from_slice(b",\"tx_errors\":");
+                push_short(out, b",\"tx_errors\":");
                 push_int(out, tx);
-                out.extend_from_slice(b",\"rx_errors\":");
+                push_short(out, b",\"rx_errors\":");
                 push_int(out, rx);
             }
             out.push(b'}');
         }
         Shape::Remote => {
             if let super::FrameRef::Can(frame) = event.frame {
-                out.extend_from_slice(b"\"len\":");
+                push_short(out, b"\"len\":");
                 push_int(out, frame.len());
             }
             out.push(b'}');
@@ -97,7 +97,7 @@ fn push_fields(out: &mut Vec<u8>, event: &Event) {
         Shape::Raw => {
             if let super::FrameRef::Can(frame) = event.frame {
                 if frame.kind() == crate::protocol::FrameKind::Fd {
-                    out.extend_from_slice(b"\"fd\":true,\"fd_flags\":");
+                    push_short(out, b"\"fd\":true,\"fd_flags\":");
                     push_int(out, frame.fd_flags());
                 }
             }
@@ -125,7 +125,7 @@ pub fn push_value(out: &mut Vec<u8>, value: &Value) {
         Value::Int(value) => push_int(out, value),
         Value::Decimal { raw, scale } => push_decimal(out, raw, scale),
         Value::Code { value, .. } => push_int(out, value),
-        Value::Bool(value) => out.extend_from_slice(if value { b"true" } else { b"false" }),
+        Value::Bool(value) => push_short(out, if value { b"true" } else { b"false" }),
         Value::Name { raw, name } => {
             out.push(b'"');
             push_name(out, raw, name);
@@ -156,7 +156,7 @@ pub fn push_string(out: &mut Vec<u8>, text: &str) {
     // Interface names almost never need an escape: then one copy instead of a test per byte.
     if !text.bytes().any(|byte| matches!(byte, b'"' | b'\\' | 0..=0x1F)) {
         out.push(b'"');
-        out.extend_from_slice(text.as_bytes());
+        push_short(out, text.as_bytes());
         out.push(b'"');
         return;
     }
@@ -170,10 +170,10 @@ pub fn push_string(out: &mut Vec<u8>, text: &str) {
 /// One byte of a JSON string body, escaped where JSON requires it.
 fn push_escaped(out: &mut Vec<u8>, byte: u8) {
     match byte {
-        b'"' => out.extend_from_slice(b"\\\""),
-        b'\\' => out.extend_from_slice(b"\\\\"),
+        b'"' => push_short(out, b"\\\""),
+        b'\\' => push_short(out, b"\\\\"),
         0..=0x1F => {
-            out.extend_from_slice(b"\\u00");
+            push_short(out, b"\\u00");
             push_hex(out, &[byte]);
         }
         _ => out.push(byte),

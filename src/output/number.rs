@@ -2,6 +2,7 @@
 
 use std::cell::Cell;
 
+use super::short_text::push_short;
 use crate::candump::Timestamp;
 
 const HEX: &[u8; 16] = b"0123456789ABCDEF";
@@ -12,7 +13,7 @@ pub fn push_int<T: itoa::Integer + TryInto<u8> + Copy>(out: &mut Vec<u8>, value:
         return out.push(b'0' + digit);
     }
     let mut buffer = itoa::Buffer::new();
-    out.extend_from_slice(buffer.format(value).as_bytes());
+    push_short(out, buffer.format(value).as_bytes());
 }
 
 /// "00" to "99": two digits per division by 100.
@@ -23,11 +24,8 @@ const DIGIT_PAIRS: &[u8; 200] = b"\
 6061626364656667686970717273747576777879\
 8081828384858687888990919293949596979899";
 
-/// Room for a sign, 20 integer digits, a dot and up to 19 fraction digits, and slack after them so that
-/// [`push_digits`] can always copy a whole window.
+/// Room for a sign, 20 integer digits, a dot and up to 19 fraction digits.
 const NUMBER_BUFFER: usize = 64;
-/// What [`push_digits`] copies at once: a timestamp with nine decimals and 20 digits of seconds fits.
-const WINDOW: usize = 32;
 /// Where the integer part ends (and the dot goes) in a number buffer.
 const POINT: usize = 21;
 
@@ -52,19 +50,10 @@ fn digits_ending_at(buf: &mut [u8; NUMBER_BUFFER], end: usize, mut value: u64) -
     start
 }
 
-/// Appends `buf[start..end]`. Up to [`WINDOW`] bytes it copies the whole window (a copy of constant
-/// length: two vector moves, no `memcpy` call) and trims back to `end`.
+/// Appends `buf[start..end]` (fixed-size moves, no `memcpy` call: [`push_short`]).
 #[inline(always)]
 fn push_digits(out: &mut Vec<u8>, buf: &[u8; NUMBER_BUFFER], start: usize, end: usize) {
-    let window = buf.get(start..start + WINDOW).and_then(|window| <&[u8; WINDOW]>::try_from(window).ok());
-    match window {
-        Some(window) if end - start <= WINDOW => {
-            let len = out.len();
-            out.extend_from_slice(window);
-            out.truncate(len + end - start);
-        }
-        _ => out.extend_from_slice(&buf[start..end]),
-    }
+    push_short(out, &buf[start..end]);
 }
 
 /// A number buffer: all `'0'`, so digits written right-aligned are zero-padded for free (no `memset`).
@@ -156,7 +145,7 @@ fn push_decimal_general(out: &mut Vec<u8>, raw: i64, scale: u8, point_kept: bool
     let mut buffer = itoa::Buffer::new();
     let text = buffer.format(fraction).as_bytes();
     out.extend(std::iter::repeat_n(b'0', usize::from(digits) - text.len()));
-    out.extend_from_slice(text);
+    push_short(out, text);
 }
 
 /// The two upper-case hex digits of every byte value.
@@ -286,7 +275,7 @@ pub fn push_nanos(out: &mut Vec<u8>, ts: &Timestamp) {
 pub fn push_timestamp_and_nanos(out: &mut Vec<u8>, ts: &Timestamp, between: &[u8]) {
     if ts.secs == 0 {
         push_timestamp(out, ts);
-        out.extend_from_slice(between);
+        push_short(out, between);
         return push_nanos(out, ts);
     }
     let mut buf = ZEROS;
@@ -298,7 +287,7 @@ pub fn push_timestamp_and_nanos(out: &mut Vec<u8>, ts: &Timestamp, between: &[u8
     push_digits(out, &buf, start, POINT);
     out.push(b'.');
     push_digits(out, &buf, POINT, POINT + decimals);
-    out.extend_from_slice(between);
+    push_short(out, between);
     push_digits(out, &buf, start, POINT + 9);
 }
 

@@ -2,7 +2,7 @@
 //! `monitor` adds [`Columns`]: candump's time modes and the raw bytes after the identifier.
 
 use super::number::*;
-use super::short_text::{field_keys, ShortText};
+use super::short_text::{field_keys, push_short, ShortText};
 use super::stamp::{Clock, TimeMode};
 use super::{direction_name, Event, FrameRef, Shape};
 use crate::protocol::fields::ALL_FIELD_NAMES;
@@ -41,7 +41,7 @@ pub fn write(out: &mut Vec<u8>, event: &Event, color: bool) {
         None => out.push(b'-'),
     }
     out.push(b' ');
-    out.extend_from_slice(event.iface.as_bytes());
+    push_short(out, event.iface.as_bytes());
     out.push(b' ');
     event.push_id(out);
     out.push(b' ');
@@ -52,7 +52,7 @@ pub fn write(out: &mut Vec<u8>, event: &Event, color: bool) {
 pub fn write_with(out: &mut Vec<u8>, event: &Event, color: bool, columns: &mut Columns) {
     columns.clock.push(out, event.ts.as_ref());
     out.push(b' ');
-    out.extend_from_slice(event.iface.as_bytes());
+    push_short(out, event.iface.as_bytes());
     out.push(b' ');
     if !columns.data {
         event.push_id(out);
@@ -65,7 +65,7 @@ pub fn write_with(out: &mut Vec<u8>, event: &Event, color: bool, columns: &mut C
     pad_to(out, start, columns.id_width);
     out.push(b' ');
     push_data_column(out, event);
-    out.extend_from_slice(b"  ");
+    push_short(out, b"  ");
     // The bytes are in their column already: no `data=` at the end.
     write_rest(out, event, color, false);
 }
@@ -83,7 +83,7 @@ fn push_data_column(out: &mut Vec<u8>, event: &Event) {
     };
     out.push(b'[');
     push_int(out, bytes.len());
-    out.extend_from_slice(b"] ");
+    push_short(out, b"] ");
     let start = out.len();
     for (index, byte) in bytes.iter().enumerate() {
         if index > 0 {
@@ -107,11 +107,11 @@ fn write_rest(out: &mut Vec<u8>, event: &Event, color: bool, data_field: bool) {
     let shape = event.shape();
     let paint = |out: &mut Vec<u8>, code: &[u8], text: &[u8]| {
         if color {
-            out.extend_from_slice(code);
-            out.extend_from_slice(text);
-            out.extend_from_slice(RESET);
+            push_short(out, code);
+            push_short(out, text);
+            push_short(out, RESET);
         } else {
-            out.extend_from_slice(text);
+            push_short(out, text);
         }
     };
     let msg = event.msg_name().as_bytes();
@@ -122,22 +122,22 @@ fn write_rest(out: &mut Vec<u8>, event: &Event, color: bool, data_field: bool) {
     match shape {
         Shape::Message(decoded) => for_each_field(&decoded, |field| push_field(out, &field, color)),
         Shape::Invalid(error) => {
-            out.extend_from_slice(b" error=\"");
+            push_short(out, b" error=\"");
             super::push_display(out, &error, |out, byte| out.push(byte));
             out.push(b'"');
             push_data_field(out, event, data_field);
         }
         Shape::ErrorFrame(error) => {
-            out.extend_from_slice(b" classes=");
+            push_short(out, b" classes=");
             push_names(out, error.class_names());
             if error.controller != 0 {
-                out.extend_from_slice(b" controller=");
+                push_short(out, b" controller=");
                 push_names(out, error.controller_names());
             }
             if let Some((tx, rx)) = error.counters {
-                out.extend_from_slice(b" tx_errors=");
+                push_short(out, b" tx_errors=");
                 push_int(out, tx);
-                out.extend_from_slice(b" rx_errors=");
+                push_short(out, b" rx_errors=");
                 push_int(out, rx);
             }
             push_data_field(out, event, data_field);
@@ -145,10 +145,10 @@ fn write_rest(out: &mut Vec<u8>, event: &Event, color: bool, data_field: bool) {
         Shape::Remote | Shape::Raw => {
             if let super::FrameRef::Can(frame) = event.frame {
                 if frame.kind() == crate::protocol::FrameKind::Fd {
-                    out.extend_from_slice(b" fd_flags=");
+                    push_short(out, b" fd_flags=");
                     push_int(out, frame.fd_flags());
                 }
-                out.extend_from_slice(b" len=");
+                push_short(out, b" len=");
                 push_int(out, frame.len());
             }
             if shape == Shape::Raw {
@@ -157,15 +157,15 @@ fn write_rest(out: &mut Vec<u8>, event: &Event, color: bool, data_field: bool) {
         }
     }
     if let Some(dir) = event.dir {
-        out.extend_from_slice(b" dir=");
-        out.extend_from_slice(direction_name(dir).as_bytes());
+        push_short(out, b" dir=");
+        push_short(out, direction_name(dir).as_bytes());
     }
     out.push(b'\n');
 }
 
 fn push_data_field(out: &mut Vec<u8>, event: &Event, shown: bool) {
     if shown {
-        out.extend_from_slice(b" data=");
+        push_short(out, b" data=");
         event.push_data(out);
     }
 }
@@ -177,10 +177,10 @@ fn push_names<'a>(out: &mut Vec<u8>, names: impl Iterator<Item = &'a str>) {
             out.push(b',');
         }
         first = false;
-        out.extend_from_slice(name.as_bytes());
+        push_short(out, name.as_bytes());
     }
     if first {
-        out.extend_from_slice(b"none");
+        push_short(out, b"none");
     }
 }
 
@@ -191,22 +191,22 @@ fn push_field(out: &mut Vec<u8>, field: &Field, color: bool) {
         Value::Int(value) => push_int(out, value),
         Value::Decimal { raw, scale } => push_decimal_trimmed(out, raw, scale),
         Value::Code { value, digits } => push_hex_value(out, u32::from(value), digits),
-        Value::Bool(value) => out.extend_from_slice(if value { b"true" } else { b"false" }),
+        Value::Bool(value) => push_short(out, if value { b"true" } else { b"false" }),
         Value::Name { raw, name } => push_name(out, raw, name),
         Value::Flags(flags) => push_flags(out, &flags, color),
         Value::Version(version) => push_version(out, version),
     }
     if !field.unit.is_empty() {
-        out.extend_from_slice(field.unit.as_bytes());
+        push_short(out, field.unit.as_bytes());
     }
 }
 
 /// An enumerated value's name, or `unknown_0xNN`.
 pub fn push_name(out: &mut Vec<u8>, raw: u8, name: Option<&'static str>) {
     match name {
-        Some(name) => out.extend_from_slice(name.as_bytes()),
+        Some(name) => push_short(out, name.as_bytes()),
         None => {
-            out.extend_from_slice(b"unknown_");
+            push_short(out, b"unknown_");
             push_hex_value(out, u32::from(raw), 2);
         }
     }
@@ -221,7 +221,7 @@ pub fn push_version(out: &mut Vec<u8>, version: u16) {
 /// `none`, or `name[severity],...`: the severity is always spelled out, colour only adds to it.
 fn push_flags(out: &mut Vec<u8>, flags: &Flags, color: bool) {
     if flags.is_empty() {
-        out.extend_from_slice(b"none");
+        push_short(out, b"none");
         return;
     }
     let code = match flags.worst() {
@@ -230,19 +230,19 @@ fn push_flags(out: &mut Vec<u8>, flags: &Flags, color: bool) {
         _ => b"".as_slice(),
     };
     if color {
-        out.extend_from_slice(code);
+        push_short(out, code);
     }
     for (index, info) in flags.iter().enumerate() {
         if index > 0 {
             out.push(b',');
         }
-        out.extend_from_slice(info.name.as_bytes());
+        push_short(out, info.name.as_bytes());
         out.push(b'[');
-        out.extend_from_slice(info.severity.as_str().as_bytes());
+        push_short(out, info.severity.as_str().as_bytes());
         out.push(b']');
     }
     if color {
-        out.extend_from_slice(RESET);
+        push_short(out, RESET);
     }
 }
 
