@@ -109,6 +109,25 @@ pub fn listen_suspendable(
     console::listen(Box::new(on_signal))
 }
 
+/// The signal a Windows console control event stands for (the event numbers are wincon.h's, fixed by the
+/// Windows API): Ctrl-C and Ctrl-Break interrupt, closing the console, logging off and shutting down hang
+/// up. Pure, so that it is tested on every platform.
+#[cfg_attr(not(windows), allow(dead_code))]
+fn console_signal(event: u32) -> Option<i32> {
+    const CTRL_C_EVENT: u32 = 0;
+    const CTRL_BREAK_EVENT: u32 = 1;
+    const CTRL_CLOSE_EVENT: u32 = 2;
+    const CTRL_LOGOFF_EVENT: u32 = 5;
+    const CTRL_SHUTDOWN_EVENT: u32 = 6;
+    const SIGINT: i32 = 2;
+    const SIGHUP: i32 = 1;
+    match event {
+        CTRL_C_EVENT | CTRL_BREAK_EVENT => Some(SIGINT),
+        CTRL_CLOSE_EVENT | CTRL_LOGOFF_EVENT | CTRL_SHUTDOWN_EVENT => Some(SIGHUP),
+        _ => None,
+    }
+}
+
 #[cfg(windows)]
 mod console {
     use std::sync::atomic::{AtomicI32, Ordering};
@@ -118,14 +137,17 @@ mod console {
     use anyhow::{bail, Result};
     use parking_lot::Mutex;
     use windows_sys::core::BOOL;
-    use windows_sys::Win32::System::Console::{
-        SetConsoleCtrlHandler, CTRL_BREAK_EVENT, CTRL_CLOSE_EVENT, CTRL_C_EVENT, CTRL_LOGOFF_EVENT,
-        CTRL_SHUTDOWN_EVENT,
-    };
+    use windows_sys::Win32::System::Console::SetConsoleCtrlHandler;
 
     use super::SignalFlag;
 
-    const SIGINT: i32 = 2;
+    // console_signal's numbers are the API's.
+    const _: () = {
+        use windows_sys::Win32::System::Console as c;
+        assert!(c::CTRL_C_EVENT == 0 && c::CTRL_BREAK_EVENT == 1 && c::CTRL_CLOSE_EVENT == 2);
+        assert!(c::CTRL_LOGOFF_EVENT == 5 && c::CTRL_SHUTDOWN_EVENT == 6);
+    };
+
     const SIGHUP: i32 = 1;
     /// How long a closing console waits for the command to finish on its own once the robot is stopped;
     /// Windows ends the process 5 s after the close whatever the handler does.
@@ -152,11 +174,7 @@ mod console {
     /// Runs on a thread Windows starts for the event: an ordinary thread, so the callbacks (which stop the
     /// robot and return once the zero frames have left) run here, before anything can end the process.
     unsafe extern "system" fn handle(event: u32) -> BOOL {
-        let signal = match event {
-            CTRL_C_EVENT | CTRL_BREAK_EVENT => SIGINT,
-            CTRL_CLOSE_EVENT | CTRL_LOGOFF_EVENT | CTRL_SHUTDOWN_EVENT => SIGHUP,
-            _ => return 0,
-        };
+        let Some(signal) = super::console_signal(event) else { return 0 };
         // A second event while the first is handled waits here; the robot is stopped by then.
         let listeners = LISTENERS.lock();
         for (flag, on_signal) in listeners.iter() {
@@ -183,4 +201,25 @@ pub fn listen_suspendable(
     _before_stop: impl Fn() + Send + 'static,
 ) -> Result<SignalFlag> {
     Ok(SignalFlag::default())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn console_events_stand_for_the_signals_with_their_names_and_statuses() {
+        let status = |event| {
+            let flag = SignalFlag::default();
+            flag.0.store(console_signal(event).unwrap(), Ordering::SeqCst);
+            (flag.name(), flag.exit_status().unwrap())
+        };
+        assert_eq!(status(0), ("SIGINT", 130), "Ctrl-C");
+        assert_eq!(status(1), ("SIGINT", 130), "Ctrl-Break");
+        assert_eq!(status(2), ("SIGHUP", 129), "console closed");
+        assert_eq!(status(5), ("SIGHUP", 129), "logoff");
+        assert_eq!(status(6), ("SIGHUP", 129), "shutdown");
+        assert_eq!(console_signal(3), None);
+        assert_eq!(console_signal(4), None);
+    }
 }
