@@ -184,6 +184,10 @@ pub fn open(path: &Path, baud: u32) -> anyhow::Result<Link> {
         .timeout(Duration::from_millis(100))
         .open()
         .map_err(|error| open_error(&name, error))?;
+    // Until serialport set raw mode, the port had the kernel's default settings, ECHO on: what the robot sent
+    // in that moment is queued to go back to it (seen on an emulated 16550: 128 bytes of echoed status frames
+    // before a `doctor` that sends nothing). Dropped before the UART sends them.
+    let _ = port.clear(serialport::ClearBuffer::Output);
     from_port(port, &name, false)
 }
 
