@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # Real SocketCAN tests for tracerctl in a tiny QEMU VM (the host kernel may have no CAN at all).
-# Two suites: vcan (the default: scenario.sh on vcan0/vcan1) and sja1000 (scenario-sja1000.sh on three emulated
-# Kvaser PCI boards, SJA1000 controllers driven by the kernel's real sja1000/kvaser_pci drivers).
+# Three suites: vcan (the default: scenario.sh on vcan0/vcan1), sja1000 (scenario-sja1000.sh on three emulated
+# Kvaser PCI boards, SJA1000 controllers driven by the kernel's real sja1000/kvaser_pci drivers) and arm64
+# (scenario-arm64.sh: the aarch64 build on an emulated ARM computer, qemu-system-aarch64 with Debian's arm64
+# kernel: vcan, RS232 over an emulated 16550 UART to the host's simulator, the dashboard on a virtio console).
 #
-# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [--suite sja1000] [options]
+# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [--suite sja1000|arm64] [options]
 # See tests/vm/README.md for what it does and what each check proves.
 set -euo pipefail
 
@@ -11,15 +13,22 @@ usage() {
     cat <<'EOF'
 Usage: tests/vm/run.sh [options]
 
-  --suite NAME      vcan (default: scenario.sh on vcan0, vcan1) or sja1000 (scenario-sja1000.sh on can0-can2,
-                    emulated SJA1000 controllers with the kernel's sja1000/kvaser_pci drivers; two CPUs)
+  --suite NAME      vcan (default: scenario.sh on vcan0, vcan1), sja1000 (scenario-sja1000.sh on can0-can2,
+                    emulated SJA1000 controllers with the kernel's sja1000/kvaser_pci drivers; two CPUs) or
+                    arm64 (scenario-arm64.sh: the aarch64 musl build in qemu-system-aarch64, Debian's arm64
+                    kernel; vcan, RS232 on an emulated 16550 to the host's simulator, the dashboard on a tty)
                     (also: TRACERCTL_VM_SUITE)
-  --bin PATH        use this tracerctl binary instead of building one (also: TRACERCTL_BIN)
-  --work DIR        work and cache directory (default: <repo>/target/vm; also: TRACERCTL_VM_WORK)
+  --bin PATH        use this tracerctl binary instead of building one (also: TRACERCTL_BIN); arm64: a static
+                    aarch64 build (default: cargo build --release --locked --target aarch64-unknown-linux-musl)
+  --host-bin PATH   (arm64) the host's tracerctl, which runs the RS232 simulator (default: cargo build
+                    --release --locked; also: TRACERCTL_HOST_BIN)
+  --work DIR        work and cache directory (default: <repo>/target/vm, <repo>/target/vm-arm64 for arm64;
+                    also: TRACERCTL_VM_WORK)
   --checks LIST     run only these checks (comma-separated names, see tests/vm/README.md)
   --timeout SECS    kill the VM after this many seconds (default 600)
   --smp N           virtual CPUs (default 1 for vcan, 2 for sja1000; also: TRACERCTL_VM_SMP)
-  --refresh-kernel  resolve and download the kernel package again (default: reuse the cached one)
+  --refresh-kernel  resolve and download the kernel package again (default: reuse the cached one); arm64: the
+                    guest's busybox, can-utils and libc packages too
   --self-test[=BUGS] (vcan suite) run the scenario against tests/vm/selftest/fake-tracerctl (can-utils posing as
                     tracerctl; decode goes to the real binary) to prove the checks can pass; BUGS, a
                     comma-separated list of faults for the fake to inject, proves they fail
@@ -32,8 +41,9 @@ EOF
 
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
-work=${TRACERCTL_VM_WORK:-$repo/target/vm}
+work=${TRACERCTL_VM_WORK:-}
 bin=${TRACERCTL_BIN:-}
+host_bin=${TRACERCTL_HOST_BIN:-}
 checks=${TRACERCTL_VM_CHECKS:-}
 vm_timeout=600
 smp=${TRACERCTL_VM_SMP:-}
@@ -47,6 +57,7 @@ while [ $# -gt 0 ]; do
         --suite) suite=${2:?--suite needs a name: vcan or sja1000}; shift 2 ;;
         --suite=*) suite=${1#--suite=}; shift ;;
         --bin) bin=${2:?--bin needs a path}; shift 2 ;;
+        --host-bin) host_bin=${2:?--host-bin needs a path}; shift 2 ;;
         --work) work=${2:?--work needs a directory}; shift 2 ;;
         --checks) checks=${2:?--checks needs a list}; shift 2 ;;
         --timeout) vm_timeout=${2:?--timeout needs seconds}; shift 2 ;;
@@ -58,7 +69,9 @@ while [ $# -gt 0 ]; do
         *) echo "run.sh: unknown argument: $1" >&2; usage >&2; exit 2 ;;
     esac
 done
-# what differs between the suites: scenario, modules (insmod order), qemu devices, default CPUs, file names
+# what differs between the suites: architecture, scenario, modules (insmod order), qemu devices, default CPUs,
+# file names
+arch=amd64
 case $suite in
     vcan)
         scenario=scenario.sh
@@ -83,8 +96,25 @@ case $suite in
         # two CPUs: a flooding sender on one outruns the receiver on the other (RX FIFO overruns)
         : "${smp:=2}"
         ;;
-    *) echo "run.sh: --suite takes vcan or sja1000, not '$suite'" >&2; exit 2 ;;
+    arm64)
+        arch=arm64
+        scenario="scenario-arm64.sh"
+        # virtio_mmio, virtio_console: the virtio serial ports (the dashboard's terminal, markers, artifacts)
+        modules="can can-raw can-dev vcan virtio_mmio virtio_console"
+        qemu_devices=()
+        qemu_serial_extra=()
+        sfx=-arm64
+        : "${smp:=1}"
+        ;;
+    *) echo "run.sh: --suite takes vcan, sja1000 or arm64, not '$suite'" >&2; exit 2 ;;
 esac
+if [ -z "$work" ]; then
+    if [ $arch = arm64 ]; then work=$repo/target/vm-arm64; else work=$repo/target/vm; fi
+fi
+if [ -n "$host_bin" ] && [ $arch != arm64 ]; then
+    echo "run.sh: --host-bin is for the arm64 suite only" >&2
+    exit 2
+fi
 if [ "$suite" != vcan ] && [ $self_test = 1 ]; then
     echo "run.sh: --self-test exists for the vcan suite only" >&2
     exit 2
@@ -108,15 +138,25 @@ work=$(cd "$work" && pwd)
 # ---------------------------------------------------------------- host packages
 # command -> Debian package that provides it
 need_pkgs=()
-for pair in qemu-system-x86_64:qemu-system-x86 candump:can-utils cansend:can-utils cangen:can-utils \
-    canplayer:can-utils cpio:cpio ip:iproute2 gzip:gzip ldd:libc-bin dpkg-deb:dpkg; do
+if [ $arch = amd64 ]; then
+    host_cmds="qemu-system-x86_64:qemu-system-x86 candump:can-utils cansend:can-utils cangen:can-utils
+        canplayer:can-utils cpio:cpio ip:iproute2 gzip:gzip ldd:libc-bin dpkg-deb:dpkg"
+else
+    # the guest's programs come from arm64 packages (downloaded, never installed); readelf lists their libraries
+    # (ldd cannot run foreign binaries); python3 runs the host side (arm64-host.py)
+    host_cmds="qemu-system-aarch64:qemu-system-arm cpio:cpio gzip:gzip dpkg-deb:dpkg python3:python3-minimal
+        aarch64-linux-gnu-readelf:binutils-aarch64-linux-gnu"
+fi
+for pair in $host_cmds; do
     cmd=${pair%%:*}
     command -v "$cmd" >/dev/null 2>&1 || need_pkgs+=("${pair#*:}")
 done
 # the sja1000 suite's RS232 robot (serial-robot.py) runs on the host
 if [ "$suite" = sja1000 ]; then command -v python3 >/dev/null 2>&1 || need_pkgs+=(python3-minimal); fi
 # a dynamic busybox (package "busybox") would not run in the VM without its libraries: insist on the static one
-if [ ! -x /bin/busybox ] || LC_ALL=C ldd /bin/busybox 2>&1 | grep -q '=>'; then need_pkgs+=(busybox-static); fi
+if [ $arch = amd64 ] && { [ ! -x /bin/busybox ] || LC_ALL=C ldd /bin/busybox 2>&1 | grep -q '=>'; }; then
+    need_pkgs+=(busybox-static)
+fi
 
 apt_updated=0
 apt_update() {
@@ -136,59 +176,93 @@ if [ ${#need_pkgs[@]} -gt 0 ]; then
         die "apt-get install ${need_pkgs[*]} failed (log: $work/apt-install.log)"
     }
 fi
-for cmd in qemu-system-x86_64 candump cansend cangen canplayer cpio ip; do
-    command -v "$cmd" >/dev/null 2>&1 || die "$cmd is still missing after installing packages"
+for pair in $host_cmds; do
+    command -v "${pair%%:*}" >/dev/null 2>&1 || die "${pair%%:*} is still missing after installing packages"
 done
-log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 busybox-static can-utils iproute2 cpio 2>/dev/null)"
+if [ $arch = amd64 ]; then
+    log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 busybox-static can-utils iproute2 cpio 2>/dev/null)"
+else
+    log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-arm binutils-aarch64-linux-gnu cpio python3-minimal 2>/dev/null)"
+fi
+
+# package downloads (never installed): into $work/debs, as root so apt's _apt sandbox warning is silenced
+dl() {
+    (cd "$work/debs" && apt-get -o APT::Sandbox::User=root download -qq "$1" 2>&1) ||
+        die "apt-get download $1 failed: is a Debian repository with $1 configured?"
+}
+# candidate PKG: the version apt would take ("" if none)
+candidate() {
+    local v
+    v=$(apt-cache policy "$1" 2>/dev/null | awk '/Candidate:/ {print $2}')
+    [ "$v" = "(none)" ] && v=""
+    printf '%s' "$v"
+}
+# the arm64 suite's packages are Debian's arm64 builds: dpkg must know the architecture, and apt its lists
+pq="" # the package qualifier for apt: "" or ":arm64"
+if [ $arch = arm64 ]; then pq=":arm64"; fi
+foreign_arch() {
+    [ $arch = arm64 ] || return 0
+    if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+        log "dpkg --add-architecture arm64 (for apt-get download of arm64 packages; nothing arm64 is installed)"
+        dpkg --add-architecture arm64 || die "dpkg --add-architecture arm64 failed"
+        apt_updated=0
+    fi
+    [ -n "$(candidate busybox-static:arm64)" ] || apt_update
+    [ -n "$(candidate busybox-static:arm64)" ] || die "apt knows no arm64 packages even after apt-get update (does the mirror carry arm64?)"
+}
 
 # ---------------------------------------------------------------- kernel (downloaded, never installed on the host)
-kdir=$work/kernel
-if [ $refresh_kernel -eq 1 ] || [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/version" ] || [ ! -s "$kdir/modules/vcan.ko" ] || [ ! -s "$kdir/modules/kvaser_pci.ko" ]; then
-    rm -rf "$kdir" "$work/debs/unpacked"
+if [ $arch = amd64 ]; then
+    kdir=$work/kernel
+    kmods="can can-raw can-dev vcan sja1000 kvaser_pci" # both x86 suites' modules
+else
+    kdir=$work/kernel-arm64
+    kmods="can can-raw can-dev vcan virtio_mmio virtio_console"
+fi
+kernel_cached() {
+    [ -s "$kdir/vmlinuz" ] && [ -s "$kdir/version" ] || return 1
+    for m in $kmods; do [ -s "$kdir/modules/$m.ko" ] || return 1; done
+}
+if [ $refresh_kernel -eq 1 ] || ! kernel_cached; then
+    unpacked=$work/debs/unpacked-$arch
+    rm -rf "$kdir" "$unpacked"
     mkdir -p "$work/debs" "$kdir/modules"
+    foreign_arch
     apt_update
-    dl() { # download a package into $work/debs (as root, so apt's _apt sandbox warning is silenced)
-        (cd "$work/debs" && apt-get -o APT::Sandbox::User=root download -qq "$1" 2>&1) ||
-            die "apt-get download $1 failed: is a Debian repository with linux-image-amd64 configured?"
-    }
-    meta_ver=$(apt-cache policy linux-image-amd64 | awk '/Candidate:/ {print $2}')
-    if [ -z "$meta_ver" ] || [ "$meta_ver" = "(none)" ]; then
-        die "apt-cache knows no linux-image-amd64 (are Debian's main sources configured?)"
-    fi
+    meta_ver=$(candidate "linux-image-$arch$pq")
+    [ -n "$meta_ver" ] || die "apt-cache knows no linux-image-$arch$pq (are Debian's main sources configured?)"
     # apt-get download names files package_version_arch.deb, with an epoch's ':' written as %3a
-    meta_deb=$work/debs/linux-image-amd64_${meta_ver//:/%3a}_amd64.deb
+    meta_deb=$work/debs/linux-image-${arch}_${meta_ver//:/%3a}_${arch}.deb
     if [ ! -f "$meta_deb" ]; then
-        log "apt-get download linux-image-amd64 ($meta_ver)"
-        dl "linux-image-amd64=$meta_ver"
+        log "apt-get download linux-image-$arch$pq ($meta_ver)"
+        dl "linux-image-$arch$pq=$meta_ver"
     fi
-    [ -f "$meta_deb" ] || die "apt-get download linux-image-amd64=$meta_ver did not produce $meta_deb"
+    [ -f "$meta_deb" ] || die "apt-get download linux-image-$arch$pq=$meta_ver did not produce $meta_deb"
     # Depends: linux-image-6.1.0-56-amd64 (= 6.1.192-2)
     depends=$(dpkg-deb -f "$meta_deb" Depends)
-    dep=$(printf '%s\n' "$depends" | sed 's/[,|]/\n/g' | sed 's/^ *//' | grep -E '^linux-image-[0-9][^ ]*-amd64( |$)' | head -n 1 || true)
-    [ -n "$dep" ] || die "no versioned linux-image-*-amd64 in the Depends of $(basename "$meta_deb"): $depends"
+    dep=$(printf '%s\n' "$depends" | sed 's/[,|]/\n/g' | sed 's/^ *//' | grep -E "^linux-image-[0-9][^ ]*-$arch( |\$)" | head -n 1 || true)
+    [ -n "$dep" ] || die "no versioned linux-image-*-$arch in the Depends of $(basename "$meta_deb"): $depends"
     kpkg=${dep%% *}
     kver=$(printf '%s' "$dep" | sed -n 's/.*(= *\([^)]*\)).*/\1/p')
-    [ -n "$kver" ] || kver=$(apt-cache policy "$kpkg" | awk '/Candidate:/ {print $2}')
-    if [ -z "$kver" ] || [ "$kver" = "(none)" ]; then
-        die "apt-cache knows no $kpkg (needed by linux-image-amd64 $meta_ver)"
-    fi
-    kdeb=$work/debs/${kpkg}_${kver//:/%3a}_amd64.deb
+    [ -n "$kver" ] || kver=$(candidate "$kpkg$pq")
+    [ -n "$kver" ] || die "apt-cache knows no $kpkg$pq (needed by linux-image-$arch $meta_ver)"
+    kdeb=$work/debs/${kpkg}_${kver//:/%3a}_${arch}.deb
     if [ ! -f "$kdeb" ]; then
-        log "apt-get download $kpkg=$kver"
-        dl "$kpkg=$kver"
+        log "apt-get download $kpkg$pq=$kver"
+        dl "$kpkg$pq=$kver"
     fi
-    [ -f "$kdeb" ] || die "apt-get download $kpkg=$kver did not produce $kdeb"
+    [ -f "$kdeb" ] || die "apt-get download $kpkg$pq=$kver did not produce $kdeb"
     log "unpacking $(basename "$kdeb") with dpkg -x"
-    dpkg -x "$kdeb" "$work/debs/unpacked" || die "dpkg -x $kdeb failed"
-    images=("$work/debs/unpacked/boot"/vmlinuz-*)
+    dpkg -x "$kdeb" "$unpacked" || die "dpkg -x $kdeb failed"
+    images=("$unpacked/boot"/vmlinuz-*)
     [ -f "${images[0]}" ] || die "no boot/vmlinuz-* in $kdeb"
     vmlinuz=${images[0]}
     cp "$vmlinuz" "$kdir/vmlinuz"
-    # The modules both suites use, decompressed on the host (busybox insmod needs plain .ko)
-    for m in can can-raw can-dev vcan sja1000 kvaser_pci; do
-        src=$(find "$work/debs/unpacked/lib/modules" "$work/debs/unpacked/usr/lib/modules" \
+    # The modules the suites use, decompressed on the host (busybox insmod needs plain .ko)
+    for m in $kmods; do
+        src=$(find "$unpacked/lib/modules" "$unpacked/usr/lib/modules" \
             \( -name "$m.ko" -o -name "$m.ko.xz" -o -name "$m.ko.zst" -o -name "$m.ko.gz" \) 2>/dev/null | head -1 || true)
-        [ -n "$src" ] || die "module $m.ko not found in $kdeb (kernel built without CONFIG_CAN / CONFIG_CAN_VCAN / CONFIG_CAN_KVASER_PCI as modules?)"
+        [ -n "$src" ] || die "module $m.ko not found in $kdeb (kernel built without CONFIG_CAN / CONFIG_CAN_VCAN / CONFIG_CAN_KVASER_PCI / CONFIG_VIRTIO_CONSOLE as modules?)"
         case $src in
             *.ko) cp "$src" "$kdir/modules/$m.ko" ;;
             *.ko.gz) gzip -dc "$src" >"$kdir/modules/$m.ko" ;;
@@ -201,28 +275,96 @@ if [ $refresh_kernel -eq 1 ] || [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/versio
         esac
     done
     echo "$kpkg $kver ($(basename "$vmlinuz"))" >"$kdir/version"
-    rm -rf "$work/debs/unpacked"
+    rm -rf "$unpacked"
 fi
 log "kernel: $(cat "$kdir/version")"
 
+# ---------------------------------------------------------------- the arm64 guest's userland (downloaded, unpacked)
+# busybox (static), can-utils (dynamic) and the C library it needs, from Debian's arm64 packages
+ul_pkgs="busybox-static can-utils libc6"
+uld=$work/userland-arm64
+if [ $arch = arm64 ]; then
+    if [ $refresh_kernel -eq 1 ] || [ ! -s "$uld/versions" ] || [ ! -x "$uld/bin/busybox" ] || [ ! -x "$uld/usr/bin/candump" ]; then
+        rm -rf "$uld"
+        mkdir -p "$work/debs" "$uld"
+        foreign_arch
+        apt_update
+        : >"$work/debs/userland-versions"
+        for p in $ul_pkgs; do
+            v=$(candidate "$p:arm64")
+            [ -n "$v" ] || die "apt-cache knows no $p:arm64"
+            deb=$work/debs/${p}_${v//:/%3a}_arm64.deb
+            if [ ! -f "$deb" ]; then
+                log "apt-get download $p:arm64=$v"
+                dl "$p:arm64=$v"
+            fi
+            [ -f "$deb" ] || die "apt-get download $p:arm64=$v did not produce $deb"
+            dpkg -x "$deb" "$uld" || die "dpkg -x $deb failed"
+            echo "$p:arm64 $v" >>"$work/debs/userland-versions"
+        done
+        mv "$work/debs/userland-versions" "$uld/versions"
+    fi
+    log "arm64 userland: $(tr '\n' ' ' <"$uld/versions")"
+fi
+
 # ---------------------------------------------------------------- tracerctl
-if [ -z "$bin" ]; then
-    log "cargo build --release --locked"
-    (cd "$repo" && cargo build --release --locked) || die "cargo build --release --locked failed"
-    # where cargo put it (CARGO_TARGET_DIR, or build.target-dir in a cargo config)
+# where cargo puts its builds (CARGO_TARGET_DIR, or build.target-dir in a cargo config)
+target_dir() {
+    local tdir
     tdir=$(cd "$repo" || exit 0
         cargo metadata --format-version 1 --no-deps 2>/dev/null | sed -n 's/.*"target_directory":"\([^"]*\)".*/\1/p' || true)
-    bin=${tdir:-${CARGO_TARGET_DIR:-$repo/target}}/release/tracerctl
-    case $bin in /*) ;; *) bin=$repo/$bin ;; esac
+    tdir=${tdir:-${CARGO_TARGET_DIR:-$repo/target}}
+    case $tdir in /*) ;; *) tdir=$repo/$tdir ;; esac
+    printf '%s' "$tdir"
+}
+host_build() { # the release build for this machine (the x86 suites' binary, the arm64 suite's simulator): $built
+    log "cargo build --release --locked"
+    (cd "$repo" && cargo build --release --locked) || die "cargo build --release --locked failed"
+    built=$(target_dir)/release/tracerctl
+}
+if [ -z "$bin" ] && [ $arch = amd64 ]; then
+    host_build
+    bin=$built
+elif [ -z "$bin" ]; then
+    # the cross build for the ARM computers: a static musl binary (.cargo/config.toml names the linker)
+    if ! command -v aarch64-linux-gnu-gcc >/dev/null 2>&1; then
+        apt_update
+        log "apt-get install gcc-aarch64-linux-gnu (the linker of the aarch64 build)"
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends gcc-aarch64-linux-gnu libc6-dev-arm64-cross \
+            >"$work/apt-install.log" 2>&1 || die "apt-get install gcc-aarch64-linux-gnu failed (log: $work/apt-install.log)"
+    fi
+    if command -v rustup >/dev/null 2>&1 && ! rustup target list --installed 2>/dev/null | grep -qx aarch64-unknown-linux-musl; then
+        log "rustup target add aarch64-unknown-linux-musl"
+        rustup target add aarch64-unknown-linux-musl || die "rustup target add aarch64-unknown-linux-musl failed"
+    fi
+    log "cargo build --release --locked --target aarch64-unknown-linux-musl"
+    (cd "$repo" && cargo build --release --locked --target aarch64-unknown-linux-musl) ||
+        die "cargo build --release --locked --target aarch64-unknown-linux-musl failed"
+    bin=$(target_dir)/aarch64-unknown-linux-musl/release/tracerctl
 fi
 [ -x "$bin" ] || die "no tracerctl binary at $bin"
-log "tracerctl: $bin ($("$bin" --version 2>/dev/null || echo 'version unknown'))"
+if [ $arch = amd64 ]; then
+    log "tracerctl: $bin ($("$bin" --version 2>/dev/null || echo 'version unknown'))"
+else
+    # the guest has no C library for it: it must be an aarch64 binary without a program interpreter
+    machine=$(LC_ALL=C aarch64-linux-gnu-readelf -h "$bin" 2>/dev/null | awk -F: '/Machine:/ {gsub(/^ +/, "", $2); print $2}')
+    [ "$machine" = AArch64 ] || die "$bin is not an aarch64 binary (readelf: Machine '${machine:-not an ELF file}')"
+    if LC_ALL=C aarch64-linux-gnu-readelf -l "$bin" 2>/dev/null | grep -q 'Requesting program interpreter'; then
+        die "$bin is dynamically linked: the arm64 suite needs a static build (--target aarch64-unknown-linux-musl)"
+    fi
+    if [ -z "$host_bin" ]; then
+        host_build
+        host_bin=$built
+    fi
+    [ -x "$host_bin" ] || die "no host tracerctl binary at $host_bin (--host-bin)"
+    log "tracerctl (aarch64, static): $bin; the host's simulator: $host_bin ($("$host_bin" --version 2>/dev/null || echo 'version unknown'))"
+fi
 
 # ---------------------------------------------------------------- initramfs
 root=$work/initramfs$sfx
 rm -rf "$root"
 mkdir -p "$root"/{bin,sbin,usr/bin,usr/sbin,proc,sys,dev,tmp,run,etc,lib/modules/can}
-cp /bin/busybox "$root/bin/busybox"
+if [ $arch = amd64 ]; then cp /bin/busybox "$root/bin/busybox"; else cp "$uld/bin/busybox" "$root/bin/busybox"; fi
 for m in $modules; do cp "$kdir/modules/$m.ko" "$root/lib/modules/can/"; done
 # the kernel opens /dev/console for init; /init reopens it from devtmpfs anyway, in case mknod is not allowed here
 mknod -m 600 "$root/dev/console" c 5 1 2>/dev/null || log "mknod not permitted: /init opens the console from devtmpfs"
@@ -239,15 +381,47 @@ add_prog() { # $1 source path, $2 path inside the VM
         cp -L "$lib" "$root$lib"
     done < <(LC_ALL=C ldd "$src" 2>/dev/null | awk '/=>/ && $3 ~ /^\// {print $3; next} $1 ~ /^\// {print $1}')
 }
-if [ $self_test = 1 ]; then
+# arm64: the same from the unpacked arm64 packages ($uld), with the libraries their ELF headers name (NEEDED,
+# recursively) and the program interpreter, looked up in the multiarch directories; symlinks resolved inside $uld
+ul_copy() { # $1 absolute path inside the VM (and inside $uld)
+    local p=$1 src=$uld$1 t n=0
+    [ -e "$root$p" ] && return 0
+    while [ -L "$src" ] && [ $n -lt 20 ]; do
+        t=$(readlink "$src")
+        case $t in /*) src=$uld$t ;; *) src=$(dirname "$src")/$t ;; esac
+        n=$((n + 1))
+    done
+    [ -f "$src" ] || die "$p is not in the arm64 packages unpacked in $uld"
+    install -D -m 755 "$src" "$root$p"
+}
+add_prog_arm64() { # $1 path inside $uld and inside the VM
+    local p=$1 interp lib d found
+    ul_copy "$p"
+    interp=$(LC_ALL=C aarch64-linux-gnu-readelf -l "$uld$p" | sed -n 's/.*Requesting program interpreter: \(.*\)]/\1/p')
+    [ -z "$interp" ] || ul_copy "$interp"
+    for lib in $(LC_ALL=C aarch64-linux-gnu-readelf -d "$uld$p" | sed -n 's/.*(NEEDED).*\[\(.*\)\]/\1/p'); do
+        found=""
+        for d in /lib/aarch64-linux-gnu /usr/lib/aarch64-linux-gnu /lib /usr/lib; do
+            if [ -e "$uld$d/$lib" ]; then found=$d/$lib; break; fi
+        done
+        [ -n "$found" ] || die "$p needs $lib, which is in none of the arm64 packages ($ul_pkgs)"
+        [ -e "$root$found" ] || add_prog_arm64 "$found"
+    done
+}
+if [ $arch = arm64 ]; then
+    install -D -m 755 "$bin" "$root/usr/bin/tracerctl"
+    for p in candump cansend cangen; do add_prog_arm64 "/usr/bin/$p"; done
+elif [ $self_test = 1 ]; then
     log "SELF-TEST: /usr/bin/tracerctl is tests/vm/selftest/fake-tracerctl${fake_bugs:+ with bugs: $fake_bugs}"
     add_prog "$bin" /usr/bin/tracerctl.real
     install -m 755 "$here/selftest/fake-tracerctl" "$root/usr/bin/tracerctl"
 else
     add_prog "$bin" /usr/bin/tracerctl
 fi
-for p in candump cansend cangen canplayer; do add_prog "$(command -v $p)" "/usr/bin/$p"; done
-add_prog "$(command -v ip)" /usr/sbin/ip
+if [ $arch = amd64 ]; then
+    for p in candump cansend cangen canplayer; do add_prog "$(command -v $p)" "/usr/bin/$p"; done
+    add_prog "$(command -v ip)" /usr/sbin/ip
+fi
 cp "$here/$scenario" "$root/scenario.sh"
 printf 'CHECKS=%s\nFAKE_BUGS=%s\n' "$checks" "$fake_bugs" >"$root/etc/scenario.env"
 echo "$modules" >"$root/etc/modules"
@@ -258,6 +432,20 @@ for i in vcan0 vcan1; do
     { ip link add dev $i type vcan && ip link set up $i; } || { echo "VM SETUP FAIL: cannot create $i"; halt_vm; }
 done
 echo "VM: vcan0 and vcan1 up at uptime $(cut -d' ' -f1 /proc/uptime)s"
+EOF
+elif [ "$suite" = arm64 ]; then
+    # busybox's ip creates the vcan link (no iproute2 in this guest); the virtio ports appear asynchronously
+    cat >"$root/etc/net-setup" <<'EOF'
+{ ip link add name vcan0 type vcan && ip link set up vcan0; } || { echo "VM SETUP FAIL: cannot create vcan0"; halt_vm; }
+i=0
+while [ $i -lt 200 ]; do
+    n=$(cat /sys/class/virtio-ports/*/name 2>/dev/null | grep -cxE 'term|tty|marks|artifacts')
+    [ "$n" = 4 ] && break
+    usleep 50000
+    i=$((i + 1))
+done
+[ "$n" = 4 ] || { echo "VM SETUP FAIL: the virtio ports term, tty, marks, artifacts did not all appear ($(cat /sys/class/virtio-ports/*/name 2>/dev/null | tr '\n' ' '))"; halt_vm; }
+echo "VM: vcan0 up, virtio ports $(for p in /sys/class/virtio-ports/*; do printf '%s=%s ' "$(cat $p/name)" "${p##*/}"; done)at uptime $(cut -d' ' -f1 /proc/uptime)s"
 EOF
 else
     # iproute2's ip by its path: busybox sh runs its own applets first, and busybox's ip knows no "type can"
@@ -279,7 +467,7 @@ mount -t sysfs sysfs /sys
 mount -t devtmpfs devtmpfs /dev 2>/dev/null
 exec </dev/console >/dev/console 2>&1
 mount -t tmpfs tmpfs /tmp
-echo "VM: init at uptime $(cut -d' ' -f1 /proc/uptime)s, kernel $(uname -r), $(nproc) cpu"
+echo "VM: init at uptime $(cut -d' ' -f1 /proc/uptime)s, kernel $(uname -r) $(uname -m), $(nproc) cpu"
 halt_vm() { echo "VM: poweroff at uptime $(cut -d' ' -f1 /proc/uptime)s"; sync; poweroff -f; }
 for m in $(cat /etc/modules); do
     insmod /lib/modules/can/$m.ko || { echo "VM SETUP FAIL: insmod $m.ko"; halt_vm; }
@@ -290,9 +478,13 @@ ip link set lo up
 export CHECKS FAKE_BUGS
 sh /scenario.sh
 echo "VM: scenario exit status $?"
-# the scenario's files (captures, outputs) go to the host through the second serial port, as a tar.gz
-if [ -e /dev/ttyS1 ] && stty -F /dev/ttyS1 raw -echo 2>/dev/null; then
-    tar -c -C /tmp scn $(cd /tmp && ls m.log 2>/dev/null) | gzip -1 >/dev/ttyS1
+# the scenario's files (captures, outputs) go to the host as a tar.gz, through a port of their own: the virtio
+# serial port named "artifacts" (arm64), else the second serial port (x86)
+arts=""
+for p in /sys/class/virtio-ports/*; do [ "$(cat $p/name 2>/dev/null)" = artifacts ] && arts=/dev/${p##*/}; done
+if [ -z "$arts" ] && [ -e /dev/ttyS1 ] && stty -F /dev/ttyS1 raw -echo 2>/dev/null; then arts=/dev/ttyS1; fi
+if [ -n "$arts" ]; then
+    tar -c -C /tmp scn $(cd /tmp && ls m.log 2>/dev/null) | gzip -1 >$arts
     echo "VM: artifacts sent at uptime $(cut -d' ' -f1 /proc/uptime)s"
 fi
 halt_vm
@@ -328,14 +520,40 @@ if [ "$suite" = sja1000 ]; then
         qemu_serial_extra+=(-serial null)
     fi
 fi
-log "booting the VM ($suite suite, TCG, $smp CPU, timeout ${vm_timeout}s); console: $console"
+# The arm64 suite's host side (arm64-host.py serve): the x86 simulator on a pseudo-terminal behind the guest's
+# PCI 16550 (ttyS0), the two ends of the dashboard's terminal (virtio consoles hvc0, hvc1), the markers' port;
+# Unix sockets in a short directory of their own (a socket path has at most 107 bytes), removed at exit.
+helper_pid=""
+host_log=$work/host$sfx.log
+if [ "$suite" = arm64 ]; then
+    sockdir=$(mktemp -d /tmp/tracerctl-vm.XXXXXX)
+    trap 'if [ -n "$helper_pid" ]; then kill "$helper_pid" 2>/dev/null || true; fi; rm -rf "$sockdir"' EXIT
+    rm -f "$host_log"
+    python3 "$here/arm64-host.py" serve --dir "$sockdir" --log "$host_log" --sim-bin "$host_bin" \
+        --sim-out "$work/sim-host$sfx.log" >"$work/host$sfx.out" 2>&1 &
+    helper_pid=$!
+    for _ in $(seq 100); do [ -s "$sockdir/ready" ] && break; sleep 0.05; done
+    [ -s "$sockdir/ready" ] || die "the host side (arm64-host.py serve) did not start: $(cat "$work/host$sfx.out")"
+    log "host side: $host_bin sim --serial $(cat "$sockdir/ready") behind the guest's ttyS0; log $host_log"
+    qemu=(qemu-system-aarch64 -M virt -cpu cortex-a57 -accel tcg -m 512 -smp "$smp" -nographic -no-reboot -nic none
+        -serial mon:stdio
+        -chardev "socket,id=rs232,path=$sockdir/rs232.sock" -device "pci-serial,chardev=rs232"
+        -device virtio-serial-device
+        -chardev "socket,id=term,path=$sockdir/term.sock" -device "virtconsole,chardev=term,name=term"
+        -chardev "socket,id=tty,path=$sockdir/tty.sock" -device "virtconsole,chardev=tty,name=tty"
+        -chardev "socket,id=marks,path=$sockdir/marks.sock" -device "virtserialport,chardev=marks,name=marks"
+        -chardev "file,id=arts,path=$arts.tar.gz" -device "virtserialport,chardev=arts,name=artifacts"
+        -kernel "$kdir/vmlinuz" -initrd "$work/initrd$sfx.gz" -append "console=ttyAMA0 quiet panic=-1")
+else
+    qemu=(qemu-system-x86_64 -accel tcg -m 512 -smp "$smp" -nographic -no-reboot -nic none
+        ${qemu_devices[@]+"${qemu_devices[@]}"}
+        -serial mon:stdio -serial "file:$arts.tar.gz" ${qemu_serial_extra[@]+"${qemu_serial_extra[@]}"}
+        -kernel "$kdir/vmlinuz" -initrd "$work/initrd$sfx.gz" -append "console=ttyS0 quiet panic=-1")
+fi
+log "booting the VM ($suite suite, ${qemu[0]}, TCG, $smp CPU, timeout ${vm_timeout}s); console: $console"
 t_vm=$(date +%s.%N)
 set +e
-timeout -k 10 "$vm_timeout" qemu-system-x86_64 -accel tcg -m 512 -smp "$smp" -nographic -no-reboot -nic none \
-    ${qemu_devices[@]+"${qemu_devices[@]}"} \
-    -serial mon:stdio -serial "file:$arts.tar.gz" ${qemu_serial_extra[@]+"${qemu_serial_extra[@]}"} \
-    -kernel "$kdir/vmlinuz" -initrd "$work/initrd$sfx.gz" -append "console=ttyS0 quiet panic=-1" \
-    </dev/null 2>&1 | tr -d '\r' | tee "$console"
+timeout -k 10 "$vm_timeout" "${qemu[@]}" </dev/null 2>&1 | tr -d '\r' | tee "$console"
 qemu_rc=${PIPESTATUS[0]}
 set -e
 vm_secs=$(awk -v a="$t_vm" -v b="$(date +%s.%N)" 'BEGIN {printf "%.1f", b - a}')
@@ -354,6 +572,17 @@ if [ -n "$robot_pid" ]; then
         python3 "$here/serial-robot.py" judge --log "$robot_log" --vm-dir "$arts/scn" --stall-after 50 \
             >"$host_checks" 2>&1 || true
         log "serial_stalled_peer judged on the host from $robot_log and $arts/scn/ser.*"
+    fi
+fi
+if [ -n "$helper_pid" ]; then
+    kill "$helper_pid" 2>/dev/null || true
+    wait "$helper_pid" 2>/dev/null || true
+    helper_pid=""
+    host_names=$(sed -n 's/^HOST-CHECK \([a-z0-9_]*\):.*/\1/p' "$console" | paste -sd, -)
+    if [ -n "$host_names" ]; then
+        python3 "$here/arm64-host.py" judge --log "$host_log" --vm-dir "$arts/scn" --checks "$host_names" \
+            >>"$host_checks" 2>&1 || true
+        log "$host_names judged on the host from $host_log and $arts/scn/"
     fi
 fi
 if grep -q '^HOST-CHECK mcap_session:' "$console" && [ $self_test = 1 ]; then
@@ -379,7 +608,7 @@ if [ "$n_fail" -gt 0 ]; then
          show && /^  [|] / {print}' "$console" "$host_checks"
 fi
 if grep -q '^VM SETUP FAIL' "$console"; then
-    die "the VM could not set up SocketCAN: $(grep '^VM SETUP FAIL' "$console" | head -1)"
+    die "the VM could not set itself up: $(grep '^VM SETUP FAIL' "$console" | head -1)"
 fi
 if grep -qx 'SCENARIO PASS' "$console" && [ "$n_host_fail" -gt 0 ]; then
     echo "VM SUITE FAIL: judged on the host: $(grep -E '^CHECK [a-z0-9_]+: FAIL' "$host_checks" | cut -d: -f1 | sed 's/^CHECK //' | tr '\n' ' ')"
