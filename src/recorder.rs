@@ -382,6 +382,8 @@ mod tests {
         assert_eq!(raw, 100);
     }
 
+    // /dev/full is Linux's.
+    #[cfg(target_os = "linux")]
     #[test]
     fn a_full_disk_is_counted_with_its_reason() {
         let mut recorder = Recorder::start(

@@ -9,7 +9,9 @@ use std::time::Duration;
 use parking_lot::Mutex;
 use serialport::SerialPort;
 
-use super::serial_access::{device_access, permission_denied_text};
+#[cfg(not(windows))]
+use super::serial_access::device_access;
+use super::serial_access::{permission_denied_text, DeviceAccess};
 use super::{now_timestamp, Discarded, FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
 use crate::protocol::serial::{StreamDecoder, StreamEvent};
 use crate::protocol::Wire;
@@ -192,24 +194,268 @@ pub fn open(path: &Path, baud: u32) -> anyhow::Result<Link> {
 }
 
 fn open_error(name: &str, error: serialport::Error) -> anyhow::Error {
+    #[cfg(windows)]
+    let text = {
+        // serialport's error kind does not tell a missing port from a held one: a plain open of the same
+        // device says which, by its Windows error code.
+        let device = if name.starts_with('\\') { name.to_string() } else { format!(r"\\.\{name}") };
+        let probe = std::fs::OpenOptions::new()
+            .read(true)
+            .write(true)
+            .open(device)
+            .err()
+            .and_then(|error| error.raw_os_error());
+        let ports = serialport::available_ports()
+            .ok()
+            .map(|ports| ports.into_iter().map(|port| port.port_name).collect::<Vec<_>>());
+        windows_open_error_text(name, error.kind(), &error.to_string(), probe, ports.as_deref())
+    };
+    #[cfg(not(windows))]
+    let text = {
+        let path = Path::new(name);
+        let access = match error.kind() {
+            serialport::ErrorKind::Io(io::ErrorKind::PermissionDenied) => device_access(path),
+            _ => None,
+        };
+        unix_open_error_text(name, error.kind(), &error.to_string(), path.exists(), access.as_ref())
+    };
+    anyhow::anyhow!(text)
+}
+
+/// Why `name` could not be opened, on Linux and the other Unixes: `exists` is whether the path is there,
+/// `access` the device's owner, group and mode when the error is a permission denied.
+#[cfg_attr(windows, allow(dead_code))]
+fn unix_open_error_text(
+    name: &str,
+    kind: serialport::ErrorKind,
+    error: &str,
+    exists: bool,
+    access: Option<&DeviceAccess>,
+) -> String {
     use serialport::ErrorKind;
-    let exists = Path::new(name).exists();
-    match error.kind() {
+    match kind {
         // serialport reports NoDevice for EBUSY (another program set TIOCEXCL) and for the flock it takes on
         // the port: the port is there, and held.
-        ErrorKind::NoDevice if exists => anyhow::anyhow!(
+        ErrorKind::NoDevice if exists => format!(
             "serial port {name} is busy: another program has it open ({error}); find it with `fuser -v {name}` \
              or `lsof {name}`, and close it (a terminal program such as minicom or screen, ModemManager, \
              another tracerctl)"
         ),
-        ErrorKind::NoDevice | ErrorKind::Io(io::ErrorKind::NotFound) => anyhow::anyhow!(
+        ErrorKind::NoDevice | ErrorKind::Io(io::ErrorKind::NotFound) => format!(
             "serial port {name} does not exist ({error}): plug in the adapter and look for it with \
              `ls /dev/ttyUSB* /dev/ttyACM*` and `dmesg | tail`"
         ),
-        ErrorKind::Io(io::ErrorKind::PermissionDenied) => {
-            anyhow::anyhow!(permission_denied_text(name, device_access(Path::new(name)).as_ref()))
+        ErrorKind::Io(io::ErrorKind::PermissionDenied) => permission_denied_text(name, access),
+        _ => format!("cannot open serial port {name}: {error}"),
+    }
+}
+
+/// Windows' error codes that tell why a device did not open.
+const ERROR_FILE_NOT_FOUND: i32 = 2;
+const ERROR_PATH_NOT_FOUND: i32 = 3;
+const ERROR_ACCESS_DENIED: i32 = 5;
+
+/// Why `name` (COM3, `\\.\COM10`) could not be opened, on Windows. serialport reports ERROR_FILE_NOT_FOUND and
+/// ERROR_ACCESS_DENIED alike as NoDevice: `probe` is the error code of a plain open of the same device, if it
+/// failed too. Windows opens a COM port for one program at a time and refuses the next with access denied.
+/// `ports` are the COM ports Windows lists now (None when it could not list them); without a probe, a port
+/// that is listed yet cannot be opened is taken to be held by another program.
+#[cfg_attr(not(windows), allow(dead_code))]
+fn windows_open_error_text(
+    name: &str,
+    kind: serialport::ErrorKind,
+    error: &str,
+    probe: Option<i32>,
+    ports: Option<&[String]>,
+) -> String {
+    use serialport::ErrorKind;
+    let device_manager = "Device Manager, under Ports (COM & LPT)";
+    let busy = format!(
+        "serial port {name} is in use by another program ({error}): Windows lets one program at a time open a \
+         COM port; close the other one (a terminal program such as PuTTY or Tera Term, a serial monitor, \
+         another tracerctl) and try again"
+    );
+    match kind {
+        ErrorKind::NoDevice | ErrorKind::Io(io::ErrorKind::NotFound | io::ErrorKind::PermissionDenied) => {
+            let bare = |port: &str| {
+                port.trim_start_matches(r"\\.\").trim_start_matches(r"\\?\").to_ascii_uppercase()
+            };
+            let listed = ports.map(|ports| ports.iter().any(|port| bare(port) == bare(name)));
+            let missing = match (probe, listed) {
+                (Some(ERROR_ACCESS_DENIED), _) => false,
+                (Some(ERROR_FILE_NOT_FOUND | ERROR_PATH_NOT_FOUND), _) => true,
+                (_, Some(listed)) => !listed,
+                (_, None) => {
+                    return format!(
+                        "serial port {name} could not be opened ({error}): it does not exist, or another \
+                         program has it open; look for it in {device_manager}, and close any other program \
+                         using it (PuTTY, Tera Term, a serial monitor, another tracerctl)"
+                    )
+                }
+            };
+            if !missing {
+                return busy;
+            }
+            let Some(ports) = ports else {
+                return format!(
+                    "serial port {name} does not exist ({error}): plug in the adapter and look for its COM \
+                     number in {device_manager}"
+                );
+            };
+            // COM2 before COM10.
+            let mut ports = ports.to_vec();
+            ports.sort_by_key(|port| {
+                let split = port.find(|c: char| c.is_ascii_digit()).unwrap_or(port.len());
+                (port[..split].to_string(), port[split..].parse::<u32>().unwrap_or(u32::MAX))
+            });
+            let present = match ports.as_slice() {
+                [] => "Windows lists no COM port now".to_string(),
+                [port] => format!("the only COM port now is {port}"),
+                ports => format!("the COM ports now are {}", ports.join(", ")),
+            };
+            format!(
+                "serial port {name} does not exist ({error}): {present}; plug in the adapter and look for \
+                 its COM number in {device_manager}"
+            )
         }
-        _ => anyhow::anyhow!("cannot open serial port {name}: {error}"),
+        _ => format!("cannot open serial port {name}: {error}"),
+    }
+}
+
+// The texts of both systems, tested on each (they are pure).
+#[cfg(test)]
+mod open_error_tests {
+    use serialport::ErrorKind;
+
+    use super::*;
+
+    const NOT_FOUND: &str = "The system cannot find the file specified.";
+    const DENIED: &str = "Access is denied.";
+
+    fn ports(names: &[&str]) -> Vec<String> {
+        names.iter().map(|name| name.to_string()).collect()
+    }
+
+    #[test]
+    fn linux_texts_name_the_device_files_and_the_tools() {
+        let busy = unix_open_error_text("/dev/ttyUSB0", ErrorKind::NoDevice, "busy", true, None);
+        assert_eq!(
+            busy,
+            "serial port /dev/ttyUSB0 is busy: another program has it open (busy); find it with \
+             `fuser -v /dev/ttyUSB0` or `lsof /dev/ttyUSB0`, and close it (a terminal program such as minicom \
+             or screen, ModemManager, another tracerctl)"
+        );
+        let missing =
+            "serial port /dev/ttyUSB9 does not exist (gone): plug in the adapter and look for it with \
+                       `ls /dev/ttyUSB* /dev/ttyACM*` and `dmesg | tail`";
+        for kind in [ErrorKind::NoDevice, ErrorKind::Io(io::ErrorKind::NotFound)] {
+            assert_eq!(unix_open_error_text("/dev/ttyUSB9", kind, "gone", false, None), missing);
+        }
+        let denied = unix_open_error_text(
+            "/dev/x",
+            ErrorKind::Io(io::ErrorKind::PermissionDenied),
+            "EACCES",
+            true,
+            None,
+        );
+        assert_eq!(denied, permission_denied_text("/dev/x", None));
+        let other = unix_open_error_text("/dev/x", ErrorKind::InvalidInput, "bad baud", true, None);
+        assert_eq!(other, "cannot open serial port /dev/x: bad baud");
+        for text in [busy, missing.to_string()] {
+            assert!(!text.contains("Device Manager") && !text.contains("COM"), "{text}");
+        }
+    }
+
+    const BUSY: &str = "serial port COM3 is in use by another program (Access is denied.): Windows lets one \
+                        program at a time open a COM port; close the other one (a terminal program such as \
+                        PuTTY or Tera Term, a serial monitor, another tracerctl) and try again";
+
+    #[test]
+    fn windows_access_denied_is_a_port_in_use() {
+        let text = |probe, ports: Option<&[String]>| {
+            windows_open_error_text("COM3", ErrorKind::NoDevice, DENIED, probe, ports)
+        };
+        assert_eq!(text(Some(ERROR_ACCESS_DENIED), Some(&ports(&["COM1", "COM3"]))), BUSY);
+        // The probe decides, whatever the list says or whether there is one.
+        assert_eq!(text(Some(ERROR_ACCESS_DENIED), Some(&ports(&["COM1"]))), BUSY);
+        assert_eq!(text(Some(ERROR_ACCESS_DENIED), None), BUSY);
+        // Without a probe (the port opened the second time), a listed port is taken to be held.
+        assert_eq!(text(None, Some(&ports(&["COM3"]))), BUSY);
+        // However the name is written.
+        for name in ["com3", r"\\.\COM3", r"\\.\com3"] {
+            let text =
+                windows_open_error_text(name, ErrorKind::NoDevice, DENIED, None, Some(&ports(&["COM3"])));
+            assert!(text.contains("is in use by another program"), "{text}");
+        }
+    }
+
+    #[test]
+    fn windows_a_missing_port_names_the_ports_there_are_and_device_manager() {
+        let text = |name, probe, ports: Option<&[String]>| {
+            windows_open_error_text(name, ErrorKind::NoDevice, NOT_FOUND, probe, ports)
+        };
+        assert_eq!(
+            text("COM7", Some(ERROR_FILE_NOT_FOUND), Some(&ports(&["COM10", "COM4", "COM1"]))),
+            "serial port COM7 does not exist (The system cannot find the file specified.): the COM ports now are \
+             COM1, COM4, COM10; plug in the adapter and look for its COM number in Device Manager, under Ports \
+             (COM & LPT)"
+        );
+        let one = text("COM7", Some(ERROR_FILE_NOT_FOUND), Some(&ports(&["COM4"])));
+        assert!(one.contains(": the only COM port now is COM4; plug in"), "{one}");
+        let none = text("COM7", Some(ERROR_PATH_NOT_FOUND), Some(&[]));
+        assert!(none.contains(": Windows lists no COM port now; plug in"), "{none}");
+        // Not found, even if a stale list still has it.
+        assert!(
+            text("COM4", Some(ERROR_FILE_NOT_FOUND), Some(&ports(&["COM4"]))).contains("COM4 does not exist")
+        );
+        // Without a probe: not listed is missing; COM13 is not COM3.
+        assert!(text("COM13", None, Some(&ports(&["COM3"]))).contains("COM13 does not exist"));
+        assert_eq!(
+            text("COM7", Some(ERROR_FILE_NOT_FOUND), None),
+            "serial port COM7 does not exist (The system cannot find the file specified.): plug in the adapter \
+             and look for its COM number in Device Manager, under Ports (COM & LPT)"
+        );
+        let io = windows_open_error_text(
+            "COM7",
+            ErrorKind::Io(io::ErrorKind::NotFound),
+            NOT_FOUND,
+            None,
+            Some(&[]),
+        );
+        assert_eq!(io, none);
+    }
+
+    #[test]
+    fn windows_without_a_probe_or_a_port_list_says_both_causes() {
+        let text = windows_open_error_text("COM7", ErrorKind::NoDevice, DENIED, None, None);
+        assert_eq!(
+            text,
+            "serial port COM7 could not be opened (Access is denied.): it does not exist, or another program has \
+             it open; look for it in Device Manager, under Ports (COM & LPT), and close any other program using \
+             it (PuTTY, Tera Term, a serial monitor, another tracerctl)"
+        );
+    }
+
+    #[test]
+    fn windows_texts_name_nothing_of_linux() {
+        let texts = [
+            windows_open_error_text("COM3", ErrorKind::NoDevice, DENIED, Some(ERROR_ACCESS_DENIED), None),
+            windows_open_error_text("COM7", ErrorKind::NoDevice, NOT_FOUND, None, Some(&ports(&["COM3"]))),
+            windows_open_error_text("COM7", ErrorKind::NoDevice, DENIED, None, None),
+            windows_open_error_text(
+                "COM3",
+                ErrorKind::Io(io::ErrorKind::Other),
+                "The parameter is incorrect.",
+                None,
+                None,
+            ),
+        ];
+        for text in &texts {
+            for linux in ["/dev/", "dmesg", "dialout", "fuser", "lsof", "usermod"] {
+                assert!(!text.contains(linux), "{linux} in {text}");
+            }
+        }
+        assert_eq!(texts[3], "cannot open serial port COM3: The parameter is incorrect.");
     }
 }
 

@@ -159,7 +159,7 @@ mod tests {
         fn send(&self, _frame: &LinkFrame) -> io::Result<()> {
             if self.full.load(Ordering::SeqCst) > 0 {
                 self.full.fetch_sub(1, Ordering::SeqCst);
-                return Err(io::Error::from_raw_os_error(105));
+                return Err(io::Error::from_raw_os_error(libc::ENOBUFS));
             }
             self.sent.fetch_add(1, Ordering::SeqCst);
             Ok(())
