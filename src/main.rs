@@ -1,6 +1,7 @@
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
+    tracerctl::output::console::enable_escape_codes();
     let cli = tracerctl::cli::parse();
     match tracerctl::cli::run(cli) {
         Ok(code) => ExitCode::from(code),

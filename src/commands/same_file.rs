@@ -1,7 +1,8 @@
 //! An output that is also an input is refused before anything is created or truncated, as `sort -o`, `cp`
 //! and `cat` refuse it: `decode -o cap.log cap.log` would empty the log before reading it, and so would
 //! `--replay rp.log monitor --log rp.log`. "The same file" is the same file on disk, however it is spelled
-//! (`./cap.log`, a hard link, a symbolic link): on Unix the device and inode, on Windows the canonical path.
+//! (`./cap.log`, a hard link, a symbolic link): on Unix the device and inode, on Windows the volume and file
+//! index.
 
 use std::path::Path;
 
@@ -80,13 +81,14 @@ mod identity {
 
 #[cfg(windows)]
 mod identity {
-    use std::path::{Path, PathBuf};
+    use std::path::Path;
 
-    /// The canonical path (`\\?\C:\...`), links and `.\` spellings resolved.
-    pub type Identity = PathBuf;
+    /// The volume serial number and file index (same-file's handle): one file whatever the path, hard
+    /// links included, which a canonical path does not see (a hard link under another name was emptied).
+    pub type Identity = same_file::Handle;
 
     pub fn of_path(path: &Path) -> Option<Identity> {
-        std::fs::canonicalize(path).ok()
+        same_file::Handle::from_path(path).ok()
     }
 
     pub fn of_regular_file(path: &Path) -> Option<Identity> {
@@ -94,9 +96,9 @@ mod identity {
         of_path(path)
     }
 
-    /// Not known on Windows: a redirected input is not compared.
+    /// What standard input is, when it is a file (`tracerctl decode -o cap.log - < cap.log`).
     pub fn of_standard_input() -> Option<Identity> {
-        None
+        same_file::Handle::stdin().ok()
     }
 }
 

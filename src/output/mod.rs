@@ -3,6 +3,7 @@
 //! Every writer appends to a caller-owned `Vec<u8>` (flushed in large blocks by the caller), so a line costs
 //! no allocation.
 
+pub mod console;
 pub mod csv;
 pub mod filter;
 pub mod json;

@@ -156,7 +156,8 @@ fn bus_state(
 /// The port exists and the baud rate is the robot's; opening it is the next step.
 pub fn serial_port(path: &Path, baud: u32) -> Vec<Check> {
     let mut checks = Vec::new();
-    if !path.exists() {
+    // A COM port is no file on Windows (COM3 "does not exist" as a path): opening it, next, tells.
+    if cfg!(unix) && !path.exists() {
         checks.push(Check::fail(
             "serial_port",
             "serial port",
@@ -246,5 +247,20 @@ mod tests {
         assert_eq!(checks.len(), 1);
         assert_eq!((checks[0].id, checks[0].outcome), ("baud", Outcome::Warn));
         assert!(serial_port(Path::new("/dev/null"), 115_200).is_empty());
+    }
+}
+
+// Run under wine by tests/wine/run.sh (check e).
+#[cfg(all(test, windows))]
+mod windows_tests {
+    use super::*;
+
+    #[test]
+    fn a_com_port_is_not_taken_for_a_missing_file() {
+        assert!(
+            serial_port(Path::new("COM3"), ROBOT_BAUD).is_empty(),
+            "opening COM3 tells, not a path check"
+        );
+        assert_eq!(serial_port(Path::new("COM3"), 9600).len(), 1, "only the baud warning");
     }
 }
