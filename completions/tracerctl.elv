@@ -69,6 +69,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --strict 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
             cand --delta-stamps 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like those of candump -t z, so tracerctl cannot tell them apart'
             cand --no-progress 'Never show a progress bar (shown only for large files, on a terminal)'
+            cand --no-mmap 'Read files with positioned reads only, never mapped into memory (also TRACERCTL_NO_MMAP=1); the output is the same'
             cand --sim 'Drive an in-process virtual TRACER, not a robot'
             cand -h 'Print help (see more with ''--help'')'
             cand --help 'Print help (see more with ''--help'')'

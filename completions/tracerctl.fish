@@ -128,6 +128,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summ
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l strict -d 'Stop at the first bad line, bad frame or corrupted serial frame (exit status 3)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l delta-stamps -d 'Console timestamps are deltas between frames (candump -t d): add them up. Such stamps look exactly like those of candump -t z, so tracerctl cannot tell them apart'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-progress -d 'Never show a progress bar (shown only for large files, on a terminal)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l no-mmap -d 'Read files with positioned reads only, never mapped into memory (also TRACERCTL_NO_MMAP=1); the output is the same'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s V -l version -d 'Print version'

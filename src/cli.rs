@@ -171,6 +171,10 @@ pub struct DecodeArgs {
     /// Threads for text logs (candump, Vector ASC, PEAK trc): files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)
     #[arg(long, short = 'j', value_name = "N", value_hint = clap::ValueHint::Other, value_parser = clap::value_parser!(u16).range(1..))]
     pub threads: Option<u16>,
+
+    /// Read files with positioned reads only, never mapped into memory (also TRACERCTL_NO_MMAP=1); the output is the same
+    #[arg(long)]
+    pub no_mmap: bool,
 }
 
 /// Bytes of input per parallel chunk from `TRACERCTL_CHUNK_BYTES`, for tests: tiny chunks put boundaries
@@ -229,16 +233,30 @@ impl DecodeArgs {
                 return Err(usage("--format mcap writes every frame: leave out --summary and --plot"));
             }
         }
-        let mcap = (format == DecodeFormatArg::Mcap).then(|| self.mcap_compression.into());
+        let lines = |format| commands::decode::Output::Lines { format, file: output.clone() };
+        let output = match (format, self.summary, output.clone()) {
+            (DecodeFormatArg::Mcap, _, Some(file)) => {
+                commands::decode::Output::Mcap { compression: self.mcap_compression.into(), file }
+            }
+            (DecodeFormatArg::Csv, true, _) => {
+                return Err(usage(
+                    "--summary prints a report as text or JSON (--format text or json), not CSV",
+                ))
+            }
+            (DecodeFormatArg::Json, true, file) => {
+                commands::decode::Output::Summary { format: commands::decode::ReportFormat::Json, file }
+            }
+            (_, true, file) => {
+                commands::decode::Output::Summary { format: commands::decode::ReportFormat::Text, file }
+            }
+            (DecodeFormatArg::Json, false, _) => lines(Format::Json),
+            (DecodeFormatArg::Csv, false, _) => lines(Format::Csv),
+            (DecodeFormatArg::Text | DecodeFormatArg::Mcap, false, _) => lines(Format::Text),
+        };
         Ok(commands::decode::Options {
             inputs: self.inputs,
             serial,
-            format: match format {
-                DecodeFormatArg::Json => Format::Json,
-                DecodeFormatArg::Csv => Format::Csv,
-                DecodeFormatArg::Text | DecodeFormatArg::Mcap => Format::Text,
-            },
-            summary: self.summary,
+            output,
             strict: self.strict,
             ids: self.ids,
             messages: self.messages,
@@ -250,8 +268,7 @@ impl DecodeArgs {
                 None => std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get),
             },
             chunk_bytes: chunk_bytes_from_env(),
-            output,
-            mcap,
+            mmap: !self.no_mmap && std::env::var_os("TRACERCTL_NO_MMAP").is_none(),
         })
     }
 }

@@ -7,8 +7,8 @@ use super::cansend::{classify_id, data_frame, parse_frame_text, FrameText, IdFor
 use super::hex::{
     decimal_u64, hex_bytes_8, hex_pair, hex_u32, hex_value, is_hex, same_bytes, skip_spaces, token_end,
 };
+use super::line_limit::LineLimit;
 use super::open::{LogFormat, TextFormat};
-use super::reader::DEFAULT_MAX_LINE_LEN;
 use super::timestamp::{
     parse_date_time, parse_numeric, parse_numeric_cached, DeltaSum, PosError, SecondsCache,
 };
@@ -868,6 +868,11 @@ impl LineParser {
         CarriedState { iface, after_error_frame: self.after_error_frame, asc: self.asc, trc: self.trc }
     }
 
+    /// Whether relative console stamps are summed as `-t d` deltas ([`Self::with_delta_timestamps`]).
+    pub fn sums_deltas(&self) -> bool {
+        self.deltas
+    }
+
     /// The running `-t d` sum (of this parser's lines only).
     pub fn delta_sum(&self) -> DeltaSum {
         self.delta_sum
@@ -875,8 +880,8 @@ impl LineParser {
 
     /// The common candump log line at the start of `text` (a buffer of whole lines), parsed where it stands:
     /// the record and the line's length without its `\n`, as [`LineParser::parse`] reads that line. `None`
-    /// for any other line (and for every line of ASC or trc files, and a line longer than
-    /// [`DEFAULT_MAX_LINE_LEN`]): find its end and call `parse` (or reject it as too long).
+    /// for any other line (and for every line of ASC or trc files, and a line over the [`LineLimit`]): find
+    /// its end and call `parse` (or reject it as too long).
     #[inline]
     pub fn parse_log_line_at(&mut self, text: &[u8]) -> Option<(LogRecord<'_>, usize)> {
         if self.format != TextFormat::Candump {
@@ -886,7 +891,7 @@ impl LineParser {
             parse_log_line_into(text, &mut self.last_iface, &mut self.last_seconds, &mut self.log_frame)?;
         // Spaces after the stamp can make a line of this shape any length; past the limit every reader
         // rejects the line whole, unparsed (and it leaves the parser's state as it was).
-        if head.length > DEFAULT_MAX_LINE_LEN {
+        if LineLimit::DEFAULT.is_over(head.length) {
             return None;
         }
         self.after_error_frame = false;

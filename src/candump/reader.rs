@@ -2,6 +2,8 @@
 
 use std::io::{self, Read};
 
+use super::line_limit::{LineLimit, LongLine};
+
 /// Finds the newline ending each line. On x86-64 a searcher built once (SSE2 is always there), which
 /// skips the per-call CPU dispatch of `memchr::memchr` (measured: about a third of its cost on 46-byte
 /// lines); elsewhere `memchr` itself.
@@ -31,8 +33,6 @@ impl Newline {
 
 /// Default size of the read buffer.
 pub const DEFAULT_BUFFER_CAPACITY: usize = 256 * 1024;
-/// Default length above which a line is reported as [`RawLine::TooLong`] instead of returned.
-pub const DEFAULT_MAX_LINE_LEN: usize = 64 * 1024;
 
 /// One line, without its `\n`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,12 +57,12 @@ pub struct LineReader<R: Read> {
     end: usize,
     /// Where to resume the newline search (everything in `start..searched` has no '\n').
     searched: usize,
-    max_line_len: usize,
+    limit: LineLimit,
     line_number: u64,
     bytes_read: u64,
     eof: bool,
-    /// Bytes of an over-long line discarded so far, while skipping it.
-    skipped: Option<usize>,
+    /// An over-long line being skipped: its bytes discarded so far.
+    skipped: Option<LongLine>,
     /// Where the buffer's last whole line ends (after its `\n`), once [`LineReader::whole_lines`] looked
     /// since the last read.
     whole_end: Option<usize>,
@@ -82,7 +82,7 @@ impl<R: Read> LineReader<R> {
             start: 0,
             end: 0,
             searched: 0,
-            max_line_len: DEFAULT_MAX_LINE_LEN,
+            limit: LineLimit::DEFAULT,
             line_number: 0,
             bytes_read: 0,
             eof: false,
@@ -93,7 +93,7 @@ impl<R: Read> LineReader<R> {
 
     /// Sets the length above which lines are reported as [`RawLine::TooLong`].
     pub fn with_max_line_len(mut self, max: usize) -> Self {
-        self.max_line_len = max;
+        self.limit = LineLimit::new(max);
         self
     }
 
@@ -137,10 +137,11 @@ impl<R: Read> LineReader<R> {
                 self.searched = self.start;
                 self.line_number += 1;
                 let number = self.line_number;
-                if let Some(skipped) = self.skipped.take() {
-                    return Ok(Some(RawLine::TooLong { number, len: skipped + len }));
+                if let Some(mut skipped) = self.skipped.take() {
+                    skipped.extend(len);
+                    return Ok(Some(RawLine::TooLong { number, len: skipped.length() }));
                 }
-                if len > self.max_line_len {
+                if self.limit.is_over(len) {
                     return Ok(Some(RawLine::TooLong { number, len }));
                 }
                 return Ok(Some(RawLine::Line { number, text: &self.buf[start..newline] }));
@@ -149,10 +150,10 @@ impl<R: Read> LineReader<R> {
 
             let pending = self.end - self.start;
             if let Some(skipped) = self.skipped.as_mut() {
-                *skipped += pending;
+                skipped.extend(pending);
                 self.discard_pending();
-            } else if pending > self.max_line_len {
-                self.skipped = Some(pending);
+            } else if let Some(long) = self.limit.cut(pending) {
+                self.skipped = Some(long);
                 self.discard_pending();
             }
 
@@ -167,9 +168,9 @@ impl<R: Read> LineReader<R> {
     /// At the end of input: the last line if it had no newline.
     fn final_line(&mut self) -> Option<RawLine<'_>> {
         let number = self.line_number + 1;
-        if let Some(len) = self.skipped.take() {
+        if let Some(long) = self.skipped.take() {
             self.line_number = number;
-            return Some(RawLine::TooLong { number, len });
+            return Some(RawLine::TooLong { number, len: long.length() });
         }
         if self.start == self.end {
             return None;
@@ -198,10 +199,9 @@ impl<R: Read> LineReader<R> {
             self.start = 0;
         }
         if self.end == self.buf.len() {
-            // Only reached while the partial line is <= max_line_len; one byte more than the limit is
+            // Only reached while the partial line is within the limit; the bytes the limit keeps are
             // enough to see that a line is too long.
-            let target =
-                (self.buf.len() * 2).min(self.max_line_len.saturating_add(1)).max(self.buf.len() + 1);
+            let target = (self.buf.len() * 2).min(self.limit.kept()).max(self.buf.len() + 1);
             self.buf.resize(target, 0);
         }
     }

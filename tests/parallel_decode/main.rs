@@ -423,7 +423,34 @@ fn a_live_stream_is_written_line_by_line_with_threads() {
 }
 
 /// Every test of this file, in order.
+/// Mapping plain files is only a way of reading them: `--no-mmap` and `TRACERCTL_NO_MMAP` (positioned reads
+/// only) write the same bytes as the mapped default, with windows and reads cut everywhere.
+fn reading_without_mapping_changes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let awkward = dir.path().join("awkward.log");
+    std::fs::write(&awkward, awkward_log()).unwrap();
+    let session = dir.path().join("session.log");
+    std::fs::write(&session, session_log()).unwrap();
+    let mut files = vec![awkward, session];
+    files_under(&data("candump"), &mut files);
+    for path in &files {
+        for extra in [&["-f", "json"][..], &["--summary"], &["--delta-stamps", "--strict"]] {
+            for bytes in [None, Some(61), Some(4096)] {
+                let mapped = decode(path, 2, bytes, extra);
+                let unmapped = decode(path, 2, bytes, &[extra, &["--no-mmap"]].concat());
+                let what = format!("{} {extra:?} --no-mmap TRACERCTL_CHUNK_BYTES={bytes:?}", path.display());
+                assert_same(&mapped, &unmapped, &what);
+                std::env::set_var("TRACERCTL_NO_MMAP", "1");
+                let unmapped = decode(path, 2, bytes, extra);
+                std::env::remove_var("TRACERCTL_NO_MMAP");
+                assert_same(&mapped, &unmapped, &format!("{what} (the environment variable)"));
+            }
+        }
+    }
+}
+
 const TESTS: &[(&str, fn())] = &[
+    ("reading_without_mapping_changes_nothing", reading_without_mapping_changes_nothing),
     ("every_fixture_decodes_the_same_with_threads", every_fixture_decodes_the_same_with_threads),
     ("chunk_boundaries_anywhere_change_nothing", chunk_boundaries_anywhere_change_nothing),
     ("asc_and_trc_logs_decode_the_same_with_threads", asc_and_trc_logs_decode_the_same_with_threads),

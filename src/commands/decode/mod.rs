@@ -3,6 +3,7 @@
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
 mod interrupt;
+mod lines;
 #[cfg(unix)]
 mod mapped;
 // No mapping elsewhere: the workers read by position (ranges.rs).
@@ -14,7 +15,11 @@ mod plot;
 mod positioned;
 mod ranges;
 mod serial_input;
+mod single;
+mod splitter;
+mod stats;
 pub mod summary;
+mod written;
 
 use std::cell::RefCell;
 use std::fs::File;
@@ -27,18 +32,19 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::same_file::{self, Named};
 use super::Global;
-use crate::candump::{
-    self, Line, LineParser, LineReader, LogFormat, RawLine, Reason, RejectTally, Rejected, Rejection,
-};
+use crate::candump::{self, Rejected};
 use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::filter::Filter;
 use crate::output::mcap::{Compression as McapCompression, McapWriter, Provenance};
 use crate::output::{Event, EventWriter, Format, FrameRef};
 use crate::protocol::can::EXAMPLE_FRAME;
 use crate::protocol::detect::{ProtocolDetector, Verdict};
-use crate::protocol::{self, CanFrame, ProtocolHint};
+use crate::protocol::{CanFrame, ProtocolHint};
 use crate::signals::SignalFlag;
+use stats::InputStart;
+pub use stats::{totals_line, InputStats, Skipped};
 use summary::Summary;
+use written::{Interrupted, LiveInput, OutputFailed, Written};
 
 /// Output is written in blocks of about this size.
 const FLUSH_AT: usize = 64 * 1024;
@@ -54,9 +60,8 @@ pub struct Options {
     pub inputs: Vec<String>,
     /// RS232 captures (raw bytes or hex text).
     pub serial: Vec<PathBuf>,
-    pub format: Format,
-    /// A report instead of every frame.
-    pub summary: bool,
+    /// What is written, and where.
+    pub output: Output,
     /// Stop at the first bad line, bad frame or corrupted serial frame.
     pub strict: bool,
     /// Only frames with these identifiers (none: all).
@@ -74,10 +79,36 @@ pub struct Options {
     pub threads: usize,
     /// Input bytes per parallel chunk (default: by mode, see [`parallel::CHUNK_BYTES`]; tests make it tiny).
     pub chunk_bytes: Option<usize>,
-    /// Write to this file instead of standard output.
-    pub output: Option<PathBuf>,
-    /// MCAP output (into `output`, a seekable file) with this chunk compression, instead of `format`.
-    pub mcap: Option<McapCompression>,
+    /// Read plain files through mapped windows (`--no-mmap`, `TRACERCTL_NO_MMAP`: positioned reads only).
+    pub mmap: bool,
+}
+
+/// What decode writes: each kind with only the settings it takes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// A line per frame in `format`, to `file` or standard output.
+    Lines { format: Format, file: Option<PathBuf> },
+    /// The report, to `file` or standard output.
+    Summary { format: ReportFormat, file: Option<PathBuf> },
+    /// An MCAP file with this chunk compression (a file: the index is written last).
+    Mcap { compression: McapCompression, file: PathBuf },
+}
+
+/// How `--summary` writes its report.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ReportFormat {
+    Text,
+    Json,
+}
+
+impl Output {
+    /// The file written instead of standard output.
+    pub fn file(&self) -> Option<&Path> {
+        match self {
+            Output::Lines { file, .. } | Output::Summary { file, .. } => file.as_deref(),
+            Output::Mcap { file, .. } => Some(file),
+        }
+    }
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -86,27 +117,13 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let signals = interrupt::listen()?;
     let stdout = io::stdout();
     let stdout_is_terminal = stdout.is_terminal();
-    let color = color.enabled(stdout_is_terminal && args.output.is_none());
-    let sink = if args.summary {
-        Sink::Summary(Box::default())
-    } else if let (Some(compression), Some(path)) = (args.mcap, &args.output) {
-        Sink::Mcap(Some(Box::new(McapOutput::create(path, compression, &args.inputs, serial)?)))
-    } else {
-        let writer = EventWriter::new(args.format, color);
-        let mut buffer = Vec::with_capacity(FLUSH_AT * 2);
-        writer.header(&mut buffer);
-        let output = match &args.output {
-            Some(path) => {
-                let file = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
-                let out = Box::new(io::BufWriter::new(file));
-                Output { buffer, out, line_buffered: false, name: path.display().to_string(), failed: false }
-            }
-            None => {
-                let (out, name) = (Box::new(stdout.lock()), "standard output".to_string());
-                Output { buffer, out, line_buffered: stdout_is_terminal, name, failed: false }
-            }
-        };
-        Sink::Lines { writer, output: Rc::new(RefCell::new(output)) }
+    let color = color.enabled(stdout_is_terminal && args.output.file().is_none());
+    let sink = match &args.output {
+        Output::Summary { .. } => Sink::Summary(Box::default()),
+        Output::Mcap { compression, file } => {
+            Sink::Mcap(Some(Box::new(McapOutput::create(file, *compression, &args.inputs, serial)?)))
+        }
+        Output::Lines { format, file } => lines_sink(*format, file.as_deref(), color)?,
     };
     let mut decoder = Decoder {
         protocol,
@@ -122,6 +139,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         signals,
         threads: args.threads,
         chunk_bytes: args.chunk_bytes,
+        // Decided once, here: the workers map plain files only with the fault handler installed.
+        mapping: if args.mmap { mapped::install_fault_handler() } else { None },
         frameless: Vec::new(),
     };
 
@@ -146,15 +165,29 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     decoder.finish(args, result)
 }
 
+/// The output of `Output::Lines`: a file written in blocks, or standard output (at once on a terminal).
+fn lines_sink(format: Format, file: Option<&Path>, color: bool) -> Result<Sink> {
+    let writer = EventWriter::new(format, color);
+    let mut buffer = Vec::with_capacity(FLUSH_AT * 2);
+    writer.header(&mut buffer);
+    let output = match file {
+        Some(path) => {
+            let file = File::create(path).with_context(|| format!("cannot create {}", path.display()))?;
+            let out = Box::new(io::BufWriter::new(file));
+            Written { buffer, out, line_buffered: false, name: path.display().to_string(), failed: false }
+        }
+        None => {
+            let stdout = io::stdout();
+            let line_buffered = stdout.is_terminal();
+            let (out, name) = (Box::new(stdout.lock()), "standard output".to_string());
+            Written { buffer, out, line_buffered, name, failed: false }
+        }
+    };
+    Ok(Sink::Lines { writer, output: Rc::new(RefCell::new(output)) })
+}
+
 /// Usage errors found before any input is read.
 fn check_arguments(args: &Options) -> Result<()> {
-    if args.summary && args.format == crate::output::Format::Csv {
-        return Err(Failure {
-            code: USAGE,
-            message: "--summary prints a report as text or JSON (--format text or json), not CSV".into(),
-        }
-        .into());
-    }
     if let Some(path) = &args.plot {
         plot::check_path(path)?;
     }
@@ -165,71 +198,16 @@ fn check_arguments(args: &Options) -> Result<()> {
         inputs.push(input(Path::new("-")));
     }
     inputs.extend(args.serial.iter().map(|path| Named { option: "--serial", path }));
-    let outputs = [("-o", &args.output), ("--plot", &args.plot)];
+    let outputs = [("-o", args.output.file()), ("--plot", args.plot.as_deref())];
     let outputs: Vec<Named> =
-        outputs.iter().filter_map(|(option, path)| Some(Named { option, path: path.as_deref()? })).collect();
+        outputs.iter().filter_map(|&(option, path)| Some(Named { option, path: path? })).collect();
     same_file::refuse_overwriting(&inputs, &outputs)
-}
-
-/// The decoded text not yet written. Shared with [`LiveInput`], which writes it out before each read of
-/// the input, so a live stream leaves line by line while bulk input still goes out in large blocks.
-struct Output {
-    buffer: Vec<u8>,
-    out: Box<dyn Write>,
-    /// Every event is written at once (standard output is a terminal).
-    line_buffered: bool,
-    /// The file's path, or `standard output`, for messages.
-    name: String,
-    /// A write failed (a full disk): the error was returned once, and nothing more is written.
-    failed: bool,
-}
-
-impl Output {
-    fn flush(&mut self) -> io::Result<()> {
-        if self.failed {
-            return Ok(());
-        }
-        self.write_through(&[])?;
-        self.out.flush().map_err(|error| self.failure(error))
-    }
-
-    /// Writes what is buffered, then `bytes` straight through (a decoded chunk: no copy into the buffer).
-    fn write_through(&mut self, bytes: &[u8]) -> io::Result<()> {
-        if self.failed {
-            return Ok(());
-        }
-        if !self.buffer.is_empty() {
-            let result = self.out.write_all(&self.buffer);
-            self.buffer.clear();
-            result.map_err(|error| self.failure(error))?;
-        }
-        self.out.write_all(bytes).map_err(|error| self.failure(error))?;
-        if self.line_buffered {
-            self.out.flush().map_err(|error| self.failure(error))?;
-        }
-        Ok(())
-    }
-
-    /// `error` with the output's name; the output is given up.
-    fn failure(&mut self, error: io::Error) -> io::Error {
-        self.failed = true;
-        io::Error::new(error.kind(), OutputFailed { name: self.name.clone(), error })
-    }
-}
-
-/// A failed write of the output, naming it: `cannot write out.csv: No space left on device (os error 28)`.
-/// Inside an `io::Error` of the same kind, so a closed pipe is still told apart (and stays quiet).
-#[derive(Debug, thiserror::Error)]
-#[error("cannot write {name}: {error}")]
-struct OutputFailed {
-    name: String,
-    error: io::Error,
 }
 
 enum Sink {
     Lines {
         writer: EventWriter,
-        output: Rc<RefCell<Output>>,
+        output: Rc<RefCell<Written>>,
     },
     Summary(Box<Summary>),
     /// `None` once finished.
@@ -268,156 +246,6 @@ fn mcap_error(path: &Path, error: ::mcap::McapError) -> anyhow::Error {
     }
 }
 
-/// A write of the output failed inside a read of the input (see [`LiveInput`]).
-#[derive(Debug, thiserror::Error)]
-#[error("{0}")]
-struct WriteFailed(io::Error);
-
-/// A termination signal arrived while reading.
-#[derive(Debug, thiserror::Error)]
-#[error("interrupted")]
-struct Interrupted;
-
-/// The input as the decoder reads it: before every read (which may block on a pipe, a terminal or a serial
-/// port) the decoded output is written out, and a termination signal ends the reading. On a regular file
-/// this costs one write per read buffer (256 KiB of input), the same blocks as before.
-struct LiveInput<R> {
-    inner: R,
-    output: Option<Rc<RefCell<Output>>>,
-    signals: SignalFlag,
-}
-
-impl<R: Read> Read for LiveInput<R> {
-    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
-        loop {
-            if self.signals.received().is_some() {
-                return Err(io::Error::other(Interrupted));
-            }
-            if let Some(output) = &self.output {
-                output
-                    .borrow_mut()
-                    .flush()
-                    .map_err(|error| io::Error::new(error.kind(), WriteFailed(error)))?;
-            }
-            match self.inner.read(buf) {
-                // A signal interrupts a blocked read (see interrupt.rs); the loop looks at the flag.
-                Err(error) if error.kind() == io::ErrorKind::Interrupted => continue,
-                result => return result,
-            }
-        }
-    }
-}
-
-/// A failure while decoding line `number` of `name`, with that place in its message.
-fn in_line(error: anyhow::Error, name: &str, number: u64) -> anyhow::Error {
-    match error.downcast::<Failure>() {
-        Ok(failure) => Failure::data(format!("{name}:{number}: {}", failure.message)).into(),
-        Err(other) => other,
-    }
-}
-
-/// A read error of `name`, unless it was really a failed write of the output (or a signal).
-fn read_error(error: io::Error, name: &str) -> anyhow::Error {
-    let inner = error.get_ref();
-    if inner.is_some_and(|inner| inner.is::<WriteFailed>() || inner.is::<Interrupted>()) {
-        anyhow::Error::new(error)
-    } else {
-        anyhow::Error::new(error).context(format!("cannot read {name}"))
-    }
-}
-
-/// What happened to the input besides frames: everything that was not decoded is counted here.
-/// For candump text, `decoded_lines + rejected_lines + skipped.total() == lines`.
-#[derive(Debug, Default)]
-pub struct InputStats {
-    pub lines: u64,
-    pub frames: u64,
-    /// Lines that gave a frame.
-    pub decoded_lines: u64,
-    /// Lines that could not be read (each also counted under its reason in `rejected`).
-    pub rejected_lines: u64,
-    pub skipped: Skipped,
-    /// Frames candump itself reported dropped (DROPCOUNT lines).
-    pub candump_dropped: u64,
-    /// Rejected input per reason (lines, and bytes of RS232 captures), with the first place of each.
-    pub rejected: RejectTally,
-    /// Frames with a TRACER ID but invalid content (V1 checksum, too short).
-    pub invalid_frames: u64,
-    pub serial: Vec<(String, protocol::serial::StreamStats)>,
-}
-
-/// Lines that are not frames and not errors, by kind.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct Skipped {
-    pub blank: u64,
-    pub comment: u64,
-    /// Text following a console ERRORFRAME (`-e`).
-    pub error_text: u64,
-    /// CAN XL frames: valid, but not decoded.
-    pub can_xl: u64,
-    /// candump's `DROPCOUNT:` lines (the frames they report are in `candump_dropped`).
-    pub dropcount: u64,
-}
-
-impl Skipped {
-    pub fn total(&self) -> u64 {
-        self.blank + self.comment + self.error_text + self.can_xl + self.dropcount
-    }
-
-    /// `1 blank, 2 comment, ...`: the non-zero kinds.
-    pub fn describe(&self) -> String {
-        let kinds = [
-            (self.blank, "blank"),
-            (self.comment, "comment"),
-            (self.error_text, "error-frame text"),
-            (self.can_xl, "CAN XL frame"),
-            (self.dropcount, "DROPCOUNT"),
-        ];
-        let parts: Vec<String> = kinds
-            .iter()
-            .filter(|(count, _)| *count > 0)
-            .map(|(count, kind)| format!("{count} {kind}"))
-            .collect();
-        parts.join(", ")
-    }
-}
-
-impl InputStats {
-    pub fn rejected_total(&self) -> u64 {
-        self.rejected.total()
-    }
-
-    /// Whether the totals line is worth printing after plain decoding: when anything was lost or not
-    /// decoded. Blank lines, comments (every ASC and trc file has a header of them) and the text candump
-    /// prints after an error frame (which is decoded) lose nothing, so a clean log stays quiet.
-    fn anything_lost(&self) -> bool {
-        self.rejected_total() > 0
-            || self.invalid_frames > 0
-            || self.candump_dropped > 0
-            || self.skipped.can_xl > 0
-            || self.skipped.dropcount > 0
-            || self.serial.iter().any(|(_, s)| serial_losses(s))
-    }
-
-    /// Whether any input was read at all (a refused or missing first input leaves nothing to report).
-    fn anything_read(&self) -> bool {
-        self.lines > 0 || self.frames > 0 || !self.serial.is_empty()
-    }
-}
-
-fn serial_losses(stats: &protocol::serial::StreamStats) -> bool {
-    stats.skipped_bytes > 0 || stats.bad_checksum > 0 || stats.bad_length > 0 || stats.bad_type > 0
-}
-
-/// The run's counts when an input began: what the input itself added is told from them.
-#[derive(Clone, Copy)]
-struct InputStart {
-    lines: u64,
-    decoded_lines: u64,
-    rejected_lines: u64,
-    skipped: Skipped,
-}
-
 /// The decoding pipeline shared by every input kind.
 pub struct Decoder {
     protocol: ProtocolHint,
@@ -437,6 +265,8 @@ pub struct Decoder {
     threads: usize,
     /// Chosen by the mode unless a test set it ([`parallel::CHUNK_BYTES`], [`parallel::SUMMARY_CHUNK_BYTES`]).
     chunk_bytes: Option<usize>,
+    /// Plain files are mapped (the `SIGBUS` handler installed); `None`: read with positioned reads.
+    mapping: Option<mapped::FaultHandler>,
     /// Why each input that gave no frame gave none (`no frames in NAME: empty`).
     frameless: Vec<String>,
 }
@@ -479,7 +309,7 @@ impl Decoder {
             if self.parallel_fits() {
                 return parallel::decode(self, "<stdin>", (reader, format), None, (true, None));
             }
-            return self.candump("<stdin>", reader, None, format);
+            return self.candump("<stdin>", reader, (None, true), format);
         }
         let path = Path::new(input);
         if path.exists() {
@@ -498,7 +328,7 @@ impl Decoder {
                 let plain = plain.filter(|_| format.compression.is_none());
                 return parallel::decode(self, input, (reader, format), size, (false, plain));
             }
-            return self.candump(input, reader, size, format);
+            return self.candump(input, reader, (size, !regular), format);
         }
         if input.contains('#') {
             let frame = candump::parse_cansend(input.as_bytes()).map_err(|error| Failure {
@@ -509,123 +339,6 @@ impl Decoder {
             return Ok(());
         }
         bail!("{input}: no such file (frames are written like {EXAMPLE_FRAME})")
-    }
-
-    fn candump(&mut self, name: &str, input: impl Read, size: Option<u64>, format: LogFormat) -> Result<()> {
-        let mut reader = LineReader::new(self.live(input));
-        let parser = LineParser::for_format(format);
-        let mut parser = if self.delta_stamps { parser.with_delta_timestamps() } else { parser };
-        let bar = self.progress_bar(size);
-        let before = self.input_start();
-        let mut consumed = 0u64;
-        loop {
-            // The common log lines buffered: parsing each finds its end (no search for the `\n` first).
-            let (first, text) = reader.whole_lines();
-            let (mut lines, mut at) = (0, 0);
-            while let Some((record, length)) = text.get(at..).and_then(|rest| parser.parse_log_line_at(rest))
-            {
-                self.stats.lines += 1;
-                self.stats.decoded_lines += 1;
-                self.frame(record.ts, record.iface, record.dir, record.frame)
-                    .map_err(|error| in_line(error, name, first + lines))?;
-                lines += 1;
-                at += length + 1;
-            }
-            reader.consume(lines, at);
-            if at > 0 {
-                consumed += at as u64;
-                if let Some(bar) = &bar {
-                    bar.set_position(consumed);
-                }
-            }
-            // Any other line, one at a time.
-            let Some(raw) = reader.next_line().map_err(|error| read_error(error, name))? else { break };
-            self.stats.lines += 1;
-            let (number, text) = match raw {
-                RawLine::Line { number, text } => (number, text),
-                RawLine::TooLong { number, len } => {
-                    consumed += len as u64 + 1;
-                    let message = candump::line_too_long(len);
-                    self.rejected_line(
-                        name,
-                        number,
-                        &message,
-                        Reason::LineTooLong.as_str(),
-                        Some(len as u64),
-                    )?;
-                    continue;
-                }
-            };
-            consumed += text.len() as u64 + 1;
-            if let Some(bar) = &bar {
-                if number % 65_536 == 0 {
-                    bar.set_position(consumed);
-                }
-            }
-            match parser.parse(text) {
-                // The hot arm stays in the loop, the rare ones out of it (measured: docs/performance.md).
-                Ok(Line::Frame(record)) => {
-                    self.stats.decoded_lines += 1;
-                    let frame = record.frame;
-                    self.frame(record.ts, record.iface, record.dir, &frame)
-                        .map_err(|error| in_line(error, name, number))?;
-                }
-                Ok(other) => self.skipped_line(name, number, other)?,
-                Err(error) => self.unparsed_line(name, number, text, error)?,
-            }
-        }
-        if let Some(bar) = bar {
-            bar.finish_and_clear();
-        }
-        self.note_no_frames(name, before);
-        Ok(())
-    }
-
-    /// A line that is not a frame: counted by kind (a CAN XL frame is an error with --strict).
-    #[inline(never)]
-    fn skipped_line(&mut self, name: &str, number: u64, line: Line<'_>) -> Result<()> {
-        match line {
-            Line::Frame(_) => {} // decoded by the caller
-            Line::Blank => self.stats.skipped.blank += 1,
-            Line::Comment => self.stats.skipped.comment += 1,
-            Line::DropCount { dropped } => {
-                self.stats.skipped.dropcount += 1;
-                self.stats.candump_dropped = self.stats.candump_dropped.saturating_add(dropped);
-            }
-            Line::ErrorText => self.stats.skipped.error_text += 1,
-            Line::CanXl => {
-                self.stats.skipped.can_xl += 1;
-                if self.strict {
-                    return Err(Failure::data(format!("{name}:{number}: {CAN_XL_NOT_SUPPORTED}")).into());
-                }
-            }
-        }
-        Ok(())
-    }
-
-    /// A line the log format does not read: a bare cansend frame (a file of "211#00000103000000B1" lines is
-    /// read too), or a rejected line with the reason.
-    #[inline(never)]
-    fn unparsed_line(
-        &mut self,
-        name: &str,
-        number: u64,
-        text: &[u8],
-        error: candump::LineError,
-    ) -> Result<()> {
-        let bare = text.trim_ascii();
-        let looks_bare = bare.contains(&b'#') && !bare.iter().any(u8::is_ascii_whitespace);
-        match candump::parse_cansend(bare) {
-            Ok(frame) => {
-                self.stats.decoded_lines += 1;
-                self.frame(None, "-", None, &frame)
-            }
-            Err(frame_error) if looks_bare => {
-                let message = format!("bare frame: {frame_error}");
-                self.rejected_line(name, number, &message, frame_error.reason.as_str(), None)
-            }
-            Err(_) => self.rejected_line(name, number, &error.to_string(), error.reason.as_str(), None),
-        }
     }
 
     /// The run's counts as an input begins.
@@ -832,14 +545,18 @@ impl Decoder {
         match &mut self.sink {
             Sink::Lines { output, .. } => output.borrow_mut().flush()?,
             Sink::Summary(summary) => {
-                let report = if args.format == crate::output::Format::Json {
+                let (format, file) = match &args.output {
+                    Output::Summary { format, file } => (*format, file.as_deref()),
+                    Output::Lines { .. } | Output::Mcap { .. } => (ReportFormat::Text, None),
+                };
+                let report = if format == ReportFormat::Json {
                     let mut text = serde_json::to_string_pretty(&summary.to_json(&self.stats, &self.seen))?;
                     text.push('\n');
                     text
                 } else {
                     summary.report(&self.stats, &self.seen)
                 };
-                match &args.output {
+                match file {
                     Some(path) => std::fs::write(path, report.as_bytes())
                         .with_context(|| format!("cannot write {}", path.display()))?,
                     None => {
@@ -899,50 +616,4 @@ impl Decoder {
             crate::say!("tracerctl: {}", totals_line(&self.stats));
         }
     }
-}
-
-/// `decoded N frames from M lines; rejected K lines: ...; skipped S lines: ...; serial ...`
-pub fn totals_line(stats: &InputStats) -> String {
-    let mut line = format!("decoded {} frames", stats.frames);
-    if stats.lines > 0 {
-        if stats.decoded_lines == stats.frames {
-            line.push_str(&format!(" from {} lines", stats.lines));
-        } else {
-            line.push_str(&format!(" ({} from {} lines)", stats.decoded_lines, stats.lines));
-        }
-    }
-    let (line_reasons, other_reasons): (Vec<&Rejection>, Vec<&Rejection>) =
-        stats.rejected.rejected.iter().partition(|r| r.in_lines);
-    if stats.rejected_lines > 0 {
-        let reasons: Vec<String> = line_reasons.iter().map(|r| r.describe()).collect();
-        line.push_str(&format!("; rejected {} lines: {}", stats.rejected_lines, reasons.join("; ")));
-    }
-    if stats.skipped.total() > 0 {
-        line.push_str(&format!("; skipped {} lines: {}", stats.skipped.total(), stats.skipped.describe()));
-    }
-    for (name, serial) in &stats.serial {
-        line.push_str(&format!("; serial {name}: {} bytes, {} frames", serial.bytes, serial.frames));
-        for (count, what) in [
-            (serial.skipped_bytes, "bytes skipped"),
-            (serial.sync_losses, "sync losses"),
-            // Checksum mismatches are rejections, listed with their first place below.
-            (serial.bad_length, "bad length bytes"),
-            (serial.bad_type, "bad frame types"),
-        ] {
-            if count > 0 {
-                line.push_str(&format!(", {count} {what}"));
-            }
-        }
-    }
-    if !other_reasons.is_empty() {
-        let reasons: Vec<String> = other_reasons.iter().map(|r| r.describe()).collect();
-        line.push_str(&format!("; rejected serial input: {}", reasons.join("; ")));
-    }
-    if stats.invalid_frames > 0 {
-        line.push_str(&format!("; {} invalid frames", stats.invalid_frames));
-    }
-    if stats.candump_dropped > 0 {
-        line.push_str(&format!("; candump reported {} dropped frames", stats.candump_dropped));
-    }
-    line
 }

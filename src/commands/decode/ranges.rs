@@ -20,9 +20,9 @@ use memchr::{memchr, memrchr};
 use parking_lot::Mutex;
 
 use super::interrupt::StopReading;
-use super::mapped::Window;
+use super::mapped::{FaultHandler, Window};
 use super::Interrupted;
-use crate::candump::{self, DEFAULT_MAX_LINE_LEN};
+use crate::candump::{self, LineLimit, LongLine};
 
 /// Bytes a read asks for: a slice this size and the line it carries over stay in a core's L2 cache.
 pub const SLICE_BYTES: usize = 128 * 1024;
@@ -94,8 +94,8 @@ pub struct Ranges {
     size: u64,
     sizing: Sizing,
     slice_bytes: usize,
-    /// Bytes mapped at once; `None`: read only.
-    window_bytes: Option<usize>,
+    /// Bytes mapped at once, with the fault handler mapping needs; `None`: read only.
+    windows: Option<(FaultHandler, usize)>,
     next: Mutex<(u64, Option<u64>)>,
     /// Looked at before every read and window: a line of gigabytes is let go at a signal.
     stop: Option<StopReading>,
@@ -107,18 +107,18 @@ thread_local! {
 }
 
 impl Ranges {
-    /// `slice_bytes` is what a read asks for, `window_bytes` what is mapped at once (tests make them tiny to
+    /// `slice_bytes` is what a read asks for, `windows` how much is mapped at once (tests make them tiny to
     /// cut lines everywhere).
     pub fn new(
         file: File,
         text_start: u64,
         size: u64,
         sizing: Sizing,
-        (slice_bytes, window_bytes): (usize, Option<usize>),
+        (slice_bytes, windows): (usize, Option<(FaultHandler, usize)>),
     ) -> Self {
-        let (slice_bytes, window_bytes) = (slice_bytes.max(1), window_bytes.map(|bytes| bytes.max(1)));
+        let windows = windows.map(|(handler, bytes)| (handler, bytes.max(1)));
         let next = Mutex::new((0, Some(text_start)));
-        Self { file, size, sizing, slice_bytes, window_bytes, next, stop: None }
+        Self { file, size, sizing, slice_bytes: slice_bytes.max(1), windows, next, stop: None }
     }
 
     /// These ranges, whose reading ends (with an [`Interrupted`] error) once `stop` says so.
@@ -183,9 +183,9 @@ impl Ranges {
     /// mapped windows where they serve, if `mapped`.
     pub fn read(&self, range: Range, mapped: bool, mut take: impl FnMut(Piece<'_>) -> bool) -> RangeEnd {
         let mut pos = range.start;
-        let window_bytes = self.window_bytes.filter(|_| mapped);
-        if let (Some(end), Some(window_bytes)) = (range.end, window_bytes) {
-            let mapped = self.read_mapped(&mut pos, end, window_bytes, &mut take);
+        let windows = self.windows.filter(|_| mapped);
+        if let (Some(end), Some(windows)) = (range.end, windows) {
+            let mapped = self.read_mapped(&mut pos, end, windows, &mut take);
             let bytes = pos - range.start;
             match mapped {
                 Mapped::ReadOn => {}
@@ -203,7 +203,7 @@ impl Ranges {
         BUFFER.with(|buffer| {
             let mut buffer = buffer.borrow_mut();
             // Room for the longest line kept whole plus one read.
-            let capacity = DEFAULT_MAX_LINE_LEN + 1 + self.slice_bytes;
+            let capacity = LineLimit::DEFAULT.kept() + self.slice_bytes;
             if buffer.len() != capacity {
                 *buffer = vec![0; capacity];
             }
@@ -212,9 +212,10 @@ impl Ranges {
     }
 
     fn read_into(&self, buf: &mut [u8], range: Range, mut take: impl FnMut(Piece<'_>) -> bool) -> RangeEnd {
-        let keep = DEFAULT_MAX_LINE_LEN + 1;
-        // `buf[..filled]` holds the file from `pos`, always a line's start.
-        let (mut pos, mut filled) = (range.start, 0);
+        let limit = LineLimit::DEFAULT;
+        // `buf[..filled]` holds the file from `pos`, always a line's start; `buf[..searched]` has no `\n`
+        // (each byte is looked at once: a long line read in small slices costs no rescan).
+        let (mut pos, mut filled, mut searched) = (range.start, 0, 0);
         let first = pos;
         let end_of = |pos: u64| RangeEnd { bytes: pos - first, error: None, reread: false };
         let failed = |pos: u64, error| RangeEnd { bytes: pos - first, error: Some(error), reread: false };
@@ -225,7 +226,9 @@ impl Ranges {
             if let Some(error) = self.stopped() {
                 return failed(pos, error);
             }
-            if let Some(last) = memrchr(b'\n', &buf[..filled]) {
+            let newline = memrchr(b'\n', &buf[searched..filled]).map(|at| searched + at);
+            searched = filled;
+            if let Some(last) = newline {
                 let mut lines = last + 1;
                 if let Some(end) = range.end.filter(|&end| pos + lines as u64 > end) {
                     // Lines starting at `end` or after are the next range's (`end` is a line start unless the
@@ -237,14 +240,15 @@ impl Ranges {
                     return end_of(pos + lines as u64);
                 }
                 buf.copy_within(lines..filled, 0);
-                (pos, filled) = (pos + lines as u64, filled - lines);
+                (pos, filled, searched) = (pos + lines as u64, filled - lines, filled - lines);
                 if range.end.is_some_and(|end| pos >= end) {
                     return end_of(pos);
                 }
             }
-            if filled > keep {
-                match self.skip_long(buf, pos, filled, &mut take) {
-                    Ok(next) => (pos, filled) = next,
+            // No `\n` in the bytes of a line the limit keeps: too long, counted on to its end.
+            if let Some(long) = limit.cut(filled) {
+                match self.skip_long(buf, pos, long, &mut take) {
+                    Ok(next) => (pos, filled, searched) = (next.0, next.1, 0),
                     Err((at, None)) => return end_of(at),
                     Err((at, Some(error))) => return failed(at, error),
                 }
@@ -275,13 +279,14 @@ impl Ranges {
         &self,
         buf: &mut [u8],
         pos: u64,
-        mut length: usize,
+        mut line: LongLine,
         take: &mut impl FnMut(Piece<'_>) -> bool,
     ) -> Result<(u64, usize), (u64, Option<io::Error>)> {
         loop {
             if let Some(error) = self.stopped() {
                 return Err((pos, Some(error)));
             }
+            let length = line.length();
             match self.read_at(&mut buf[..self.slice_bytes], pos + length as u64) {
                 Err(error) => return Err((pos, Some(error))),
                 Ok(0) if pos + (length as u64) < self.size => return Err((pos, Some(self.shrank()))),
@@ -291,10 +296,11 @@ impl Ranges {
                 }
                 Ok(read) => {
                     let Some(at) = memchr(b'\n', &buf[..read]) else {
-                        length += read;
+                        line.extend(read);
                         continue;
                     };
-                    length += at;
+                    line.extend(at);
+                    let length = line.length();
                     let next = pos + length as u64 + 1;
                     if !take(Piece::TooLong(length)) {
                         return Err((next, None));
@@ -312,7 +318,7 @@ impl Ranges {
         &self,
         pos: &mut u64,
         end: u64,
-        window_bytes: usize,
+        (handler, window_bytes): (FaultHandler, usize),
         take: &mut impl FnMut(Piece<'_>) -> bool,
     ) -> Mapped {
         while *pos < end {
@@ -325,7 +331,11 @@ impl Ranges {
                 return Mapped::ReadOn;
             }
             let len = (end - *pos).min(window_bytes as u64) as usize;
-            let Some(window) = Window::map(&self.file, *pos, len) else { return Mapped::ReadOn };
+            // SAFETY: the window's bytes are only handed to the decoder, which parses any bytes; lines from a
+            // window that faulted or whose file shrank are decoded again from reads (`Mapped::Faulted`).
+            let Some(window) = (unsafe { Window::map(handler, &self.file, *pos, len) }) else {
+                return Mapped::ReadOn;
+            };
             // No `\n`: a line longer than the window, whose end the reads find.
             let Some(last) = memrchr(b'\n', window.bytes()) else { return Mapped::ReadOn };
             if window.faulted() {
@@ -368,6 +378,11 @@ mod tests {
     use super::*;
     use std::io::Write;
 
+    /// Windows of `bytes`, mapped where the fault handler installs.
+    fn windows(bytes: Option<usize>) -> Option<(FaultHandler, usize)> {
+        Some((super::super::mapped::install_fault_handler()?, bytes?))
+    }
+
     fn file_of(text: &[u8]) -> File {
         let mut file = tempfile::tempfile().unwrap();
         file.write_all(text).unwrap();
@@ -377,6 +392,7 @@ mod tests {
     /// Every range's lines, in order, as text or `<long N>`, read in slices of `cuts.0` bytes and mapped in
     /// windows of `cuts.1`.
     fn pieces(text: &[u8], text_start: u64, sizing: Sizing, cuts: (usize, Option<usize>)) -> Vec<Vec<u8>> {
+        let cuts = (cuts.0, windows(cuts.1));
         let ranges = Ranges::new(file_of(text), text_start, text.len() as u64, sizing, cuts);
         let mut lines = Vec::new();
         while let Some(range) = ranges.claim() {
@@ -385,7 +401,7 @@ mod tests {
                     // A whole line over the limit is the decoder's to find (as in a chunk read at once).
                     Piece::Lines(text) => lines.extend(text.split_inclusive(|&b| b == b'\n').map(|line| {
                         let length = line.strip_suffix(b"\n").unwrap_or(line).len();
-                        match length > DEFAULT_MAX_LINE_LEN {
+                        match LineLimit::DEFAULT.is_over(length) {
                             true => format!("<long {length}>").into_bytes(),
                             false => line.to_vec(),
                         }
@@ -428,7 +444,7 @@ mod tests {
 
     #[test]
     fn a_line_over_the_limit_is_counted_with_its_true_length() {
-        let long = DEFAULT_MAX_LINE_LEN + 10;
+        let long = LineLimit::DEFAULT.max() + 10;
         let mut text = b"a\n".to_vec();
         text.extend(std::iter::repeat_n(b'x', long));
         text.extend_from_slice(b"\nb\n");
@@ -481,7 +497,7 @@ mod tests {
         // A directory cannot be read: the error is reported with nothing taken.
         for window in [None, Some(4)] {
             let dir = File::open(std::env::temp_dir()).unwrap();
-            let ranges = Ranges::new(dir, 0, 10, Sizing::Fixed(4), (4, window));
+            let ranges = Ranges::new(dir, 0, 10, Sizing::Fixed(4), (4, windows(window)));
             let range = ranges.claim().unwrap();
             let mut taken = 0;
             let end = ranges.read(range, true, |_| {
@@ -498,8 +514,13 @@ mod tests {
         let text = b"0123456789abcde\n".repeat(lines);
         let file = file_of(&text);
         let handle = file.try_clone().unwrap();
-        let ranges =
-            Ranges::new(file, 0, text.len() as u64, Sizing::Fixed(8192), (SLICE_BYTES, Some(WINDOW_BYTES)));
+        let ranges = Ranges::new(
+            file,
+            0,
+            text.len() as u64,
+            Sizing::Fixed(8192),
+            (SLICE_BYTES, windows(Some(WINDOW_BYTES))),
+        );
         let claimed = std::iter::from_fn(|| ranges.claim()).collect();
         (ranges, handle, claimed)
     }

@@ -5,7 +5,8 @@ use std::io::Read;
 
 use anyhow::Result;
 
-use super::{read_error, Decoder};
+use super::written::read_error;
+use super::Decoder;
 use crate::candump::{Line, LineParser};
 use crate::exit::{Failure, USAGE};
 use crate::output::{Event, FrameRef};
