@@ -229,6 +229,7 @@ fn monitor_flood(frames: usize) {
     }
     let elapsed = start.elapsed();
     std::thread::sleep(Duration::from_millis(500));
+    // SAFETY: kill only sends a signal to a process id; no memory is touched.
     unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
     let output = child.wait_with_output().unwrap();
     let report = String::from_utf8_lossy(&output.stderr);
@@ -388,6 +389,7 @@ fn summary(name: &str, mut samples: Vec<f64>) {
     );
 }
 
+#[expect(clippy::too_many_lines, reason = "each stop path measured in turn, the same way, in one place")]
 fn stops() {
     // Release events (kitty protocol): press, repeats every 33 ms for 1 s, release.
     let mut dash = Dash::start(true);
@@ -469,6 +471,7 @@ fn stops() {
             }
             seen.extend(arrivals.try_iter());
             let sent = Instant::now();
+            // SAFETY: kill only sends a signal to a process id; no memory is touched.
             unsafe { libc::kill(child.id() as i32, signal) };
             let until = Instant::now() + Duration::from_millis(300);
             while Instant::now() < until {
@@ -476,6 +479,7 @@ fn stops() {
                 std::thread::sleep(Duration::from_millis(20));
             }
             if signal == 20 {
+                // SAFETY: kill only sends a signal to a process id; no memory is touched.
                 unsafe { libc::kill(child.id() as i32, libc::SIGCONT) };
             }
             let _ = child.wait();
@@ -506,10 +510,12 @@ fn stops() {
         }
     };
     feed(Duration::from_millis(1500), &mut master);
+    // SAFETY: kill only sends a signal to a process id; no memory is touched.
     unsafe { libc::kill(child.id() as i32, libc::SIGSTOP) };
     feed(Duration::from_millis(800), &mut master);
     arrivals.try_iter().for_each(drop);
     let resumed = Instant::now();
+    // SAFETY: kill only sends a signal to a process id; no memory is touched.
     unsafe { libc::kill(child.id() as i32, libc::SIGCONT) };
     feed(Duration::from_millis(500), &mut master);
     let output = child.wait_with_output().unwrap();

@@ -26,16 +26,20 @@ fn allocations_so_far() -> usize {
     ALLOCATIONS.with(Cell::get)
 }
 
+// SAFETY: every call goes to the system allocator with the caller's arguments, under the same contract.
 unsafe impl GlobalAlloc for CountingAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         count_one();
+        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
         count_one();
+        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }

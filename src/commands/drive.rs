@@ -691,8 +691,9 @@ const DEFAULT_COLUMNS: usize = 80;
 /// The width of the terminal on stdout, asked at every update (it may be resized).
 #[cfg(unix)]
 fn terminal_columns() -> Option<usize> {
-    // SAFETY: TIOCGWINSZ fills the winsize it is given and touches nothing else.
+    // SAFETY: winsize is four integers, for which all zeros is a valid value.
     let mut size: libc::winsize = unsafe { std::mem::zeroed() };
+    // SAFETY: TIOCGWINSZ fills the winsize it is given and touches nothing else.
     let done = unsafe { libc::ioctl(libc::STDOUT_FILENO, libc::TIOCGWINSZ, &mut size) };
     (done == 0 && size.ws_col > 0).then_some(usize::from(size.ws_col))
 }

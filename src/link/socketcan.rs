@@ -34,6 +34,7 @@ impl FrameTx for SocketTx {
 
 /// Our frame as the kernel's `can_frame`, wrapped in socketcan's type.
 fn to_socketcan(frame: &CanFrame) -> io::Result<socketcan::CanFrame> {
+    // SAFETY: can_frame is plain integers and bytes, for which all zeros is a valid value.
     let mut raw: libc::can_frame = unsafe { zeroed() };
     raw.can_id = match frame.kind() {
         FrameKind::Data if frame.is_extended() => frame.id() | CAN_EFF_FLAG,
@@ -82,10 +83,13 @@ struct ControlBuffer([u8; 256]);
 impl SocketRx {
     /// One `recvmsg` with the kernel timestamp (SO_TIMESTAMPNS) and the drop counter (SO_RXQ_OVFL).
     fn receive(&mut self, fd: RawFd) -> io::Result<Option<Received>> {
+        // SAFETY: can_frame and msghdr are plain integers, bytes and pointers, for which all zeros (null
+        // pointers) is a valid value; every pointer the kernel reads is set below.
         let mut raw: libc::can_frame = unsafe { zeroed() };
         let mut iov =
             libc::iovec { iov_base: ptr::addr_of_mut!(raw).cast(), iov_len: size_of::<libc::can_frame>() };
         let mut control = ControlBuffer([0; 256]);
+        // SAFETY: as above.
         let mut message: libc::msghdr = unsafe { zeroed() };
         message.msg_iov = &mut iov;
         message.msg_iovlen = 1;
@@ -107,9 +111,12 @@ impl SocketRx {
         // SAFETY: walking the control messages the kernel wrote, with the libc helpers.
         let mut cmsg = unsafe { libc::CMSG_FIRSTHDR(&message) };
         while !cmsg.is_null() {
+            // SAFETY: `cmsg` is non-null and was returned by CMSG_FIRSTHDR/CMSG_NXTHDR inside `control`.
             let (level, kind) = unsafe { ((*cmsg).cmsg_level, (*cmsg).cmsg_type) };
+            // SAFETY: as above; CMSG_DATA only computes an address inside that header's message.
             let data = unsafe { libc::CMSG_DATA(cmsg) };
             if level == libc::SOL_SOCKET && kind == libc::SO_TIMESTAMPNS {
+                // SAFETY: an SO_TIMESTAMPNS message holds one timespec; read unaligned, as the buffer may be.
                 let spec = unsafe { ptr::read_unaligned(data.cast::<libc::timespec>()) };
                 ts = Some(Timestamp {
                     secs: spec.tv_sec.max(0) as u64,
@@ -117,9 +124,11 @@ impl SocketRx {
                     kind: TimestampKind::Absolute,
                 });
             } else if level == libc::SOL_SOCKET && kind == libc::SO_RXQ_OVFL {
+                // SAFETY: an SO_RXQ_OVFL message holds one u32.
                 let dropped = unsafe { ptr::read_unaligned(data.cast::<u32>()) };
                 self.stats.socket_drops = u64::from(dropped);
             }
+            // SAFETY: `cmsg` is a header of `message`'s control buffer, as CMSG_NXTHDR requires.
             cmsg = unsafe { libc::CMSG_NXTHDR(&message, cmsg) };
         }
         let Some(frame) = from_raw(&raw) else { return Ok(None) };

@@ -94,9 +94,12 @@ fn be32s(data: &[u8], at: usize) -> i32 {
     i32::from_be_bytes([data[at], data[at + 1], data[at + 2], data[at + 3]])
 }
 
-// Long: one arm per V2 identifier, the codec's table in one place; split, the map of IDs would scatter.
 /// Decodes a frame. `Ok(None)` means the frame is not a TRACER message (unknown ID, extended, remote,
 /// error or FD frame): callers show it raw.
+#[expect(
+    clippy::too_many_lines,
+    reason = "one arm per V2 identifier, the codec's table in one place; split, the map of IDs would scatter."
+)]
 pub fn decode(frame: &CanFrame, hint: ProtocolHint) -> Result<Option<Decoded>, DecodeError> {
     if !frame.is_standard_data() {
         return Ok(None);

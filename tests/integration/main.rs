@@ -26,7 +26,6 @@ mod fuzz;
 mod generated;
 mod help_layout;
 mod layers;
-mod long_functions;
 mod mcap;
 mod monitor;
 mod monitor_modes;

@@ -439,6 +439,7 @@ fn a_recording_ended_by_sigterm_is_finished() {
         .spawn()
         .unwrap();
     std::thread::sleep(std::time::Duration::from_millis(1500));
+    // SAFETY: kill only sends a signal to a process id; no memory is touched.
     unsafe { libc::kill(child.id() as i32, libc::SIGTERM) };
     assert_eq!(child.wait().unwrap().code(), Some(143));
     let read = read_mcap(&path);

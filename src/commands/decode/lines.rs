@@ -40,7 +40,6 @@ pub(super) struct Scanned {
     pub flow: ControlFlow<()>,
 }
 
-// Long: the hot arm and the rare ones of one loop, kept in one piece so the hot one stays inlined.
 /// Decodes the whole lines of `input` (`long_lines`: those a reader cut short, by offset, with their true
 /// length) until its end or a `Break`; the first line is number `first`.
 #[inline(always)]

@@ -83,7 +83,6 @@ impl<R: Read> Splitter<R> {
 
 /// Reads into `text.input` until it holds `chunk_bytes` and a `\n`, or the end. `long` is the open line
 /// when it was cut short. Returns the last `\n`'s offset and whether the input ended.
-// Long: one read loop with the cut-short line's three cases beside it.
 pub(super) fn fill(
     reader: &mut impl Read,
     text: &mut Text,

@@ -33,7 +33,6 @@ impl Summary {
 
     /// The partial summary of the next chunk (see [`Self::can_absorb`]), merged as if its events had come
     /// here one by one.
-    // Long: one line or loop per field of the summary, in the struct's order, reads best as one list.
     pub(in crate::commands::decode) fn absorb(&mut self, later: &Summary) {
         let before = self.frames;
         self.frames += later.frames;
