@@ -882,7 +882,8 @@ impl LineParser {
     /// the record and the line's length without its `\n`, as [`LineParser::parse`] reads that line. `None`
     /// for any other line (and for every line of ASC or trc files, and a line over the [`LineLimit`]): find
     /// its end and call `parse` (or reject it as too long).
-    #[inline]
+    // Always inlined into decode's line loop: out of line it cost 6.6 M instructions on 200,000 lines.
+    #[inline(always)]
     pub fn parse_log_line_at(&mut self, text: &[u8]) -> Option<(LogRecord<'_>, usize)> {
         if self.format != TextFormat::Candump {
             return None;

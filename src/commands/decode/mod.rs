@@ -391,8 +391,9 @@ impl Decoder {
         Some(bar)
     }
 
-    /// One CAN frame from any source.
-    #[inline]
+    /// One CAN frame from any source. Always inlined into the line loop: called through its sink, it was
+    /// left out of line (+7 M instructions on 200,000 lines, callgrind).
+    #[inline(always)]
     fn frame(
         &mut self,
         ts: Option<candump::Timestamp>,

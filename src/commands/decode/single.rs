@@ -33,7 +33,7 @@ impl Decoder {
         while splitter.next_text(&mut text).is_some() {
             let first = self.stats.lines - before.lines + 1;
             let mut sink = DecoderLines { decoder: self, name, error: None };
-            let scanned = decode_lines(&mut sink, &mut parser, (&text.input, &text.long_lines), first);
+            let scanned = decode_lines(&mut sink, &mut parser, (&text.input[..], &text.long_lines), first);
             let error = sink.error;
             self.stats.lines += scanned.lines;
             if let Some(error) = error {

@@ -125,7 +125,7 @@ mod tests {
         let text = b"a\r\nbb\n\nccc\nlast";
         for chunk_bytes in 1..20 {
             let chunks = split_all(text, chunk_bytes);
-            let joined: Vec<u8> = chunks.iter().flat_map(|chunk| chunk.text.input.clone()).collect();
+            let joined: Vec<u8> = chunks.iter().flat_map(|chunk| chunk.text.input.to_vec()).collect();
             assert_eq!(joined, text, "chunk size {chunk_bytes}");
             for chunk in &chunks[..chunks.len() - 1] {
                 assert_eq!(chunk.text.input.last(), Some(&b'\n'), "chunk size {chunk_bytes}");

@@ -206,7 +206,7 @@ fn decode_chunk_from(settings: &Settings, start: &Start, chunk: &mut Chunk, mapp
         }
         _ => {
             let Scanned { lines: count, .. } =
-                decode_lines(&mut lines, &mut parser, (&chunk.text.input, &chunk.text.long_lines), 1);
+                decode_lines(&mut lines, &mut parser, (&chunk.text.input[..], &chunk.text.long_lines), 1);
             lines.outcome.lines = count;
         }
     }
@@ -460,7 +460,11 @@ mod tests {
     }
 
     fn chunk(text: &[u8]) -> Chunk {
-        Chunk { text: Text { input: text.to_vec(), ..Text::default() }, ..Chunk::default() }
+        {
+            let mut chunk = Chunk::default();
+            chunk.text.input.extend_from_slice(text);
+            chunk
+        }
     }
 
     /// 0x151 decodes by the verdict on the traffic before it: a chunk decoded from a wrong guess differs,
