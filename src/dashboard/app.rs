@@ -19,7 +19,7 @@ use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
 use crate::protocol::pose::DeadReckoning;
-use crate::protocol::{FrameId, Wire};
+use crate::protocol::{ControlMode, FrameId, Wire};
 use crate::recorder::RecordLoss;
 use crate::session::RobotStatus;
 
@@ -176,6 +176,11 @@ impl SystemView {
             fault_code: self.fault_code,
             count: 0,
         }
+    }
+
+    /// Whether the robot is in the command mode of its wire (the one this link drives in).
+    pub fn in_command_mode(&self) -> bool {
+        ControlMode::from_code(self.wire, self.control_mode) == Some(ControlMode::command_mode_of(self.wire))
     }
 }
 

@@ -15,9 +15,10 @@ use ratatui::text::{Line, Span};
 use ratatui::widgets::{Block, Clear, Gauge, Paragraph, RenderDirection, Row, Sparkline, Table, Wrap};
 use ratatui::Frame;
 
+use super::alert::Alert;
 use super::app::{
-    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, Protocol, Shown,
-    StatusAge, SystemView, BATTERY_GAUGE_TOP_DV,
+    id_name, scale_percent, speed_text, App, Arming, BatteryZone, FaultLine, Prompt, Protocol, StatusAge,
+    BATTERY_GAUGE_TOP_DV,
 };
 use super::keys;
 use crate::protocol::catalog::{self, Direction};
@@ -229,11 +230,7 @@ fn header_line(app: &App, theme: Theme, width: u16) -> Line<'static> {
             };
             parts.push(HeaderPart::new(Span::styled(text, style), None));
             let mode = format!("mode {}", ControlMode::describe(system.wire, system.control_mode));
-            let style = if in_command_mode(system.control_mode, system.wire) {
-                Style::new()
-            } else {
-                theme.warning()
-            };
+            let style = if system.in_command_mode() { Style::new() } else { theme.warning() };
             parts.push(HeaderPart::new(Span::styled(mode, style), Some(3)));
         }
         None => parts.push(HeaderPart::new(Span::styled("state ?", theme.dim()), None)),
@@ -321,10 +318,6 @@ fn fit_words(text: &str, width: usize) -> String {
     out
 }
 
-fn in_command_mode(mode: u8, wire: Wire) -> bool {
-    ControlMode::from_code(wire, mode) == Some(ControlMode::command_mode_of(wire))
-}
-
 /// `3.0 s`, `42 s`.
 fn age_text(deciseconds: u64) -> String {
     if deciseconds < 600 {
@@ -338,92 +331,59 @@ fn age_text(deciseconds: u64) -> String {
 /// when any other link ends), so this is always a replay.
 const REPLAY_ENDED: &str = "replay ended";
 
-/// The one thing to know now, worst first.
+/// The alert line: the words and the colour of the alert that wins ([`App::alert`]).
 fn alert_text(app: &App, width: usize) -> (Tone, String) {
-    match link_alert(&app.shown) {
-        Ok(system) => robot_alert(app, system, width),
-        Err(alert) => alert,
-    }
-}
-
-/// The link's alert, worst first, or the fresh system status when the link has none.
-fn link_alert(shown: &Shown) -> Result<SystemView, (Tone, String)> {
-    if shown.link_ended {
-        return Err((
+    match app.alert() {
+        Alert::ReplayEnded => (
             Tone::Info,
             format!(
                 "[info] {REPLAY_ENDED}: the log's last values stay on screen; {} quits",
                 keys::key_name(keys::Action::Quit)
             ),
-        ));
-    }
-    if let Some(error) = &shown.link_error {
-        return Err((Tone::Alarm, format!("[fault] LINK FAILED: {error}")));
-    }
-    match (shown.status_age, shown.system) {
-        (StatusAge::Stale { deciseconds }, _) => Err((
+        ),
+        Alert::LinkFailed(error) => (Tone::Alarm, format!("[fault] LINK FAILED: {error}")),
+        Alert::Stale { deciseconds } => (
             Tone::Alarm,
             format!(
                 "[fault] STALE: no status for {}: every value on screen is old (robot off? cable? bus?)",
                 age_text(deciseconds)
             ),
-        )),
-        (StatusAge::Fresh, Some(system)) => Ok(system),
-        _ if !shown.received_any => Err((
+        ),
+        Alert::NothingReceived => (
             Tone::Warning,
             format!(
                 "[warning] nothing received on {} yet: is the robot on, is this the right link?",
-                shown.link_name
+                app.shown.link_name
             ),
-        )),
-        _ => Err((
+        ),
+        Alert::NoSystemStatus => (
             Tone::Warning,
             "[warning] frames arrive but no system status yet: is this a TRACER, is --protocol right?"
                 .to_string(),
-        )),
-    }
-}
-
-/// The robot's alert from its fresh status, worst first: E-stop, faults, the mode, warnings, then arming.
-fn robot_alert(app: &App, system: SystemView, width: usize) -> (Tone, String) {
-    let state = system.state();
-    let faults = app.faults();
-    let blocking: Vec<&FaultLine> = faults.iter().filter(|f| f.info.severity.blocks_driving()).collect();
-    if state.is_estop() {
-        let reason = state.why_not_drivable(system.wire).unwrap_or_default();
-        return (Tone::Alarm, format!("[fault] E-STOP: {reason}"));
-    }
-    if !blocking.is_empty() {
-        let names: Vec<String> = blocking.iter().map(|f| fault_name(f)).collect();
-        return (Tone::Alarm, names_within("[fault] CANNOT DRIVE, see Faults: ", &names, width));
-    }
-    if let Some(reason) = state.why_not_drivable(system.wire) {
-        return (Tone::Alarm, format!("[fault] CANNOT DRIVE: {reason}"));
-    }
-    if !in_command_mode(system.control_mode, system.wire) {
-        let mode = ControlMode::describe(system.wire, system.control_mode);
-        return (
+        ),
+        Alert::EStop { reason } => (Tone::Alarm, format!("[fault] E-STOP: {reason}")),
+        Alert::BlockingFaults(faults) => {
+            let names: Vec<String> = faults.iter().map(fault_name).collect();
+            (Tone::Alarm, names_within("[fault] CANNOT DRIVE, see Faults: ", &names, width))
+        }
+        Alert::CannotDrive { reason } => (Tone::Alarm, format!("[fault] CANNOT DRIVE: {reason}")),
+        Alert::NotInCommandMode { wire, mode } => (
             Tone::Warning,
             format!(
-                "[warning] not in command mode (mode {mode}): press {} to enable it",
+                "[warning] not in command mode (mode {}): press {} to enable it",
+                ControlMode::describe(wire, mode),
                 keys::key_name(keys::Action::CommandMode)
             ),
-        );
-    }
-    let battery = BatteryZone::of(system.decivolts);
-    if faults.iter().any(|f| f.info.severity.is_problem()) || battery != BatteryZone::Ok {
-        return (
-            Tone::Warning,
-            "[warning] ready to drive, with warnings: see Faults and Battery".to_string(),
-        );
-    }
-    match app.arming {
-        Arming::Armed => (Tone::Ok, "ready to drive: command mode, no faults".to_string()),
-        Arming::Watching => {
+        ),
+        Alert::Warnings => {
+            (Tone::Warning, "[warning] ready to drive, with warnings: see Faults and Battery".to_string())
+        }
+        Alert::Ready(Arming::Armed) => (Tone::Ok, "ready to drive: command mode, no faults".to_string()),
+        Alert::Ready(Arming::Watching) => {
             let arm = keys::key_name(keys::Action::Arm);
             (Tone::Ok, format!("watching: nothing is sent; an arrow key or {arm} asks to arm driving"))
         }
-        Arming::WatchOnly => (Tone::Ok, "watch only: nothing is sent to the robot".to_string()),
+        Alert::Ready(Arming::WatchOnly) => (Tone::Ok, "watch only: nothing is sent to the robot".to_string()),
     }
 }
 
