@@ -2,9 +2,9 @@
 //!
 //! Pure parts: [`teleop`] (keys to a velocity request, with or without key-release events), [`app`] (the
 //! state shown, built from the session's status and the sender's stats), [`alert`] (which alert wins),
-//! [`render`] (a pure function of the
-//! app state), and [`keys`] (every key binding, once: the dispatcher, the footer, the help and `--help` read
-//! it). The terminal glue in [`terminal`] owns raw mode, the keyboard flags and the input thread.
+//! [`render`] (a pure function of the app state, one file per panel), and [`keys`] (every key binding,
+//! once: the dispatcher, the footer, the help and `--help` read it). The terminal glue in [`terminal`] owns
+//! raw mode, the keyboard flags and the input thread.
 
 pub mod alert;
 pub mod app;
