@@ -14,15 +14,16 @@ use ratatui::crossterm::event::{Event, KeyEvent};
 
 use super::Global;
 use crate::control::{Limits, MotionSender, Stopper, GAP_LIMIT};
-use crate::dashboard::app::{App, Arming, Snapshot, TeleopView};
+use crate::dashboard::app::{App, Arming, ReleaseView, Snapshot, TeleopView};
 use crate::dashboard::keys::{self, Context, Effect};
+use crate::dashboard::lights::LIGHT_CYCLE;
+use crate::dashboard::message::Message;
 use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, ReleaseMode, Teleop};
 use crate::dashboard::terminal::{spawn_input, Input, Screen};
 use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
 use crate::link::LinkKind;
-use crate::protocol::codec::clear_description;
-use crate::protocol::message::{Lights, COMMAND_TIMEOUT, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
+use crate::protocol::message::COMMAND_TIMEOUT;
 use crate::protocol::{ClearTarget, Codec, ControlMode};
 use crate::session::{RobotStatus, Session};
 use crate::signals::{self, SignalFlag};
@@ -196,12 +197,12 @@ impl<'a> Driving<'a> {
         self.sender.is_some()
     }
 
-    fn arm(&mut self) -> Result<String> {
+    fn arm(&mut self) -> Result<Message> {
         if let Some(why) = self.watch_only {
-            return Ok(format!("watch-only ({why}): driving cannot be armed"));
+            return Ok(Message::WatchOnlyCannotArm(why));
         }
         if self.armed() {
-            return Ok("already armed".to_string());
+            return Ok(Message::AlreadyArmed);
         }
         let sender = MotionSender::start(
             self.session.tx.clone(),
@@ -218,10 +219,7 @@ impl<'a> Driving<'a> {
         self.last_requested = (0.0, 0.0);
         // Nothing moves until a key is pressed after arming (the key that asked does not drive).
         self.needs_release = true;
-        Ok(format!(
-            "ARMED: command mode requested; press an arrow key to drive, {} to disarm",
-            keys::key_name(keys::Action::Arm)
-        ))
+        Ok(Message::Armed)
     }
 
     /// Stops the sender: zero frames, then nothing more is sent.
@@ -260,7 +258,7 @@ impl<'a> Driving<'a> {
 
     /// Takes what the robot reports: an E-stop, a latched fault or RC override blocks driving (zero at
     /// once, said on screen) until it clears and a key is pressed again. Returns a message when that changes.
-    fn observe(&mut self, status: &RobotStatus) -> Option<String> {
+    fn observe(&mut self, status: &RobotStatus) -> Option<Message> {
         let fresh = status.fresh_system(BLOCK_STATUS_AGE);
         self.in_command_mode =
             fresh.map(|(state, wire)| state.mode(wire) == Some(ControlMode::command_mode_of(wire)));
@@ -272,10 +270,10 @@ impl<'a> Driving<'a> {
         let message = match (&self.blocked, &blocked) {
             (_, Some(reason)) if self.armed() => {
                 self.halt();
-                format!("zero sent: {reason}; press a key again once it is clear")
+                Message::BlockedZeroSent(reason.clone())
             }
-            (_, Some(reason)) => format!("driving blocked: {reason}"),
-            (Some(_), None) => "clear again: press a key to drive".to_string(),
+            (_, Some(reason)) => Message::Blocked(reason.clone()),
+            (Some(_), None) => Message::Unblocked,
             (None, None) => return None,
         };
         self.blocked = blocked;
@@ -284,20 +282,17 @@ impl<'a> Driving<'a> {
 
     /// While command mode is awaited: confirmed, it drives; not yet, the request is repeated; too long,
     /// the press is forgotten. The message to show when that changes.
-    fn await_command_mode(&mut self) -> Option<String> {
+    fn await_command_mode(&mut self) -> Option<Message> {
         let (asked, last) = self.mode_requested?;
         let sender = self.sender.as_ref()?;
         if self.in_command_mode == Some(true) {
             self.mode_requested = None;
-            return Some("command mode confirmed: driving".to_string());
+            return Some(Message::CommandModeConfirmed);
         }
         if asked.elapsed() >= MODE_CONFIRM {
             self.mode_requested = None;
             self.needs_release = true;
-            return Some(format!(
-                "the robot did not enter command mode within {} s: zero sent; press again to retry",
-                MODE_CONFIRM.as_secs()
-            ));
+            return Some(Message::CommandModeTimedOut(MODE_CONFIRM));
         }
         if last.elapsed() >= MODE_RETRY {
             sender.request_mode_enable();
@@ -308,7 +303,7 @@ impl<'a> Driving<'a> {
 
     /// Checks the sender for a gap in its clock (the process was suspended) or a watchdog trip since the
     /// last look: every key counts as released, and input queued meanwhile is stale. True when one happened.
-    fn gap_since_last_look(&mut self) -> Option<String> {
+    fn gap_since_last_look(&mut self) -> Option<Message> {
         let stats = self.sender.as_ref()?.stats();
         let gap = stats.gaps > self.seen_gaps;
         let watchdog = stats.watchdog_trips > self.seen_watchdog;
@@ -319,17 +314,11 @@ impl<'a> Driving<'a> {
         }
         if gap {
             self.needs_release = true;
-            let seconds = stats.last_gap.unwrap_or_default().as_secs_f64();
-            return Some(format!(
-                "suspended for {seconds:.2} s: zero sent, keys released; press again to drive"
-            ));
+            return Some(Message::Suspended(stats.last_gap.unwrap_or_default()));
         }
         if watchdog {
             self.needs_release = true;
-            return Some(format!(
-                "input stalled over {} ms: zero sent, keys released; press again to drive",
-                WATCHDOG.as_millis()
-            ));
+            return Some(Message::InputStalled(WATCHDOG));
         }
         None
     }
@@ -344,7 +333,7 @@ impl<'a> Driving<'a> {
         anything_held: bool,
         fresh_press: bool,
         quiet: Duration,
-    ) -> Option<String> {
+    ) -> Option<Message> {
         let sender = self.sender.as_ref()?;
         if self.needs_release && !anything_held && self.blocked.is_none() && quiet >= RELEASE_QUIET {
             self.needs_release = false;
@@ -355,10 +344,7 @@ impl<'a> Driving<'a> {
             if self.in_command_mode == Some(false) && self.mode_requested.is_none() {
                 sender.request_mode_enable();
                 self.mode_requested = Some((Instant::now(), Instant::now()));
-                message = Some(
-                    "not in command mode: command mode requested, driving once the robot confirms"
-                        .to_string(),
-                );
+                message = Some(Message::CommandModeAsked);
             }
             if sender.stats().hold.is_some() {
                 sender.resume();
@@ -546,13 +532,13 @@ impl<'a> Loop<'a> {
     /// After a gap in the sender's clock or a watchdog trip: drop the queued input, release every key, and
     /// let no drive key count as fresh until the backlog has been read.
     fn on_gap(&mut self, input: &Receiver<Input>) {
-        if let Some(text) = self.driving.gap_since_last_look() {
+        if let Some(message) = self.driving.gap_since_last_look() {
             while input.try_recv().is_ok() {}
             self.teleop.release_all();
             self.last_drive_key = Instant::now();
             self.settle_until = Instant::now() + GAP_SETTLE;
             self.fresh_press = false;
-            self.app.set_message(text, Instant::now());
+            self.app.set_message(message, Instant::now());
         }
     }
 
@@ -687,8 +673,8 @@ impl<'a> Loop<'a> {
         let requested = (request.0 * limits.max_linear, request.1 * limits.max_angular);
         let anything_held = !self.teleop.held(self.epoch.elapsed()).is_empty();
         let quiet = self.last_drive_key.elapsed();
-        if let Some(text) = self.driving.command(requested, anything_held, self.fresh_press, quiet) {
-            self.app.set_message(text, Instant::now());
+        if let Some(message) = self.driving.command(requested, anything_held, self.fresh_press, quiet) {
+            self.app.set_message(message, Instant::now());
         }
     }
 
@@ -701,22 +687,22 @@ impl<'a> Loop<'a> {
                 return Some(End::LinkLost(error));
             }
         }
-        if let Some(text) = self.driving.observe(&status) {
+        if let Some(message) = self.driving.observe(&status) {
             self.teleop.release_all();
-            self.app.set_message(text, Instant::now());
+            self.app.set_message(message, Instant::now());
         }
         // Not a block: the key held since the fresh press drives on once the robot confirms.
-        if let Some(text) = self.driving.await_command_mode() {
-            self.app.set_message(text, Instant::now());
+        if let Some(message) = self.driving.await_command_mode() {
+            self.app.set_message(message, Instant::now());
         }
         let stats = self.driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();
         self.app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
         self.app.set_recording_loss(session.recording_losses());
         self.app.set_arming(self.driving.arming());
-        let held = self.teleop.held(self.epoch.elapsed()).into_iter().map(key_name).collect();
+        let held = self.teleop.held(self.epoch.elapsed());
         let requested = if self.driving.armed() { self.driving.last_requested } else { (0.0, 0.0) };
         self.app.set_teleop(TeleopView {
-            release_mode: release_mode_text(&self.teleop, self.driving.watch_only),
+            release_mode: release_view(&self.teleop, self.driving.watch_only),
             scale: self.teleop.scale(),
             held,
             requested,
@@ -767,7 +753,7 @@ fn handle(
             app.hide_help();
         }
         Effect::AskArm => match driving.watch_only {
-            Some(why) => app.set_message(format!("watch-only ({why}): nothing is sent to the robot"), now),
+            Some(why) => app.set_message(Message::WatchOnly(why), now),
             None => app.ask_arm_confirmation(),
         },
         Effect::Arm => on_arm(app, driving, teleop, now),
@@ -781,19 +767,16 @@ fn handle(
             app.cancel_prompt();
             let frames = driving.session.codec().clear_faults(ClearTarget::All);
             let sent = frames.iter().map(|frame| driving.session.send(frame)).collect::<Result<Vec<_>>>();
-            let text = match sent {
-                Ok(_) => {
-                    let what = clear_description(driving.session.wire(), ClearTarget::All);
-                    format!("fault clear sent ({what}): watch the faults panel")
-                }
-                Err(error) => format!("cannot send the fault clear: {error:#}"),
+            let message = match sent {
+                Ok(_) => Message::ClearSent(driving.session.wire()),
+                Err(error) => Message::ClearFailed(format!("{error:#}")),
             };
-            app.set_message(text, now);
+            app.set_message(message, now);
         }
         Effect::CommandMode => {
             if let Some(sender) = &driving.sender {
                 sender.request_mode_enable();
-                app.set_message("command mode requested".to_string(), now);
+                app.set_message(Message::CommandModeRequested, now);
             }
         }
         Effect::Lights => on_lights(app, driving, lights_step, now),
@@ -805,8 +788,7 @@ fn on_stop(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Insta
     teleop.release_all();
     driving.halt();
     if driving.armed() {
-        let stop = keys::key_name(keys::Action::Stop);
-        app.set_message(format!("zero sent ({stop}): press a key again to drive"), now);
+        app.set_message(Message::Stopped, now);
     }
 }
 
@@ -814,26 +796,21 @@ fn on_stop(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Insta
 fn on_arm(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Instant) {
     app.cancel_prompt();
     teleop.release_all();
-    let text = driving.arm().unwrap_or_else(|error| format!("cannot arm: {error:#}"));
-    app.set_message(text, now);
+    let message = driving.arm().unwrap_or_else(|error| Message::ArmFailed(format!("{error:#}")));
+    app.set_message(message, now);
 }
 
 /// a while armed: zero, then nothing is sent; a stop that could not be sent is kept for the exit message.
 fn on_disarm(app: &mut App, driving: &mut Driving, teleop: &mut Teleop, now: Instant) {
     teleop.release_all();
-    let text = match driving.disarm() {
+    let message = match driving.disarm() {
         Stopped::NotSent(why) => {
-            let text = format!(
-                "disarmed, but the stop frames could not be sent ({why}): the robot's own {} ms \
-                 command timeout stops it",
-                COMMAND_TIMEOUT.as_millis()
-            );
-            driving.last_stop = Some(Stopped::NotSent(why));
-            text
+            driving.last_stop = Some(Stopped::NotSent(why.clone()));
+            Message::DisarmedStopNotSent(why)
         }
-        _ => "disarmed: zero sent; WATCHING (nothing is sent)".to_string(),
+        _ => Message::Disarmed,
     };
-    app.set_message(text, now);
+    app.set_message(message, now);
 }
 
 /// l: the next light setting of [`LIGHT_CYCLE`].
@@ -841,101 +818,29 @@ fn on_lights(app: &mut App, driving: &Driving, lights_step: &mut usize, now: Ins
     let (lights, name) = LIGHT_CYCLE[*lights_step % LIGHT_CYCLE.len()];
     *lights_step += 1;
     let frame = driving.session.codec().lights(lights);
-    let text = match driving.session.send(&frame) {
-        Ok(()) => format!("lights: {name}"),
-        Err(error) => format!("cannot set the lights: {error:#}"),
+    let message = match driving.session.send(&frame) {
+        Ok(()) => Message::Lights(name),
+        Err(error) => Message::LightsFailed(format!("{error:#}")),
     };
-    app.set_message(text, now);
+    app.set_message(message, now);
 }
 
-fn release_mode_text(teleop: &Teleop, watch_only: Option<&str>) -> String {
+/// How the keys are read now, for the footer: what the teleop has learned, in milliseconds.
+fn release_view(teleop: &Teleop, watch_only: Option<&'static str>) -> ReleaseView {
     if let Some(why) = watch_only {
-        return format!("driving off: {why}");
+        return ReleaseView::DrivingOff(why);
     }
     match teleop.mode() {
-        ReleaseMode::Events => "key release: terminal events (kitty protocol)".to_string(),
+        ReleaseMode::Events => ReleaseView::Events,
         ReleaseMode::Deadline => {
-            let learned = |value: Duration| {
-                if value.is_zero() {
-                    "not learned yet".to_string()
-                } else {
-                    format!("{} ms", value.as_millis())
-                }
-            };
+            let learned = |value: Duration| (!value.is_zero()).then_some(value.as_millis());
             let (delay, interval) = teleop.learned();
-            let (_, timeout) = teleop.deadlines();
-            let source = if teleop.key_timeout().is_some() { "--key-timeout" } else { "timeout" };
-            let timeout = format!("{source} {} ms", timeout.as_millis());
-            format!(
-                "key release: auto-repeat timeout (repeat delay {}, interval {}, {timeout})",
-                learned(delay),
-                learned(interval)
-            )
+            ReleaseView::Deadline {
+                delay_ms: learned(delay),
+                interval_ms: learned(interval),
+                timeout_ms: teleop.deadlines().1.as_millis(),
+                from_flag: teleop.key_timeout().is_some(),
+            }
         }
-    }
-}
-
-/// The light settings `l` cycles through.
-const LIGHT_CYCLE: [(Lights, &str); 5] = [
-    (
-        Lights {
-            enable: 1,
-            front_mode: LIGHT_ON,
-            front_brightness: 0,
-            rear_mode: 0,
-            rear_brightness: 0,
-            count: 0,
-        },
-        "on",
-    ),
-    (
-        Lights {
-            enable: 1,
-            front_mode: LIGHT_BREATH,
-            front_brightness: 0,
-            rear_mode: 0,
-            rear_brightness: 0,
-            count: 0,
-        },
-        "breathing",
-    ),
-    (
-        Lights {
-            enable: 1,
-            front_mode: LIGHT_CUSTOM,
-            front_brightness: 30,
-            rear_mode: 0,
-            rear_brightness: 0,
-            count: 0,
-        },
-        "custom 30 %",
-    ),
-    (
-        Lights {
-            enable: 1,
-            front_mode: LIGHT_OFF,
-            front_brightness: 0,
-            rear_mode: 0,
-            rear_brightness: 0,
-            count: 0,
-        },
-        "off",
-    ),
-    (
-        Lights { enable: 0, front_mode: 0, front_brightness: 0, rear_mode: 0, rear_brightness: 0, count: 0 },
-        "released to the firmware",
-    ),
-];
-
-fn key_name(key: Key) -> &'static str {
-    match key {
-        Key::Up => "up",
-        Key::Down => "down",
-        Key::Left => "left",
-        Key::Right => "right",
-        Key::ForwardLeft => "↖",
-        Key::ForwardRight => "↗",
-        Key::BackLeft => "↙",
-        Key::BackRight => "↘",
     }
 }

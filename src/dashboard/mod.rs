@@ -9,6 +9,8 @@
 pub mod alert;
 pub mod app;
 pub mod keys;
+pub mod lights;
+pub mod message;
 pub mod render;
 pub mod teleop;
 pub mod terminal;

@@ -3,16 +3,28 @@
 
 use ratatui::text::{Line, Span};
 
+use super::message::message_text;
 use super::text::fit_words;
 use super::theme::{separator, Theme};
-use crate::dashboard::app::{App, Arming};
+use crate::dashboard::app::{App, Arming, ReleaseView};
 use crate::dashboard::keys;
 
+/// How key releases are detected (or why nothing drives), with what has been learned of the auto-repeat.
 pub(super) fn release_text(app: &App) -> String {
-    if app.teleop.release_mode.is_empty() {
-        "key release: -".to_string()
-    } else {
-        app.teleop.release_mode.clone()
+    match app.teleop.release_mode {
+        ReleaseView::Unset => "key release: -".to_string(),
+        ReleaseView::DrivingOff(why) => format!("driving off: {why}"),
+        ReleaseView::Events => "key release: terminal events (kitty protocol)".to_string(),
+        ReleaseView::Deadline { delay_ms, interval_ms, timeout_ms, from_flag } => {
+            let learned =
+                |value: Option<u128>| value.map_or("not learned yet".to_string(), |ms| format!("{ms} ms"));
+            let source = if from_flag { "--key-timeout" } else { "timeout" };
+            format!(
+                "key release: auto-repeat timeout (repeat delay {}, interval {}, {source} {timeout_ms} ms)",
+                learned(delay_ms),
+                learned(interval_ms)
+            )
+        }
     }
 }
 
@@ -84,7 +96,7 @@ pub(super) fn message_line(app: &App, theme: Theme, width: Option<usize>) -> Lin
         let text = fit(format!("[fault] RECORDING LOST {} frames: {}", loss.frames, loss.reason), &mut room);
         spans.push(Span::styled(text, theme.alarm()));
     }
-    if let Some((text, _)) = &app.message {
+    if let Some((message, _)) = &app.message {
         if !spans.is_empty() {
             spans.push(separator(theme));
             room = room.saturating_sub(3);
@@ -92,7 +104,7 @@ pub(super) fn message_line(app: &App, theme: Theme, width: Option<usize>) -> Lin
         spans.push(Span::styled("> ", theme.dim()));
         room = room.saturating_sub(2);
         if room > 0 {
-            spans.push(Span::styled(fit(text.clone(), &mut room), theme.bold()));
+            spans.push(Span::styled(fit(message_text(message), &mut room), theme.bold()));
         }
     }
     Line::from(spans)

@@ -20,6 +20,7 @@ mod faults;
 mod footer;
 mod header;
 mod link;
+mod message;
 mod motion;
 mod motors;
 mod odometry;

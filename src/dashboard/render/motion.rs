@@ -7,12 +7,13 @@ use ratatui::widgets::Paragraph;
 use ratatui::Frame;
 
 use super::theme::{block, Theme};
-use crate::dashboard::app::{scale_percent, speed_text, App};
+use crate::dashboard::app::{scale_percent, speed_text, App, ReleaseView};
+use crate::dashboard::teleop::Key;
 
 pub(super) fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: bool) {
     let teleop = &app.teleop;
     // The scale is known once the glue has set the teleop view (it always sets the release mode).
-    let title = if teleop.release_mode.is_empty() {
+    let title = if teleop.release_mode == ReleaseView::Unset {
         "Speeds".to_string()
     } else if area.width >= 23 {
         format!("Speeds · scale {} %", scale_percent(teleop.scale))
@@ -25,17 +26,7 @@ pub(super) fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: The
     let row = |label: &str, linear: String, angular: String| {
         format!("{label:<label_width$}{linear:>value_width$} {angular:>value_width$}")
     };
-    let held: String = teleop
-        .held
-        .iter()
-        .map(|key| match *key {
-            "up" => "↑",
-            "down" => "↓",
-            "left" => "←",
-            "right" => "→",
-            other => other,
-        })
-        .collect();
+    let held: String = teleop.held.iter().copied().map(arrow).collect();
     let mm = |value: i16| speed_text(f64::from(value) / 1000.0);
     let mut lines = vec![
         Line::styled(row("", "m/s".into(), "rad/s".into()), theme.dim()),
@@ -61,4 +52,18 @@ pub(super) fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: The
         ));
     }
     frame.render_widget(Paragraph::new(lines).block(block), area);
+}
+
+/// A held drive key, as the arrow it drives.
+fn arrow(key: Key) -> &'static str {
+    match key {
+        Key::Up => "↑",
+        Key::Down => "↓",
+        Key::Left => "←",
+        Key::Right => "→",
+        Key::ForwardLeft => "↖",
+        Key::ForwardRight => "↗",
+        Key::BackLeft => "↙",
+        Key::BackRight => "↘",
+    }
 }

@@ -12,8 +12,10 @@ use super::link::not_reported;
 use super::text::{middle_ellipsis, names_within};
 use super::*;
 use crate::control::{Limits, SenderStats};
-use crate::dashboard::app::{Arming, Prompt, Protocol, Snapshot, TeleopView};
+use crate::dashboard::app::{Arming, Prompt, Protocol, ReleaseView, Snapshot, TeleopView};
 use crate::dashboard::keys;
+use crate::dashboard::message::Message;
+use crate::dashboard::teleop::Key;
 use crate::protocol::catalog::{self, Direction};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::message::{
@@ -108,13 +110,8 @@ fn run(app: &mut App, base: Instant, seconds: u64, linear_mm_s: i16, edit: &dyn 
     }
 }
 
-fn kitty(scale: f64, held: Vec<&'static str>, requested: (f64, f64)) -> TeleopView {
-    TeleopView {
-        release_mode: "key release: terminal events (kitty protocol)".to_string(),
-        scale,
-        held,
-        requested,
-    }
+fn kitty(scale: f64, held: Vec<Key>, requested: (f64, f64)) -> TeleopView {
+    TeleopView { release_mode: ReleaseView::Events, scale, held, requested }
 }
 
 /// Driving straight at 0.3 m/s for 30 s on 25.9 V (26.0 V for the first 10 s), no faults.
@@ -126,7 +123,7 @@ fn driving() -> App {
             status.system.as_mut().unwrap().1.battery_decivolts = 260;
         }
     });
-    app.set_teleop(kitty(0.6, vec!["up"], (0.3, 0.0)));
+    app.set_teleop(kitty(0.6, vec![Key::Up], (0.3, 0.0)));
     app.set_arming(Arming::Armed);
     app
 }
@@ -428,7 +425,7 @@ fn recording_losses_stay_in_the_footer_beside_the_message() {
         reason: "No space left on device (os error 28)".to_string(),
     }));
     assert_ne!(app.fingerprint(), before, "a loss redraws");
-    app.set_message("lights: on".to_string(), Instant::now());
+    app.set_message(Message::Lights("on"), Instant::now());
     let screen = screen(&app, 100, 30);
     let footer = rows(&screen).last().copied().unwrap_or_default().to_string();
     assert_eq!(
@@ -449,7 +446,7 @@ fn message_and_nothing_received() {
         link_name: "/dev/ttyUSB0",
         now: base,
     });
-    app.set_message("lights: on".to_string(), base);
+    app.set_message(Message::Lights("on"), base);
     let screen = screen(&app, 80, 24);
     assert_contains(
         &screen,
@@ -523,7 +520,7 @@ fn screen_small(app: &App) -> String {
 #[test]
 fn every_size_draws_without_panicking() {
     let mut app = faulted();
-    app.set_message("fault clear sent (0x441 all): watch the faults panel".to_string(), Instant::now());
+    app.set_message(Message::ClearSent(Wire::CanV2), Instant::now());
     for (width, height) in
         [(1, 1), (20, 5), (59, 19), (60, 20), (79, 23), (80, 24), (99, 29), (100, 30), (120, 40), (250, 80)]
     {
