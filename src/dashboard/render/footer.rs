@@ -155,4 +155,31 @@ mod tests {
         assert_eq!(footer_at(width as u16 - 1, Arming::Watching), fewer, "the last of the others goes first");
         assert_eq!(kept[..2], ["↑↓←→ drive", "Space stop"]);
     }
+
+    #[test]
+    fn the_release_line_says_what_was_learned_in_milliseconds() {
+        let mut app = App::new("can0", crate::control::Limits::default(), false);
+        let mut said = |release_mode| {
+            app.set_teleop(crate::dashboard::app::TeleopView { release_mode, ..Default::default() });
+            release_text(&app)
+        };
+        assert_eq!(said(ReleaseView::Unset), "key release: -");
+        assert_eq!(said(ReleaseView::DrivingOff("--watch")), "driving off: --watch");
+        let deadline = ReleaseView::Deadline {
+            delay_ms: Some(500),
+            interval_ms: None,
+            timeout_ms: 600,
+            from_flag: false,
+        };
+        assert_eq!(
+            said(deadline),
+            "key release: auto-repeat timeout (repeat delay 500 ms, interval not learned yet, timeout 600 ms)"
+        );
+        let flag =
+            ReleaseView::Deadline { delay_ms: None, interval_ms: Some(33), timeout_ms: 250, from_flag: true };
+        assert_eq!(
+            said(flag),
+            "key release: auto-repeat timeout (repeat delay not learned yet, interval 33 ms, --key-timeout 250 ms)"
+        );
+    }
 }
