@@ -12,6 +12,8 @@ use std::collections::{BTreeMap, VecDeque};
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::time::{Duration, Instant};
 
+use super::message::Message;
+use super::teleop::Key;
 use crate::control::{Limits, SenderStats};
 use crate::protocol::catalog;
 use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
@@ -19,7 +21,7 @@ use crate::protocol::detect::Verdict;
 use crate::protocol::faults::{FlagInfo, Severity};
 use crate::protocol::message::{Odometry, SystemState};
 use crate::protocol::pose::DeadReckoning;
-use crate::protocol::{FrameId, Wire};
+use crate::protocol::{ControlMode, FrameId, Wire};
 use crate::recorder::RecordLoss;
 use crate::session::RobotStatus;
 
@@ -47,14 +49,29 @@ pub struct Snapshot<'a> {
 /// Teleop display values, set by the glue each loop.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct TeleopView {
-    /// "key release: terminal events (kitty protocol)", "key release: auto-repeat timeout (...)".
-    pub release_mode: String,
+    /// How key releases are detected, or why nothing drives.
+    pub release_mode: ReleaseView,
     /// Fraction of the caps the arrow keys ask for (shown as a percentage).
     pub scale: f64,
-    /// Held keys: "up", "down", "left", "right".
-    pub held: Vec<&'static str>,
+    /// The drive keys held.
+    pub held: Vec<Key>,
     /// m/s and rad/s, after the scale and the caps.
     pub requested: (f64, f64),
+}
+
+/// How the keys are read, as the footer says it; in milliseconds, the resolution shown.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum ReleaseView {
+    /// Not set by the glue yet.
+    #[default]
+    Unset,
+    /// Nothing drives (watch-only), and why.
+    DrivingOff(&'static str),
+    /// The terminal reports key releases (kitty protocol).
+    Events,
+    /// A key counts as released when no repeat arrives in time: the learned repeat delay and interval
+    /// (`None`: not learned yet), the timeout, and whether `--key-timeout` set it.
+    Deadline { delay_ms: Option<u128>, interval_ms: Option<u128>, timeout_ms: u128, from_flag: bool },
 }
 
 /// A question on screen that takes the next key.
@@ -176,6 +193,11 @@ impl SystemView {
             fault_code: self.fault_code,
             count: 0,
         }
+    }
+
+    /// Whether the robot is in the command mode of its wire (the one this link drives in).
+    pub fn in_command_mode(&self) -> bool {
+        ControlMode::from_code(self.wire, self.control_mode) == Some(ControlMode::command_mode_of(self.wire))
     }
 }
 
@@ -373,7 +395,7 @@ pub struct App {
     pub(super) help: bool,
     pub(super) prompt: Prompt,
     pub(super) arming: Arming,
-    pub(super) message: Option<(String, Instant)>,
+    pub(super) message: Option<(Message, Instant)>,
     /// Frames the `--record` recording lost, and why: shown until the end.
     pub(super) recording_loss: Option<RecordLoss>,
     battery_sampled: Option<Instant>,
@@ -570,8 +592,8 @@ impl App {
     }
 
     /// One-line feedback ("lights: on"); it goes away [`MESSAGE_TTL`] after `at` (checked by `update`).
-    pub fn set_message(&mut self, text: String, at: Instant) {
-        self.message = Some((text, at));
+    pub fn set_message(&mut self, message: Message, at: Instant) {
+        self.message = Some((message, at));
     }
 
     /// What the recording has lost so far (set by the glue each update).
@@ -586,7 +608,7 @@ impl App {
         self.help.hash(&mut hasher);
         self.prompt.hash(&mut hasher);
         self.arming.hash(&mut hasher);
-        self.message.as_ref().map(|(text, _)| text).hash(&mut hasher);
+        self.message.as_ref().map(|(message, _)| message).hash(&mut hasher);
         self.recording_loss.hash(&mut hasher);
         self.color.hash(&mut hasher);
         let teleop = &self.teleop;
@@ -860,7 +882,7 @@ mod tests {
         changed(&app, "scale");
         app.set_teleop(TeleopView {
             scale: 0.5,
-            held: vec!["up"],
+            held: vec![Key::Up],
             requested: (0.25, 0.0),
             ..Default::default()
         });
@@ -876,7 +898,7 @@ mod tests {
         app.toggle_help();
         app.ask_clear_confirmation();
         changed(&app, "prompt");
-        app.set_message("lights: on".to_string(), at(base, 500));
+        app.set_message(Message::Lights("on"), at(base, 500));
         changed(&app, "message");
         let before = app.fingerprint();
         app.update(&Snapshot {
