@@ -9,7 +9,7 @@ use std::time::Duration;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
 use crate::commands::{self, usage, Global};
-use crate::control::{LimitError, LimitName, Limits};
+use crate::control::limits::{LimitError, LimitName, Limits};
 use crate::link::LinkChoice;
 use crate::output::stamp::TimeMode;
 use crate::output::{ColorChoice, Format};

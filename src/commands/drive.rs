@@ -16,7 +16,8 @@ use parking_lot::Mutex;
 
 use super::live;
 use super::Global;
-use crate::control::{Hold, Limits, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
+use crate::control::limits::Limits;
+use crate::control::sender::{Hold, MotionSender, SenderStats, Stopper, GAP_LIMIT, PERIOD};
 use crate::exit::{self, Failure, FAILURE, NOT_DONE, SUCCESS};
 use crate::link::queue_full_meaning;
 
@@ -383,7 +384,7 @@ impl<'a> DriveLoop<'a> {
             return Some(End::TimeUp);
         }
         self.sender.set_target(self.target.0, self.target.1);
-        if crate::control::panicked() {
+        if crate::control::stop::panicked() {
             return Some(End::LinkLost("an internal error (a thread panicked)".to_string()));
         }
         let status = self.session.status();

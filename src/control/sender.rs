@@ -1,188 +1,32 @@
-//! The 50 Hz motion sender: its own clock, caps, ramps, a watchdog, and zero-velocity frames on every way out.
-//!
-//! The sender thread wakes on an absolute 20 ms grid (late wake-ups skip ticks rather than burst). Each tick it
-//! takes the latest target, clamps it to the caps, moves the sent command towards it within the acceleration
-//! limits (braking has its own, stronger, deceleration), and sends it.
-//!
-//! The stop rules (docs/architecture.md, "Stop rules"):
-//! - **Hold.** Some events make the sender *hold* zero and ignore targets until its owner calls
-//!   [`MotionSender::resume`] on a fresh operator command: a halt (Space, an E-stop or fault the owner saw,
-//!   SIGTSTP), a gap in its own clock longer than [`GAP_LIMIT`] (the process was suspended or the machine
-//!   stalled: the robot has stopped by itself, or is about to, so the ramp state becomes zero), and a
-//!   watchdog trip (the owner stopped refreshing the target: input stalled).
-//! - **Stop first.** Before the stop frames, what the link still holds for output is discarded, so the
-//!   zeros are not queued behind stale motion; a motion frame is held back while the link's output is not
-//!   draining. Stopping, by [`MotionSender::stop`], by dropping the sender (errors, panics that unwind), by
-//!   the panic hook (panics on any thread), or by a signal, sends zero-velocity frames at once.
-//! - **Truth.** How many stop frames actually left is counted, so callers never say "stopped" when none did.
+//! The 50 Hz sender thread: its own clock on an absolute 20 ms grid, the latest target ramped within the
+//! limits, the holds (halt, suspend, a gap in its clock, the watchdog), and the stop frames on every way out
+//! of its loop. The stop rules it keeps are in the folder's doc ([`crate::control`]).
 
-use std::sync::atomic::{AtomicBool, AtomicU64, AtomicUsize, Ordering};
-use std::sync::{Arc, OnceLock};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::Arc;
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use parking_lot::Mutex;
 
-use crate::link::{is_queue_full, Discarded, FrameTx, LinkFrame};
-use crate::protocol::message::{MotionCommand, ANGULAR_LIMIT, LINEAR_LIMIT};
+use super::limits::{ramp_step, Limits};
+use super::stop::{
+    install_panic_hook, panicked, send_motion_frame, send_stop_frames, set_emergency, STOP_FRAMES,
+};
+use crate::link::{is_queue_full, FrameTx, LinkFrame};
+use crate::protocol::message::MotionCommand;
 use crate::protocol::Codec;
 
 /// The chassis wants a motion command every 20 ms (and stops by itself after 500 ms without one).
 pub const PERIOD: Duration = Duration::from_millis(20);
-/// How many zero-velocity frames end a drive (a lost frame or two must not matter).
-pub const STOP_FRAMES: usize = 3;
 /// A gap this long in the sender's own clock (ten periods) means the process or the machine did not run:
 /// the robot has stopped by itself (500 ms) or is about to, so the ramp state becomes zero and the sender
 /// holds zero until a fresh command. Shorter stalls happen on a busy machine (110 ms measured during a
 /// parallel test run on the 2-core build machine) while the robot is still obeying the last command.
 pub const GAP_LIMIT: Duration = Duration::from_millis(200);
-/// How long the stop frames are retried while the transmit queue is full.
-const STOP_RETRY: Duration = Duration::from_millis(100);
 /// A link with this many frames still queued for output is not draining: motion is held back.
 const BACKLOG_LIMIT: usize = 2;
-
-/// Caps and ramps.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Limits {
-    /// m/s; never above the protocol limit.
-    pub max_linear: f64,
-    /// rad/s.
-    pub max_angular: f64,
-    /// m/s², speeding up.
-    pub linear_accel: f64,
-    /// rad/s², speeding up.
-    pub angular_accel: f64,
-    /// m/s², slowing down (braking); at least `linear_accel`.
-    pub linear_decel: f64,
-    /// rad/s², slowing down; at least `angular_accel`.
-    pub angular_decel: f64,
-}
-
-impl Default for Limits {
-    /// Safe defaults for driving next to people: 0.5 m/s, 0.5 rad/s, reached in about a second; braking three
-    /// times as strong (from 0.15 m/s to zero in 0.1 s, from 0.5 m/s in 0.33 s).
-    fn default() -> Self {
-        Self {
-            max_linear: 0.5,
-            max_angular: 0.5,
-            linear_accel: 0.5,
-            angular_accel: 1.0,
-            linear_decel: 1.5,
-            angular_decel: 3.0,
-        }
-    }
-}
-
-/// One of the [`Limits`], to say which one is wrong.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LimitName {
-    MaxLinear,
-    MaxAngular,
-    LinearAccel,
-    AngularAccel,
-    LinearDecel,
-    AngularDecel,
-}
-
-impl LimitName {
-    fn words(self) -> &'static str {
-        match self {
-            LimitName::MaxLinear => "the linear speed cap",
-            LimitName::MaxAngular => "the angular speed cap",
-            LimitName::LinearAccel => "the linear acceleration",
-            LimitName::AngularAccel => "the angular acceleration",
-            LimitName::LinearDecel => "the linear deceleration",
-            LimitName::AngularDecel => "the angular deceleration",
-        }
-    }
-}
-
-/// Limits that cannot drive a ramp. Plain words: the command line names its own options.
-#[derive(Clone, Copy, Debug, PartialEq, thiserror::Error)]
-pub enum LimitError {
-    #[error("{} must be a positive number, not {value}", name.words())]
-    NotPositive { name: LimitName, value: f64 },
-    /// Braking (`decel`) weaker than speeding up (`accel`), linear (m/s²) or angular (rad/s²).
-    #[error(
-        "{} ({decel}) must be at least {} ({accel}): braking is never weaker than speeding up",
-        if *angular { LimitName::AngularDecel.words() } else { LimitName::LinearDecel.words() },
-        if *angular { LimitName::AngularAccel.words() } else { LimitName::LinearAccel.words() }
-    )]
-    BrakingWeaker { angular: bool, decel: f64, accel: f64 },
-}
-
-impl Limits {
-    /// Clamps caps to the protocol limits and rejects nonsense (braking weaker than accelerating too).
-    pub fn validated(self) -> Result<Self, LimitError> {
-        let positive = |value: f64, name: LimitName| {
-            if value.is_finite() && value > 0.0 {
-                Ok(())
-            } else {
-                Err(LimitError::NotPositive { name, value })
-            }
-        };
-        positive(self.max_linear, LimitName::MaxLinear)?;
-        positive(self.max_angular, LimitName::MaxAngular)?;
-        positive(self.linear_accel, LimitName::LinearAccel)?;
-        positive(self.angular_accel, LimitName::AngularAccel)?;
-        positive(self.linear_decel, LimitName::LinearDecel)?;
-        positive(self.angular_decel, LimitName::AngularDecel)?;
-        for (angular, decel, accel) in
-            [(false, self.linear_decel, self.linear_accel), (true, self.angular_decel, self.angular_accel)]
-        {
-            if decel < accel {
-                return Err(LimitError::BrakingWeaker { angular, decel, accel });
-            }
-        }
-        Ok(Self {
-            max_linear: self.max_linear.min(LINEAR_LIMIT),
-            max_angular: self.max_angular.min(ANGULAR_LIMIT),
-            ..self
-        })
-    }
-
-    /// How long braking from `command` to zero takes.
-    pub fn braking_time(&self, command: MotionCommand) -> Duration {
-        let seconds =
-            (command.linear().abs() / self.linear_decel).max(command.angular().abs() / self.angular_decel);
-        Duration::from_secs_f64(seconds.clamp(0.0, 60.0))
-    }
-}
-
-/// One step of the sender's control law: clamp the target, then move `current` towards it within the
-/// acceleration (speeding up) or deceleration (slowing down, reversing) allowed in `dt`. Pure, so the ramp is
-/// tested without threads.
-pub fn ramp_step(current: (f64, f64), target: (f64, f64), limits: &Limits, dt: Duration) -> (f64, f64) {
-    let dt = dt.as_secs_f64();
-    let clamp = |value: f64, cap: f64| if value.is_nan() { 0.0 } else { value.clamp(-cap, cap) };
-    (
-        axis_step(
-            current.0,
-            clamp(target.0, limits.max_linear),
-            limits.linear_accel * dt,
-            limits.linear_decel * dt,
-        ),
-        axis_step(
-            current.1,
-            clamp(target.1, limits.max_angular),
-            limits.angular_accel * dt,
-            limits.angular_decel * dt,
-        ),
-    )
-}
-
-fn axis_step(from: f64, to: f64, accel_step: f64, decel_step: f64) -> f64 {
-    let toward = |to: f64, step: f64| from + (to - from).clamp(-step, step);
-    if from * to < 0.0 {
-        // Reversing: brake to zero first (the next ticks speed up the other way).
-        toward(0.0, decel_step)
-    } else if to.abs() < from.abs() {
-        toward(to, decel_step)
-    } else {
-        toward(to, accel_step)
-    }
-}
 
 /// Why the sender holds zero and ignores the target until [`MotionSender::resume`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -343,75 +187,13 @@ pub struct MotionSender {
     stop_frame: LinkFrame,
 }
 
-/// Set by the panic hook: after a panic on any thread, no sender moves the robot again in this process.
-static PANICKED: AtomicBool = AtomicBool::new(false);
-
-/// True once any thread of this process has panicked.
-pub fn panicked() -> bool {
-    PANICKED.load(Ordering::SeqCst)
-}
-
-/// Motion frames a sender is sending right now. A sender counts itself in, then looks at [`PANICKED`]; the
-/// panic hook sets the flag, then waits for the count to fall before its zeros: so either the sender sees
-/// the flag and sends nothing, or its frame is out before the zeros (a tick that had checked the flag just
-/// before a panic sent one 0.3 m/s frame after the hook's zeros: seen in CI).
-static MOTION_IN_FLIGHT: AtomicUsize = AtomicUsize::new(0);
-/// How long the panic hook waits for a motion frame in flight (bounded: the panicking thread may be the one
-/// that was sending it).
-const IN_FLIGHT_WAIT: Duration = Duration::from_millis(50);
-
-/// Sends one motion frame unless a panic has stopped the robot (`None` then).
-fn send_motion_frame(tx: &dyn FrameTx, frame: &LinkFrame) -> Option<std::io::Result<()>> {
-    MOTION_IN_FLIGHT.fetch_add(1, Ordering::SeqCst);
-    let result = (!panicked()).then(|| tx.send(frame));
-    MOTION_IN_FLIGHT.fetch_sub(1, Ordering::SeqCst);
-    result
-}
-
-/// The frame and link the panic hook uses to stop the robot.
-type Emergency = (Arc<dyn FrameTx>, LinkFrame);
-static EMERGENCY: OnceLock<Mutex<Option<Emergency>>> = OnceLock::new();
-
-fn emergency() -> &'static Mutex<Option<Emergency>> {
-    EMERGENCY.get_or_init(|| Mutex::new(None))
-}
-
-/// Sends zero-velocity frames on the link of the running sender, if any (used by panic hooks).
-pub fn emergency_stop() {
-    PANICKED.store(true, Ordering::SeqCst);
-    let deadline = Instant::now() + IN_FLIGHT_WAIT;
-    while MOTION_IN_FLIGHT.load(Ordering::SeqCst) > 0 && Instant::now() < deadline {
-        std::thread::yield_now();
-    }
-    if let Some(guard) = emergency().try_lock() {
-        if let Some((tx, frame)) = guard.as_ref() {
-            tx.discard_pending();
-            for _ in 0..STOP_FRAMES {
-                let _ = tx.send(frame);
-            }
-        }
-    }
-}
-
-/// Installs (once) a panic hook that sends zero-velocity frames before the usual panic report.
-pub fn install_panic_hook() {
-    static INSTALLED: OnceLock<()> = OnceLock::new();
-    INSTALLED.get_or_init(|| {
-        let previous = std::panic::take_hook();
-        std::panic::set_hook(Box::new(move |info| {
-            emergency_stop();
-            previous(info);
-        }));
-    });
-}
-
 impl MotionSender {
     /// Starts sending at 50 Hz. `codec` encodes for the link's wire; `watchdog` is how old a target may get
     /// before the sender treats input as stalled, commands zero and holds it.
     pub fn start(tx: Arc<dyn FrameTx>, mut codec: Codec, limits: Limits, watchdog: Duration) -> Result<Self> {
         install_panic_hook();
         let stop_frame = codec.motion(MotionCommand::STOP);
-        *emergency().lock() = Some((Arc::clone(&tx), stop_frame));
+        set_emergency(Some((Arc::clone(&tx), stop_frame)));
         let shared = Arc::new(Shared {
             target: Mutex::new(Target { linear: 0.0, angular: 0.0, set_at: Instant::now() }),
             stats: Mutex::new(SenderStats::default()),
@@ -522,7 +304,7 @@ impl MotionSender {
                 self.shared.stats().stop_frames_sent = Some(sent);
             }
         }
-        *emergency().lock() = None;
+        set_emergency(None);
     }
 }
 
@@ -530,41 +312,6 @@ impl Drop for MotionSender {
     fn drop(&mut self) {
         self.shutdown();
     }
-}
-
-/// The stop sequence every sender shares (the 50 Hz sender, send-raw): discard what the link still holds for
-/// output, so the zeros are not queued behind stale motion, then [`STOP_FRAMES`] zero-velocity frames (each
-/// encoded anew, so RS232 frame ids keep rolling), each retried for up to [`STOP_RETRY`] while the transmit
-/// queue is full. Every attempt's result goes to `record`. Returns (stop frames sent, what was discarded).
-pub fn send_stop_frames(
-    tx: &dyn FrameTx,
-    codec: &mut Codec,
-    mut record: impl FnMut(std::io::Result<()>),
-) -> (usize, Discarded) {
-    let discarded = tx.discard_pending();
-    let deadline = Instant::now() + STOP_RETRY;
-    let mut sent = 0;
-    for _ in 0..STOP_FRAMES {
-        let frame = codec.motion(MotionCommand::STOP);
-        loop {
-            match tx.send(&frame) {
-                Ok(()) => {
-                    sent += 1;
-                    record(Ok(()));
-                    break;
-                }
-                Err(error) if is_queue_full(&error) && Instant::now() < deadline => {
-                    record(Err(error));
-                    std::thread::sleep(Duration::from_millis(2));
-                }
-                Err(error) => {
-                    record(Err(error));
-                    break;
-                }
-            }
-        }
-    }
-    (sent, discarded)
 }
 
 /// What the sender carries from one tick to the next.
@@ -716,75 +463,9 @@ fn send_final_stop(shared: &Shared, tx: &dyn FrameTx, codec: &mut Codec) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::link::Discarded;
     use crate::protocol::Wire;
     use std::sync::{mpsc, Mutex};
-
-    #[test]
-    fn ramp_respects_acceleration_and_caps() {
-        let limits = Limits { max_linear: 0.5, max_angular: 0.4, ..Limits::default() };
-        let mut current = (0.0, 0.0);
-        current = ramp_step(current, (2.0, -2.0), &limits, PERIOD);
-        assert!((current.0 - 0.01).abs() < 1e-12 && (current.1 + 0.02).abs() < 1e-12, "{current:?}");
-        for _ in 0..100 {
-            current = ramp_step(current, (2.0, -2.0), &limits, PERIOD);
-        }
-        assert_eq!(current, (0.5, -0.4), "capped");
-        assert_eq!(ramp_step((0.0, 0.0), (f64::NAN, 0.1), &limits, PERIOD).0, 0.0);
-    }
-
-    #[test]
-    fn braking_uses_its_own_stronger_deceleration() {
-        let limits = Limits::default();
-        // Slowing down: 1.5 m/s² and 3 rad/s², three times the acceleration.
-        let braked = ramp_step((0.5, -0.4), (0.0, 0.0), &limits, PERIOD);
-        assert!((braked.0 - 0.47).abs() < 1e-12 && (braked.1 + 0.34).abs() < 1e-12, "{braked:?}");
-        // Slowing to a lower speed in the same direction brakes too; speeding up accelerates.
-        assert!((ramp_step((0.5, 0.0), (0.2, 0.0), &limits, PERIOD).0 - 0.47).abs() < 1e-12);
-        assert!((ramp_step((0.2, 0.0), (0.5, 0.0), &limits, PERIOD).0 - 0.21).abs() < 1e-12);
-        // Reversing brakes to zero first and never overshoots it in that step.
-        let mut current = (0.3, 0.0);
-        let mut steps = 0;
-        while current.0 > 0.0 {
-            current = ramp_step(current, (-0.3, 0.0), &limits, PERIOD);
-            steps += 1;
-        }
-        assert_eq!(current.0, 0.0);
-        assert!((10..=11).contains(&steps), "0.3 m/s at 1.5 m/s² is 0.2 s (+ rounding): {steps}");
-        assert!(ramp_step(current, (-0.3, 0.0), &limits, PERIOD).0 < 0.0);
-        // From 0.15 m/s, zero within 150 ms (the issue's requirement), whatever the grid phase.
-        let mut current = (0.15, 0.0);
-        let mut elapsed = Duration::ZERO;
-        while current.0 > 0.0 {
-            current = ramp_step(current, (0.0, 0.0), &limits, PERIOD);
-            elapsed += PERIOD;
-        }
-        assert!(elapsed <= Duration::from_millis(120), "{elapsed:?}");
-        assert_eq!(
-            limits.braking_time(MotionCommand { linear_mm_s: 150, angular_mrad_s: 0 }).as_millis(),
-            100
-        );
-    }
-
-    #[test]
-    fn braking_weaker_than_accelerating_is_refused() {
-        let error = Limits { linear_decel: 0.3, ..Limits::default() }.validated().unwrap_err();
-        assert_eq!(error, LimitError::BrakingWeaker { angular: false, decel: 0.3, accel: 0.5 });
-        assert_eq!(
-            error.to_string(),
-            "the linear deceleration (0.3) must be at least the linear acceleration (0.5): braking is never \
-             weaker than speeding up"
-        );
-        assert!(Limits { angular_decel: 0.5, ..Limits::default() }.validated().is_err());
-        assert!(Limits { linear_decel: f64::INFINITY, ..Limits::default() }.validated().is_err());
-    }
-
-    #[test]
-    fn limits_are_validated_and_clamped_to_the_protocol() {
-        let limits = Limits { max_linear: 9.0, ..Limits::default() }.validated().unwrap();
-        assert_eq!(limits.max_linear, LINEAR_LIMIT);
-        assert!(Limits { linear_accel: 0.0, ..Limits::default() }.validated().is_err());
-        assert!(Limits { max_angular: f64::NAN, ..Limits::default() }.validated().is_err());
-    }
 
     /// A link that records what was sent.
     struct Recorder(Mutex<mpsc::Sender<(Instant, LinkFrame)>>);

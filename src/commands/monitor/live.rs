@@ -1,259 +1,39 @@
-//! `tracerctl monitor`: the live bus, decoded as `decode` prints it (text, JSON, CSV) or as candump -L lines,
-//! with warnings on stderr when an expected periodic frame goes stale or the bus falls silent, an optional
-//! candump -L log of every frame, and per-identifier counts and rates at the end. Text lines add what
-//! candump users reach for: the raw bytes after the identifier and candump's `-t` time modes; `count`
-//! ends the run after that many lines, as `candump -n` does.
-//!
-//! Frames are received, stamped and checked on the main thread straight from the link (no session: every
-//! frame matters); what is printed goes through a bounded queue to a writer thread ([`OutputQueue`]), so a
-//! reader of standard output that does not keep up (`monitor | less`, not scrolling) delays nothing: stamps
-//! and silence warnings stay those of reception, and output beyond the queue is dropped and counted. Output
-//! goes to one reusable buffer, handed over when the receive call finds no frame waiting, when the buffer
-//! passes 64 KiB, or when its oldest line is 50 ms old; so a flood costs one block per 64 KiB and a quiet bus
-//! sees each burst at once. The `--log` file is written by the recorder's own thread. Nothing is allocated
-//! per frame.
+//! The live monitor: what `run` feeds received frames and clock ticks to. It prints each frame as decode
+//! does (or as a candump -L line) into one reusable buffer handed to the output in blocks, counts frames
+//! per identifier, watches for stale frames, a silent bus, error frames, drops and a log losing frames, and
+//! gathers warnings for standard error. Tests feed it made-up times and a `Vec` for standard output.
 
-use std::io::{self, IsTerminal, Write};
-use std::path::PathBuf;
+use std::io::{self, Write};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 
-use super::Global;
-use crate::exit::{self, DATA_ERROR, FAILURE, SUCCESS};
-use crate::link::{FrameRx, LinkChoice, LinkFrame, LinkKind, Received, RxStats};
+use super::counts::{Counts, MAX_OTHER_IDS};
+use super::staleness::Staleness;
+use super::text::{describe_error_frame, human};
+use crate::exit::FAILURE;
+use crate::link::{LinkFrame, Received, RxStats};
 use crate::output::filter::Filter;
 use crate::output::queue::{OutputQueue, Pushed, QUEUE_BYTES};
 use crate::output::stamp::TimeMode;
 use crate::output::text::{self, Columns};
 use crate::output::{Event, EventWriter, Format, FrameRef};
-use crate::protocol::catalog::{Entry, PERIODIC, STALE_PERIODS};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::error_frame::ErrorFrame;
-use crate::protocol::frame::ERR_FLAG;
-use crate::protocol::{self, CanFrame, FrameId, FrameKind, ProtocolHint};
-use crate::recorder::LogFile;
+use crate::protocol::{self, CanFrame, FrameKind, ProtocolHint};
 use crate::recorder::{push_raw_line, Recorder};
 use crate::signals::SignalFlag;
-use crate::{session, signals};
 
 /// Output is written at the latest when the buffer holds this much...
 const FLUSH_AT: usize = 64 * 1024;
 /// ...or when its oldest line has waited this long (a steady stream never lets the receive call time out).
 const FLUSH_AGE: Duration = Duration::from_millis(50);
-/// The longest the receive call blocks: how soon a signal is noticed on a silent bus.
-const POLL: Duration = Duration::from_millis(50);
-/// How often staleness, silence and the link's counters are checked.
-const TICK: Duration = Duration::from_millis(25);
-/// Identifiers other than standard CAN ones counted individually (extended IDs from a flood are unbounded).
-const MAX_OTHER_IDS: usize = 256;
 /// Repeated problems (error frames, socket drops, serial checksum errors) are reported at most this often.
 const REPORT_EVERY: Duration = Duration::from_secs(1);
 /// A write to standard output blocked this long means output has fallen behind (said once).
 const BEHIND_AFTER: Duration = Duration::from_secs(1);
 /// After a signal, how long the output still queued may take to leave before it is given up (and counted).
 const OUTPUT_GRACE: Duration = Duration::from_secs(1);
-
-/// `tracerctl monitor`'s settings.
-#[derive(Clone, Debug)]
-pub struct Options {
-    pub format: Format,
-    /// candump -L lines instead of decoded ones.
-    pub raw: bool,
-    /// Only these identifiers (none: all).
-    pub ids: Vec<crate::protocol::FrameId>,
-    /// Only these message names (none: all).
-    pub messages: Vec<&'static str>,
-    /// Also write every frame to this candump log.
-    pub log: Option<PathBuf>,
-    /// Stop after this long; `None`: until a signal.
-    pub duration: Option<Duration>,
-    /// Warn when the bus is silent this long (zero: never).
-    pub silence: Duration,
-    /// The time column of text lines (candump -t).
-    pub time_mode: TimeMode,
-    /// The raw bytes after the identifier in text lines.
-    pub data_column: bool,
-    /// Stop after this many frames shown (candump -n); `None`: no limit.
-    pub count: Option<u64>,
-}
-
-pub fn run(global: &Global, args: &Options) -> Result<u8> {
-    let choice = global.link.clone();
-    // Timing warnings compare arrival times with periods: a replay at N times speed compresses both.
-    let time_scale = match choice {
-        LinkChoice::Replay { speed, .. } if speed > 0.0 => Some(1.0 / speed),
-        LinkChoice::Replay { .. } => None,
-        _ => Some(1.0),
-    };
-    let (link, simulator) = session::open_link(&choice, global.sim_config())?;
-    // Created (truncated) only once the link opened: a log that cannot be read leaves the file as it was.
-    let log =
-        args.log.as_deref().map(|path| LogFile::create(path, "monitor", global.protocol)).transpose()?;
-    let flag = signals::listen(|_| {})?;
-    let options = Settings {
-        format: args.format,
-        color: global.color.enabled(io::stdout().is_terminal()),
-        raw: args.raw,
-        filter: Filter::new(&args.ids, &args.messages),
-        hint: global.protocol,
-        time_scale,
-        silence: args.silence,
-        time_mode: args.time_mode,
-        data_column: args.data_column,
-    };
-    let iface = match link.kind {
-        // The path of the log is no interface name (candump lines allow 15 characters).
-        LinkKind::Replay => "replay".to_string(),
-        _ => link.name.clone(),
-    };
-    let mut rx = link.rx;
-    let output = OutputQueue::stdout().context("cannot start the output thread")?;
-    let mut monitor = Monitor::new(&link.name, &iface, link.wire == protocol::Wire::Serial, options, output);
-    monitor.log = log.map(|file| Recorder::start(file, &iface)).transpose()?;
-    // When a frame arrived: the kernel's receive stamp on SocketCAN, else now (this loop never waits for
-    // standard output, so now is when it was received).
-    let kernel_stamps = link.kind == LinkKind::SocketCan;
-
-    let start = Instant::now();
-    let deadline = args.duration.map(|duration| start + duration);
-    let until = Until { flag: &flag, deadline, count: args.count };
-    let end = match receive_until_end(&mut monitor, rx.as_mut(), &until, kernel_stamps) {
-        Ok(end) => end,
-        Err(error) => return quiet_if_broken_pipe(&mut monitor, error),
-    };
-    let elapsed = start.elapsed();
-    drop(simulator);
-    monitor.warnings.extend(rx.take_notes());
-    monitor.print_warnings();
-    if let Err(error) = drain_output(&mut monitor, &flag) {
-        return quiet_if_broken_pipe(&mut monitor, error);
-    }
-    // The totals below include drops and checksum errors not yet reported as warnings.
-    let stats = rx.stats();
-    let (mut status, why) = match &end {
-        End::Duration => (SUCCESS, "duration reached".to_string()),
-        End::Count => (SUCCESS, "frame count reached".to_string()),
-        End::Eof => (SUCCESS, "end of the source".to_string()),
-        End::Signal => (flag.exit_status().unwrap_or(exit::SIGNAL_BASE), flag.name().to_string()),
-        End::LinkError(error) => {
-            crate::say!("tracerctl: the link {} failed: {error}", link.name);
-            (FAILURE, "link failed".to_string())
-        }
-    };
-    crate::say_raw!("{}", monitor.summary(elapsed, stats, &why));
-    if let Some(report) = rx.report() {
-        crate::say!("tracerctl: {report}");
-    }
-    if monitor.close_log().is_some() && status == SUCCESS {
-        status = FAILURE;
-    }
-    if let Some(nothing) = crate::link::replay::nothing_replayed(&link.name, &stats) {
-        // The whole log was read: a signal or --duration before its first frame proves nothing.
-        if matches!(end, End::Eof) {
-            crate::say!("tracerctl: {nothing}");
-            status = DATA_ERROR;
-        }
-    }
-    Ok(status)
-}
-
-/// When the run ends besides the end of the source: a signal, a deadline, a number of frames shown.
-struct Until<'a> {
-    flag: &'a SignalFlag,
-    deadline: Option<Instant>,
-    count: Option<u64>,
-}
-
-/// Receives, prints and checks frames until a signal, the deadline, the frame count, the end of the source
-/// or a link error. An error is one writing the output or the log.
-fn receive_until_end(
-    monitor: &mut Monitor<OutputQueue>,
-    rx: &mut dyn FrameRx,
-    until: &Until,
-    kernel_stamps: bool,
-) -> Result<End> {
-    let Until { flag, deadline, count } = *until;
-    let mut next_tick = Instant::now() + TICK;
-    loop {
-        if flag.received().is_some() {
-            return Ok(End::Signal);
-        }
-        if count.is_some_and(|count| monitor.printed >= count) {
-            return Ok(End::Count);
-        }
-        let now = Instant::now();
-        if deadline.is_some_and(|deadline| now >= deadline) {
-            return Ok(End::Duration);
-        }
-        if now >= next_tick {
-            monitor.tick(now, rx.stats());
-            next_tick = now + TICK;
-            monitor.print_warnings();
-        }
-        // With output waiting, only take frames that are already there: none waiting means flush now.
-        let wait = if monitor.has_unflushed() {
-            Duration::ZERO
-        } else {
-            let mut wait = POLL.min(next_tick.saturating_duration_since(now));
-            if let Some(deadline) = deadline {
-                wait = wait.min(deadline.saturating_duration_since(now));
-            }
-            wait
-        };
-        let step = match rx.recv(wait) {
-            Ok(Some(received)) => {
-                let now = if kernel_stamps { session::sent_at(&received.ts) } else { Instant::now() };
-                monitor.frame(&received, now)
-            }
-            Ok(None) => monitor.flush(),
-            Err(error) if error.kind() == io::ErrorKind::UnexpectedEof => return Ok(End::Eof),
-            Err(error) => return Ok(End::LinkError(error)),
-        };
-        monitor.warnings.extend(rx.take_notes());
-        monitor.print_warnings();
-        step?;
-    }
-}
-
-/// Standard output gets what is queued; after a signal (or a second one), only a moment more. Lines still
-/// queued when that moment is over count as dropped.
-fn drain_output(monitor: &mut Monitor<OutputQueue>, flag: &SignalFlag) -> Result<()> {
-    let mut grace: Option<Instant> = None;
-    monitor.flush()?;
-    monitor
-        .out
-        .finish(|| {
-            flag.received().is_some() && grace.get_or_insert_with(Instant::now).elapsed() >= OUTPUT_GRACE
-        })
-        .context("cannot write to standard output")?;
-    if monitor.out.dropped_lines > monitor.output_dropped {
-        monitor.output_dropped = monitor.out.dropped_lines;
-        monitor.fell_behind();
-    }
-    if let Some(stall) = monitor.out.stalled() {
-        monitor.output_stall = monitor.output_stall.max(stall);
-    }
-    monitor.print_warnings();
-    Ok(())
-}
-
-/// A reader of standard output that went away ends the monitor quietly (`monitor | head`).
-fn quiet_if_broken_pipe<W: Output>(monitor: &mut Monitor<W>, error: anyhow::Error) -> Result<u8> {
-    if exit::is_broken_pipe(&error) {
-        return Ok(monitor.close_log().unwrap_or(SUCCESS));
-    }
-    Err(error)
-}
-
-enum End {
-    Duration,
-    /// As many frames shown as asked for.
-    Count,
-    Eof,
-    Signal,
-    LinkError(io::Error),
-}
 
 /// What to print and when to warn.
 #[derive(Clone, Debug)]
@@ -273,114 +53,6 @@ pub struct Settings {
     pub time_mode: TimeMode,
     /// The raw bytes after the identifier in text lines.
     pub data_column: bool,
-}
-
-/// Frames and the time span they were seen over, for one identifier.
-#[derive(Clone, Copy, Debug, Default)]
-struct Count {
-    frames: u64,
-    first: f64,
-    last: f64,
-    msg: &'static str,
-}
-
-impl Count {
-    fn add(&mut self, secs: f64, msg: &'static str) {
-        if self.frames == 0 {
-            self.first = secs;
-        }
-        self.frames += 1;
-        self.last = secs;
-        self.msg = msg;
-    }
-
-    /// Mean frames per second from the link's timestamps; `None` below two frames.
-    fn rate(&self) -> Option<f64> {
-        let span = self.last - self.first;
-        (self.frames >= 2 && span > 0.0).then(|| (self.frames - 1) as f64 / span)
-    }
-}
-
-/// What kind of frame a row of the summary counts (besides standard CAN data frames), in the rows' order.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-enum RowKind {
-    Data,
-    Remote,
-    Fd,
-    Error,
-    Serial,
-}
-
-/// Per-identifier counts: a table for the 2048 standard identifiers, a bounded list for everything else.
-struct Counts {
-    standard: Box<[Count]>,
-    others: Vec<((RowKind, FrameId), Count)>,
-    /// Frames of identifiers beyond `MAX_OTHER_IDS`.
-    overflow: u64,
-}
-
-impl Counts {
-    fn new() -> Self {
-        Self { standard: vec![Count::default(); 0x800].into_boxed_slice(), others: Vec::new(), overflow: 0 }
-    }
-
-    fn add(&mut self, frame: &LinkFrame, secs: f64, msg: &'static str) {
-        let key = match frame {
-            LinkFrame::Can(frame) if frame.is_standard_data() => {
-                self.standard[(frame.id() & 0x7FF) as usize].add(secs, msg);
-                return;
-            }
-            LinkFrame::Can(frame) => {
-                let kind = match frame.kind() {
-                    FrameKind::Error => RowKind::Error,
-                    FrameKind::Remote => RowKind::Remote,
-                    FrameKind::Fd => RowKind::Fd,
-                    FrameKind::Data => RowKind::Data,
-                };
-                (kind, frame.frame_id())
-            }
-            LinkFrame::Serial(frame) => (RowKind::Serial, frame.frame_id()),
-        };
-        if let Some((_, count)) = self.others.iter_mut().find(|(k, _)| *k == key) {
-            count.add(secs, msg);
-        } else if self.others.len() < MAX_OTHER_IDS {
-            let mut count = Count::default();
-            count.add(secs, msg);
-            self.others.push((key, count));
-        } else {
-            self.overflow += 1;
-        }
-    }
-
-    /// Every identifier seen, in order: standard CAN, then the others by kind and identifier.
-    fn rows(&self) -> Vec<(String, Count)> {
-        let mut rows: Vec<(String, Count)> = (0..self.standard.len())
-            .filter(|&id| self.standard[id].frames > 0)
-            .map(|id| (FrameId::standard(id as u32).to_string(), self.standard[id]))
-            .collect();
-        let mut others = self.others.clone();
-        others.sort_by_key(|(key, _)| *key);
-        rows.extend(others.into_iter().map(|((kind, id), count)| {
-            let label = match kind {
-                // An error frame's "identifier" is its error classes, printed as candump does.
-                RowKind::Error => format!("0x{:08X}", id.value() | ERR_FLAG),
-                _ => id.to_string(),
-            };
-            (label, count)
-        }));
-        rows
-    }
-}
-
-/// One expected periodic frame and whether it has gone stale.
-#[derive(Clone, Copy, Debug)]
-struct Tracker {
-    what: &'static Entry,
-    /// The entry's period.
-    period: Duration,
-    /// Wall-clock arrival and link timestamp of the last one.
-    last: Option<(Instant, f64)>,
-    stale: bool,
 }
 
 /// A problem counted by the link or by the monitor, reported at most once per `REPORT_EVERY`.
@@ -461,7 +133,7 @@ pub struct Monitor<W: Output> {
     /// An RS232 link: no CAN protocol version to report.
     serial: bool,
     counts: Counts,
-    trackers: Vec<Tracker>,
+    staleness: Staleness,
     started: Instant,
     last_frame: Option<Instant>,
     silent: bool,
@@ -510,12 +182,7 @@ impl<W: Output> Monitor<W> {
             detector: ProtocolDetector::default(),
             serial,
             counts: Counts::new(),
-            // The link's own wire only: CAN (V1 and V2; a tracker waits for its first frame) or RS232.
-            trackers: PERIODIC
-                .iter()
-                .filter(|what| (what.wire == protocol::Wire::Serial) == serial)
-                .filter_map(|what| Some(Tracker { what, period: what.period?, last: None, stale: false }))
-                .collect(),
+            staleness: Staleness::new(serial),
             started,
             last_frame: None,
             silent: false,
@@ -567,7 +234,9 @@ impl<W: Output> Monitor<W> {
         };
         let event = Event { ts: Some(received.ts), iface: &self.iface, dir: None, frame, decoded };
         self.counts.add(&received.frame, secs, event.msg_name());
-        track(&mut self.trackers, &mut self.warnings, &received.frame, now, secs);
+        if let Some(resumed) = self.staleness.arrived(&received.frame, now, secs) {
+            self.warnings.push(resumed);
+        }
         if self.options.filter.passes(&event) {
             if self.buffer.is_empty() {
                 self.unflushed_since = Some(now);
@@ -681,7 +350,8 @@ impl<W: Output> Monitor<W> {
                     ),
                 });
             }
-            self.stale_check(now, scale);
+            let stale = self.staleness.check(now, scale, &self.name);
+            self.warnings.extend(stale);
         }
         self.report_error_frames(now);
         self.socket_drops.total = stats.socket_drops;
@@ -696,36 +366,6 @@ impl<W: Output> Monitor<W> {
             self.warnings.push(format!(
                 "warning: {new} corrupted RS232 frames (bad checksum) dropped on {} ({} in all)",
                 self.name, stats.serial_bad_checksum
-            ));
-        }
-    }
-
-    fn stale_check(&mut self, now: Instant, scale: f64) {
-        // One line per period: "no 0x211 system_state, 0x221 motion_state for 100 ms (expected every 20 ms)".
-        let mut lines: Vec<(u128, String)> = Vec::new();
-        for tracker in &mut self.trackers {
-            let Some((seen, _)) = tracker.last else { continue };
-            let limit = tracker.period * STALE_PERIODS;
-            if tracker.stale || now.duration_since(seen) < limit.mul_f64(scale) {
-                continue;
-            }
-            tracker.stale = true;
-            let name = format!("{} {}", tracker.what.id, tracker.what.name());
-            let period = tracker.period.as_millis();
-            match lines.iter_mut().find(|(line_period, _)| *line_period == period) {
-                Some((_, names)) => {
-                    names.push_str(", ");
-                    names.push_str(&name);
-                }
-                None => lines.push((period, name)),
-            }
-        }
-        for (period, names) in lines {
-            let limit = Duration::from_millis(period as u64) * STALE_PERIODS;
-            self.warnings.push(format!(
-                "warning: no {names} on {} for {} (expected every {period} ms)",
-                self.name,
-                human(limit)
             ));
         }
     }
@@ -795,54 +435,43 @@ impl<W: Output> Monitor<W> {
     pub fn output_dropped(&self) -> u64 {
         self.output_dropped
     }
+
+    /// Lines shown (passed the filter) so far.
+    pub fn printed(&self) -> u64 {
+        self.printed
+    }
+
+    /// Also writes every frame to this `--log` recording.
+    pub fn set_log(&mut self, log: Option<Recorder>) {
+        self.log = log;
+    }
+
+    /// Adds warnings from elsewhere (the link's notes), printed with the monitor's own.
+    pub fn add_warnings(&mut self, warnings: Vec<String>) {
+        self.warnings.extend(warnings);
+    }
 }
 
-/// Notes the arrival of an expected periodic frame; says so when a stale one resumes.
-fn track(trackers: &mut [Tracker], warnings: &mut Vec<String>, frame: &LinkFrame, now: Instant, secs: f64) {
-    let id = match frame {
-        LinkFrame::Can(frame) if frame.is_standard_data() => frame.frame_id(),
-        LinkFrame::Serial(frame) => frame.frame_id(),
-        LinkFrame::Can(_) => return,
-    };
-    let Some(tracker) = trackers.iter_mut().find(|tracker| tracker.what.id == id) else { return };
-    if tracker.stale {
-        tracker.stale = false;
-        // Link timestamps (kernel receive times on SocketCAN), to the millisecond.
-        let gap = tracker.last.map_or(0.0, |(_, last)| (secs - last).max(0.0));
-        let gap = Duration::from_millis((gap * 1000.0).round() as u64);
-        warnings.push(format!("{} {} resumed after a gap of {}", id, tracker.what.name(), human(gap)));
-    }
-    tracker.last = Some((now, secs));
-}
-
-/// `bus off; controller: rx passive, tx passive; tx errors 128, rx errors 0`
-fn describe_error_frame(error: &ErrorFrame) -> String {
-    let words = |names: &mut dyn Iterator<Item = &'static str>| {
-        names.map(|name| name.replace('_', " ")).collect::<Vec<_>>().join(", ")
-    };
-    let mut text = words(&mut error.class_names());
-    if text.is_empty() {
-        text.push_str("no error class set");
-    }
-    if error.controller != 0 {
-        text.push_str("; controller: ");
-        text.push_str(&words(&mut error.controller_names()));
-    }
-    if let Some((tx, rx)) = error.counters {
-        text.push_str(&format!("; tx errors {tx}, rx errors {rx}"));
-    }
-    if error.is_bus_off() {
-        text.push_str(" (the controller has stopped: check wiring, termination and bitrate)");
-    }
-    text
-}
-
-/// `100 ms`, `1.25 s`
-fn human(duration: Duration) -> String {
-    if duration < Duration::from_secs(1) {
-        format!("{} ms", duration.as_millis())
-    } else {
-        format!("{:.2} s", duration.as_secs_f64())
+impl Monitor<OutputQueue> {
+    /// Standard output gets what is queued; after a signal (or a second one), only a moment more. Lines still
+    /// queued when that moment is over count as dropped.
+    pub fn drain_output(&mut self, flag: &SignalFlag) -> Result<()> {
+        let mut grace: Option<Instant> = None;
+        self.flush()?;
+        self.out
+            .finish(|| {
+                flag.received().is_some() && grace.get_or_insert_with(Instant::now).elapsed() >= OUTPUT_GRACE
+            })
+            .context("cannot write to standard output")?;
+        if self.out.dropped_lines > self.output_dropped {
+            self.output_dropped = self.out.dropped_lines;
+            self.fell_behind();
+        }
+        if let Some(stall) = self.out.stalled() {
+            self.output_stall = self.output_stall.max(stall);
+        }
+        self.print_warnings();
+        Ok(())
     }
 }
 
@@ -851,6 +480,8 @@ mod tests {
     use super::*;
     use crate::candump::{Timestamp, TimestampKind};
     use crate::protocol::serial::SerialFrame;
+    use crate::protocol::FrameId;
+    use crate::recorder::LogFile;
 
     /// The timestamp of a frame that arrived at `secs`.
     fn stamp(secs: f64) -> Timestamp {
