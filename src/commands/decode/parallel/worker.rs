@@ -283,7 +283,8 @@ impl ChunkLines<'_> {
         None
     }
 
-    /// `iface` as [`Self::frame`] takes it: interned when the events are kept.
+    /// `iface` as [`Self::event`] takes it: interned when the events are kept.
+    #[inline(always)]
     fn iface<'n>(&mut self, iface: &'n str) -> Iface<'n> {
         match self.settings.record {
             true => Iface::Interned(self.events.intern(iface)),
