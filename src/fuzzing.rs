@@ -18,6 +18,7 @@ use crate::output::{Event, FrameRef};
 use crate::protocol::can::{self, v1_checksum};
 use crate::protocol::detect::ProtocolDetector;
 use crate::protocol::frame::FD_LENGTHS;
+use crate::protocol::id;
 use crate::protocol::serial::{self, SerialFrame, StreamDecoder, StreamEvent, StreamStats, FRAME_SIZE};
 use crate::protocol::{CanFrame, Decoded, FrameKind, ProtocolHint, Wire};
 
@@ -440,7 +441,7 @@ pub fn summary(data: &[u8]) {
             let mut raw = [0u8; FRAME_SIZE];
             raw[..12].copy_from_slice(&take::<12>(&mut bytes));
             raw[..3].copy_from_slice(&[serial::SOF1, serial::SOF2, serial::FRAME_LEN_BYTE]);
-            raw[3] = if raw[3] & 1 == 0 { serial::TYPE_FEEDBACK } else { serial::TYPE_CONTROL };
+            raw[3] = if raw[3] & 1 == 0 { id::TYPE_FEEDBACK } else { id::TYPE_CONTROL };
             raw[12] = serial::checksum(&raw[..12]);
             let frame = SerialFrame::from_bytes(&raw).expect("a well-formed frame");
             let event = Event {
@@ -562,8 +563,7 @@ pub fn send_raw_plan(data: &[u8]) {
             LinkFrame::Serial(frame) => {
                 assert!(serial_link);
                 assert_eq!(send_raw::parse_serial(&planned.text, false), Ok(frame), "{planned:?}");
-                let motion =
-                    frame.frame_type == serial::TYPE_CONTROL && frame.command == serial::CMD_MOTION_CONTROL;
+                let motion = frame.frame_type == id::TYPE_CONTROL && frame.command == id::CMD_MOTION_CONTROL;
                 assert_eq!(planned.needs_force, motion);
                 let moves = serial::decode(&frame).is_some_and(|d| d.message.moves_robot());
                 assert_eq!(planned.moves_on.is_some(), motion && moves, "{planned:?}");

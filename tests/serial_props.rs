@@ -1,6 +1,7 @@
 //! Properties of the RS232 codec and stream decoder.
 
 use proptest::prelude::*;
+use tracerctl::protocol::id::{TYPE_CONTROL, TYPE_FEEDBACK};
 use tracerctl::protocol::message::*;
 use tracerctl::protocol::serial::*;
 

@@ -1,28 +1,10 @@
-//! Timestamps as candump writes them: `(1700000000.002500)`, `(000.123456)`, `(2020-12-19 12:04:45.485261)`.
+//! Reading timestamps as candump writes them: `(1700000000.002500)`, `(000.123456)`,
+//! `(2020-12-19 12:04:45.485261)`, and the running sum of `-t d` deltas. The [`Timestamp`] type itself is
+//! in `record.rs`, with the records that carry it.
 
 use super::hex::decimal_u64;
+use super::record::{Timestamp, TimestampKind};
 use super::Reason;
-
-/// Seconds values below this (before 1973-03-03) are taken as relative stamps (`-t z`, `-t d`,
-/// python-can's `(0.000000)`): no real capture is that old.
-pub const RELATIVE_LIMIT_SECS: u64 = 100_000_000;
-
-/// A timestamp exactly as the log had it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Timestamp {
-    pub secs: u64,
-    /// 0..1_000_000_000.
-    pub nanos: u32,
-    pub kind: TimestampKind,
-}
-
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum TimestampKind {
-    /// Seconds since the epoch (log default, console `-t a`; `-t A` converted treating the wall-clock as UTC).
-    Absolute,
-    /// Since the start of the capture (`-t z`, or the running sum of `-t d` deltas).
-    Relative,
-}
 
 /// `[year, month, day, hour, minute, second]` of the local time zone (`TZ`) as seconds since the epoch;
 /// `None` for a date mktime cannot place or one before 1970.
@@ -50,33 +32,6 @@ extern "C" {
     // The C runtime's 64-bit mktime (libc declares no mktime for Windows).
     #[link_name = "_mktime64"]
     fn mktime(tm: *mut libc::tm) -> i64;
-}
-
-impl Timestamp {
-    /// A stamp `secs.nanos` after the start of a recording: on the clock when the file says when it started
-    /// (ASC's `date`, trc's `$STARTTIME`), else relative.
-    pub(crate) fn since_start(secs: u64, nanos: u32, start: Option<(u64, u32)>) -> Self {
-        let Some((start_secs, start_nanos)) = start else {
-            return Self { secs, nanos, kind: TimestampKind::Relative };
-        };
-        let nanos = nanos + start_nanos;
-        let secs = secs.saturating_add(start_secs).saturating_add(u64::from(nanos / 1_000_000_000));
-        Self { secs, nanos: nanos % 1_000_000_000, kind: TimestampKind::Absolute }
-    }
-
-    pub fn as_secs_f64(&self) -> f64 {
-        self.secs as f64 + f64::from(self.nanos) * 1e-9
-    }
-
-    pub fn as_nanos(&self) -> u128 {
-        u128::from(self.secs) * 1_000_000_000 + u128::from(self.nanos)
-    }
-
-    /// Classifies a numeric stamp by its value (see [`RELATIVE_LIMIT_SECS`]).
-    pub(crate) fn from_numeric(secs: u64, nanos: u32) -> Self {
-        let kind = if secs < RELATIVE_LIMIT_SECS { TimestampKind::Relative } else { TimestampKind::Absolute };
-        Self { secs, nanos, kind }
-    }
 }
 
 /// Scales a fraction of `digits` decimal digits to nanoseconds.

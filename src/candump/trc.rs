@@ -19,9 +19,9 @@
 
 use super::asc::channel_iface;
 use super::hex::{decimal_time, decimal_u64, fields, hex_pair, hex_u32};
-use super::line::{Direction, Line, Record};
+use super::record::{Direction, Line, Record, Timestamp};
 use super::timestamp::PosError;
-use super::{Reason, Timestamp};
+use super::Reason;
 use crate::protocol::frame::{CC_MAX_LEN, EFF_MAX, FD_LENGTHS, FD_MAX_LEN, SFF_MAX};
 use crate::protocol::CanFrame;
 

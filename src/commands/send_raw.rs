@@ -18,15 +18,16 @@ use crate::exit::SUCCESS;
 use crate::link::{is_queue_full, queue_full_meaning};
 use crate::link::{FrameRx, FrameTx, LinkChoice, LinkFrame};
 use crate::output::{Event, EventWriter, Format, FrameRef};
-use crate::protocol::can::{ProtocolHint, ID_V1_MOTION_COMMAND};
-use crate::protocol::serial::{self, SerialFrame, CMD_MOTION_CONTROL, FRAME_SIZE, TYPE_CONTROL};
+use crate::protocol::can::ProtocolHint;
+use crate::protocol::id::{CMD_MOTION_CONTROL, ID_V1_MOTION_COMMAND, TYPE_CONTROL};
+use crate::protocol::serial::{self, SerialFrame, FRAME_SIZE};
 use crate::protocol::Codec;
 use crate::protocol::{self, FrameKind, Wire};
 use crate::{session, signals};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
-use crate::protocol::can::{ID_CONTROL_MODE, ID_MOTION_COMMAND};
+use crate::protocol::id::{ID_CONTROL_MODE, ID_MOTION_COMMAND};
 /// While waiting for the next repeat, a termination request is noticed at least this often.
 const WAIT_STEP: Duration = Duration::from_millis(5);
 

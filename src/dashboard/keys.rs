@@ -10,7 +10,7 @@ use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
 use super::app::{Arming, Prompt};
 use super::teleop::{Key, KeyAction};
-use crate::protocol::{can, FrameId};
+use crate::protocol::id::{FrameId, ID_CONTROL_MODE};
 
 /// What a key asks for, before what is on screen decides what happens (see [`dispatch`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -436,7 +436,7 @@ pub const KEY_COLUMN: usize = 10;
 /// help overlay's words, and how releases and stalls are handled.
 pub fn help_text() -> String {
     let before = HELP_BEFORE
-        .replace("{MODE_COMMAND}", &FrameId::standard(can::ID_CONTROL_MODE).to_string())
+        .replace("{MODE_COMMAND}", &FrameId::standard(ID_CONTROL_MODE).to_string())
         .replace("{ASKING}", &asking_to_arm())
         .replace("{YES}", key_name(Action::Yes))
         .replace("{ARM}", key_name(Action::Arm));

@@ -64,7 +64,8 @@ impl Filter {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::protocol::serial::{SerialFrame, TYPE_FEEDBACK};
+    use crate::protocol::id::TYPE_FEEDBACK;
+    use crate::protocol::serial::SerialFrame;
     use crate::protocol::{self, CanFrame, ProtocolHint};
 
     fn can_event(frame: &CanFrame) -> Event<'_> {

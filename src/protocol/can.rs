@@ -5,41 +5,19 @@
 
 use super::catalog::{self, StandardIds};
 use super::frame::CanFrame;
-use super::id::FrameId;
+use super::id::{
+    FrameId, ID_CONTROL_MODE, ID_FAULT_CLEAR, ID_LIGHT_COMMAND, ID_LIGHT_STATE, ID_MOTION_COMMAND,
+    ID_MOTION_STATE, ID_MOTOR1_HIGH_SPEED, ID_MOTOR1_LOW_SPEED, ID_MOTOR2_HIGH_SPEED, ID_MOTOR2_LOW_SPEED,
+    ID_ODOMETRY, ID_RC_STATE, ID_SYSTEM_STATE, ID_SYSTEM_STATE_MANUAL, ID_V1_LIGHT_COMMAND,
+    ID_V1_LIGHT_STATE, ID_V1_MOTION_COMMAND, ID_V1_MOTION_STATE, ID_V1_SYSTEM_STATE, ID_VERSION_REQUEST,
+    ID_VERSION_RESPONSE,
+};
 use super::message::*;
 use super::payload::{self, Layout};
-
-// CAN protocol V2 identifiers.
-pub const ID_MOTION_COMMAND: u32 = 0x111;
-pub const ID_LIGHT_COMMAND: u32 = 0x121;
-pub const ID_SYSTEM_STATE: u32 = 0x211;
-pub const ID_MOTION_STATE: u32 = 0x221;
-pub const ID_LIGHT_STATE: u32 = 0x231;
-pub const ID_RC_STATE: u32 = 0x241;
-pub const ID_MOTOR1_HIGH_SPEED: u32 = 0x251;
-pub const ID_MOTOR2_HIGH_SPEED: u32 = 0x252;
-pub const ID_MOTOR1_LOW_SPEED: u32 = 0x261;
-pub const ID_MOTOR2_LOW_SPEED: u32 = 0x262;
-pub const ID_ODOMETRY: u32 = 0x311;
-pub const ID_VERSION_REQUEST: u32 = 0x411;
-pub const ID_VERSION_RESPONSE: u32 = 0x41A;
-pub const ID_CONTROL_MODE: u32 = 0x421;
-pub const ID_FAULT_CLEAR: u32 = 0x441;
-/// The system-state ID printed in the TRACER V2 manual; also V1's system state.
-pub const ID_SYSTEM_STATE_MANUAL: u32 = 0x151;
 
 /// A V2 system state in cansend syntax (normal, standby, 25.9 V, no faults): the example frame of help
 /// texts and messages.
 pub const EXAMPLE_FRAME: &str = "211#00000103000000B1";
-
-// CAN protocol V1 identifiers.
-pub const ID_V1_MOTION_COMMAND: u32 = 0x130;
-pub const ID_V1_MOTION_STATE: u32 = 0x131;
-pub const ID_V1_LIGHT_COMMAND: u32 = 0x140;
-pub const ID_V1_LIGHT_STATE: u32 = 0x141;
-pub const ID_V1_SYSTEM_STATE: u32 = 0x151;
-pub const ID_V1_MOTOR1: u32 = 0x201;
-pub const ID_V1_MOTOR2: u32 = 0x202;
 
 /// Which protocol version to assume where the identifier alone does not tell.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

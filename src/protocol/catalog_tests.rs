@@ -92,7 +92,7 @@ fn directions_follow_the_message() {
 #[test]
 fn every_identifier_the_codec_knows_is_catalogued() {
     let standard = (0..0x800u16).map(FrameId::Standard);
-    let serial = [serial::TYPE_CONTROL, serial::TYPE_FEEDBACK]
+    let serial = [TYPE_CONTROL, TYPE_FEEDBACK]
         .into_iter()
         .flat_map(|frame_type| (0..=255).map(move |command| FrameId::serial(frame_type, command)));
     let mut known = 0;

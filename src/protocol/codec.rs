@@ -1,7 +1,8 @@
 //! Messages <-> frames for one wire: the encodings a live link needs (rolling counters, the mode and
 //! fault-clear conventions of each wire), and what a frame of either wire is. Pure: no I/O.
 
-use super::can::{self, ProtocolHint, ID_FAULT_CLEAR, ID_V1_MOTION_COMMAND};
+use super::can::{self, ProtocolHint};
+use super::id::{ID_FAULT_CLEAR, ID_V1_MOTION_COMMAND};
 use super::message::{
     Lights, MotionCommand, PercentMotionCommand, CLEAR_ALL, CLEAR_MOTOR1, CLEAR_MOTOR2, MODE_CAN, MODE_SERIAL,
 };

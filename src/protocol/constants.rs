@@ -1,6 +1,6 @@
 //! The robot's facts, written once, each with the manual section it comes from (TRACER user manual
-//! v2.0.0): battery thresholds and the chassis geometry. Identifiers and feedback periods are in
-//! [`super::catalog`]; command limits, control modes and fault-clear codes next to the messages that carry
+//! v2.0.0): battery thresholds and the chassis geometry. Identifiers are in [`super::id`], their feedback
+//! periods in [`super::catalog`]; command limits, control modes and fault-clear codes next to the messages that carry
 //! them, in [`super::message`].
 //!
 //! Thresholds are in 0.1 V, the unit the robot reports (0x211 / 0x151 bytes 2-3, RS232 0x01 d2-3).

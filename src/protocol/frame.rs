@@ -3,6 +3,8 @@
 
 use std::fmt;
 
+use super::id::FrameId;
+
 /// Largest standard (11-bit) identifier.
 pub const SFF_MAX: u32 = 0x7FF;
 /// Largest extended (29-bit) identifier.
@@ -179,9 +181,14 @@ impl CanFrame {
     pub fn id(&self) -> u32 {
         self.id
     }
-    /// The identifier with its kind (standard or extended), printed and ordered one way.
-    pub fn frame_id(&self) -> super::FrameId {
-        super::FrameId::of_can(self)
+    /// The identifier with its kind (standard or extended), printed and ordered one way (an error frame's is
+    /// its error-class bits, as an extended identifier).
+    pub fn frame_id(&self) -> FrameId {
+        if self.is_extended() {
+            FrameId::Extended(self.id & EFF_MAX)
+        } else {
+            FrameId::standard(self.id)
+        }
     }
     /// True for 29-bit identifiers (error frames are always extended).
     pub fn is_extended(&self) -> bool {
@@ -289,6 +296,15 @@ impl fmt::Debug for CanFrame {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn of_can_frames() {
+        let standard = CanFrame::new(0x211, &[]).unwrap();
+        assert_eq!(standard.frame_id(), FrameId::Standard(0x211));
+        let extended = CanFrame::new_extended(0x1234ABCD, &[]).unwrap();
+        assert_eq!(extended.frame_id(), FrameId::Extended(0x1234ABCD));
+        assert_eq!(extended.frame_id().value(), 0x1234ABCD);
+    }
 
     /// A frame rewritten in place equals the one built new, whatever it was before (a longer FD frame, a
     /// remote request, an error frame), and the payload bytes past the length are dropped.

@@ -1,9 +1,54 @@
-//! One typed frame identifier: what monitor's and the summary's tables, the session's counts, the dashboard's
-//! link panel, the catalog and the `--id` filter are keyed by, ordered and printed one way.
+//! The identifiers: one typed frame identifier ([`FrameId`]: what monitor's and the summary's tables, the
+//! session's counts, the dashboard's link panel, the catalog and the `--id` filter are keyed by, ordered and
+//! printed one way), and the robot's own identifiers, each written once: the CAN V2 and V1 IDs, the RS232
+//! frame types and command codes. A leaf: the codecs (`can.rs`, `serial.rs`) and the catalog read it, and it
+//! reads nothing else of the protocol.
 
 use std::fmt;
 
-use super::frame::CanFrame;
+// CAN protocol V2 identifiers.
+pub const ID_MOTION_COMMAND: u32 = 0x111;
+pub const ID_LIGHT_COMMAND: u32 = 0x121;
+pub const ID_SYSTEM_STATE: u32 = 0x211;
+pub const ID_MOTION_STATE: u32 = 0x221;
+pub const ID_LIGHT_STATE: u32 = 0x231;
+pub const ID_RC_STATE: u32 = 0x241;
+pub const ID_MOTOR1_HIGH_SPEED: u32 = 0x251;
+pub const ID_MOTOR2_HIGH_SPEED: u32 = 0x252;
+pub const ID_MOTOR1_LOW_SPEED: u32 = 0x261;
+pub const ID_MOTOR2_LOW_SPEED: u32 = 0x262;
+pub const ID_ODOMETRY: u32 = 0x311;
+pub const ID_VERSION_REQUEST: u32 = 0x411;
+pub const ID_VERSION_RESPONSE: u32 = 0x41A;
+pub const ID_CONTROL_MODE: u32 = 0x421;
+pub const ID_FAULT_CLEAR: u32 = 0x441;
+/// The system-state ID printed in the TRACER V2 manual; also V1's system state.
+pub const ID_SYSTEM_STATE_MANUAL: u32 = 0x151;
+
+// CAN protocol V1 identifiers.
+pub const ID_V1_MOTION_COMMAND: u32 = 0x130;
+pub const ID_V1_MOTION_STATE: u32 = 0x131;
+pub const ID_V1_LIGHT_COMMAND: u32 = 0x140;
+pub const ID_V1_LIGHT_STATE: u32 = 0x141;
+pub const ID_V1_SYSTEM_STATE: u32 = 0x151;
+pub const ID_V1_MOTOR1: u32 = 0x201;
+pub const ID_V1_MOTOR2: u32 = 0x202;
+
+// RS232 frame types (`type << 8 | command` is the frame's identifier).
+/// Frames the host sends.
+pub const TYPE_CONTROL: u8 = 0x55;
+/// Frames the chassis sends.
+pub const TYPE_FEEDBACK: u8 = 0xAA;
+
+// Feedback (0xAA) command ids.
+pub const CMD_SYSTEM_STATUS: u8 = 0x01;
+pub const CMD_MOTION_STATUS: u8 = 0x02;
+pub const CMD_MOTOR1_DRIVER: u8 = 0x03;
+pub const CMD_MOTOR2_DRIVER: u8 = 0x04;
+pub const CMD_LIGHT_STATUS: u8 = 0x07;
+// Control (0x55) command ids.
+pub const CMD_MOTION_CONTROL: u8 = 0x01;
+pub const CMD_LIGHT_CONTROL: u8 = 0x02;
 
 /// A frame's identifier on either wire. Ordered standard CAN, extended CAN, RS232, then by value.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -17,15 +62,6 @@ pub enum FrameId {
 }
 
 impl FrameId {
-    /// The identifier of a CAN frame (an error frame's is its error-class bits, as an extended identifier).
-    pub fn of_can(frame: &CanFrame) -> Self {
-        if frame.is_extended() {
-            Self::Extended(frame.id() & 0x1FFF_FFFF)
-        } else {
-            Self::standard(frame.id())
-        }
-    }
-
     /// A standard CAN identifier from the codec's `u32` constants (bits above the 11th dropped).
     pub const fn standard(id: u32) -> Self {
         Self::Standard((id & 0x7FF) as u16)
@@ -112,15 +148,6 @@ mod tests {
             ids,
             [FrameId::Standard(1), FrameId::Standard(0x7FF), FrameId::Extended(1), FrameId::Serial(0xAA01)]
         );
-    }
-
-    #[test]
-    fn of_can_frames() {
-        let standard = CanFrame::new(0x211, &[]).unwrap();
-        assert_eq!(FrameId::of_can(&standard), FrameId::Standard(0x211));
-        let extended = CanFrame::new_extended(0x1234ABCD, &[]).unwrap();
-        assert_eq!(FrameId::of_can(&extended), FrameId::Extended(0x1234ABCD));
-        assert_eq!(FrameId::of_can(&extended).value(), 0x1234ABCD);
     }
 
     #[test]

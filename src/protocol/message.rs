@@ -6,27 +6,9 @@
 
 use super::faults::{FlagTable, Flags};
 use super::mode::ControlMode;
-
-/// Which encoding a message came from or is meant for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Wire {
-    /// CAN protocol V2 (current TRACER firmware).
-    CanV2,
-    /// CAN protocol V1 (older firmware): checksum in the last byte.
-    CanV1,
-    /// RS232 `5A A5` frames.
-    Serial,
-}
-
-impl Wire {
-    pub fn as_str(self) -> &'static str {
-        match self {
-            Wire::CanV2 => "can-v2",
-            Wire::CanV1 => "can-v1",
-            Wire::Serial => "serial",
-        }
-    }
-}
+// Messages are read from and written to a wire: `message::Wire` is the usual way to name it, defined in a
+// leaf of its own so that the control mode's codes can read it too.
+pub use super::wire::Wire;
 
 /// Linear speed limit for commands built from SI values, m/s: AgileX's own clamp (SDK 2020) and the
 /// RS232 full scale (100 % = 1.5 m/s). The spec's 2.3 m/s no-load top speed is not a safe command limit.
@@ -227,6 +209,45 @@ impl SystemState {
     /// The vehicle state "exception": a latched fault, battery cut-off or the RC link lost.
     pub fn is_exception(&self) -> bool {
         self.vehicle_state == VEHICLE_EXCEPTION
+    }
+
+    /// The reported control mode, if the byte is defined on `wire`.
+    pub fn mode(&self, wire: Wire) -> Option<ControlMode> {
+        ControlMode::from_code(wire, self.control_mode)
+    }
+
+    /// Whether the RC transmitter has control, as far as the status can tell: mode 3 on V2; on V1/RS232 the
+    /// shared 0 (RC, or not yet in command mode).
+    pub fn rc_has_control(&self, wire: Wire) -> bool {
+        self.mode(wire) == Some(ControlMode::Rc)
+    }
+
+    /// Why the robot cannot be driven now, if it cannot: E-stop, the vehicle state "exception", a bit that blocks driving (a fault or a
+    /// latched protection), or the RC transmitter in control (V2, where the status says so unambiguously).
+    pub fn why_not_drivable(&self, wire: Wire) -> Option<String> {
+        if self.is_estop() {
+            return Some("the E-stop is pressed: release both E-stop buttons".to_string());
+        }
+        let blocking: Vec<String> = self
+            .faults(wire)
+            .iter()
+            .filter(|f| f.severity.blocks_driving())
+            .map(|f| format!("{} [{}]: {}", f.name, f.severity, f.action))
+            .collect();
+        if !blocking.is_empty() {
+            return Some(format!("fault set: {}", blocking.join("; ")));
+        }
+        // The robot ignores motion commands in this state, whatever its fault bits show (a motor driver's
+        // lost link, for one, is reported only in that driver's own frame).
+        if self.is_exception() {
+            return Some(EXCEPTION_REASON.to_string());
+        }
+        if wire == Wire::CanV2 && self.rc_has_control(wire) {
+            return Some(
+                "the RC transmitter has control: put switch SWB at the top (command mode)".to_string(),
+            );
+        }
+        None
     }
 }
 
@@ -555,5 +576,26 @@ mod tests {
         );
         assert_eq!(Message::PercentMotionCommand(Default::default()).name(), "motion_command");
         assert_eq!(Message::MotorDriverState(Default::default()).name(), "motor_high_speed");
+    }
+
+    fn state(vehicle_state: u8, control_mode: u8, fault_code: u16) -> SystemState {
+        SystemState { vehicle_state, control_mode, battery_decivolts: 259, fault_code, count: 0 }
+    }
+
+    #[test]
+    fn drivability_from_the_status() {
+        assert_eq!(state(0, 1, 0).why_not_drivable(Wire::CanV2), None);
+        assert!(state(1, 1, 0).why_not_drivable(Wire::CanV2).is_some_and(|r| r.contains("E-stop")));
+        assert!(state(0, 3, 0).why_not_drivable(Wire::CanV2).is_some_and(|r| r.contains("RC transmitter")));
+        // V1/RS232 0 also means "not in command mode yet": not a reason by itself.
+        assert_eq!(state(0, 0, 0).why_not_drivable(Wire::Serial), None);
+        let fault = state(0, 1, 0x0100).why_not_drivable(Wire::CanV2);
+        assert!(fault.is_some_and(|r| r.starts_with("fault set: battery_undervoltage_fault [fault]")));
+    }
+
+    #[test]
+    fn an_undocumented_bit_does_not_block_driving() {
+        // 0x0080: byte 5 bit 7, defined by no TRACER document (a Bunker Mini sets it in E-stop).
+        assert_eq!(state(0, 1, 0x0080).why_not_drivable(Wire::CanV2), None);
     }
 }

@@ -16,6 +16,7 @@ pub mod payload;
 pub mod pose;
 pub mod serial;
 pub mod transitions;
+pub mod wire;
 
 pub use can::{decode, DecodeError, ProtocolHint};
 pub use codec::{ClearTarget, Codec, LinkFrame};
@@ -23,5 +24,6 @@ pub use faults::{FlagInfo, FlagTable, Flags, Severity};
 pub use fields::{for_each_field, Field, FieldName, Value};
 pub use frame::{CanFrame, FrameError, FrameKind};
 pub use id::FrameId;
-pub use message::{Decoded, Message, MessageKind, Wire};
+pub use message::{Decoded, Message, MessageKind};
 pub use mode::ControlMode;
+pub use wire::Wire;

@@ -7,8 +7,8 @@
 
 use strum::{EnumMessage, EnumString, IntoStaticStr, VariantArray};
 
-use super::catalog::identifier_text;
-use super::message::{MessageKind, SystemState, Wire, EXCEPTION_REASON};
+use super::id::{FrameId, ID_CONTROL_MODE, ID_V1_MOTION_COMMAND};
+use super::wire::Wire;
 
 /// Who the robot obeys. Names (`standby`, `can`, `serial`, `rc`) come from the variants.
 #[derive(
@@ -99,12 +99,8 @@ impl ControlMode {
     pub fn request_text(self, wire: Wire) -> Option<String> {
         let code = self.request_code(wire)?;
         Some(match wire {
-            Wire::CanV2 => {
-                format!("{} = 0x{code:02X}", identifier_text(MessageKind::ControlModeCommand, wire))
-            }
-            Wire::CanV1 => {
-                format!("a zero-speed {} command", identifier_text(MessageKind::MotionCommand, wire))
-            }
+            Wire::CanV2 => format!("{} = 0x{code:02X}", FrameId::standard(ID_CONTROL_MODE)),
+            Wire::CanV1 => format!("a zero-speed {} command", FrameId::standard(ID_V1_MOTION_COMMAND)),
             Wire::Serial => "a zero-speed RS232 motion command".to_string(),
         })
     }
@@ -115,47 +111,6 @@ impl ControlMode {
             Wire::CanV2 | Wire::CanV1 => ControlMode::Can,
             Wire::Serial => ControlMode::Serial,
         }
-    }
-}
-
-impl SystemState {
-    /// The reported control mode, if the byte is defined on `wire`.
-    pub fn mode(&self, wire: Wire) -> Option<ControlMode> {
-        ControlMode::from_code(wire, self.control_mode)
-    }
-
-    /// Whether the RC transmitter has control, as far as the status can tell: mode 3 on V2; on V1/RS232 the
-    /// shared 0 (RC, or not yet in command mode).
-    pub fn rc_has_control(&self, wire: Wire) -> bool {
-        self.mode(wire) == Some(ControlMode::Rc)
-    }
-
-    /// Why the robot cannot be driven now, if it cannot: E-stop, the vehicle state "exception", a bit that blocks driving (a fault or a
-    /// latched protection), or the RC transmitter in control (V2, where the status says so unambiguously).
-    pub fn why_not_drivable(&self, wire: Wire) -> Option<String> {
-        if self.is_estop() {
-            return Some("the E-stop is pressed: release both E-stop buttons".to_string());
-        }
-        let blocking: Vec<String> = self
-            .faults(wire)
-            .iter()
-            .filter(|f| f.severity.blocks_driving())
-            .map(|f| format!("{} [{}]: {}", f.name, f.severity, f.action))
-            .collect();
-        if !blocking.is_empty() {
-            return Some(format!("fault set: {}", blocking.join("; ")));
-        }
-        // The robot ignores motion commands in this state, whatever its fault bits show (a motor driver's
-        // lost link, for one, is reported only in that driver's own frame).
-        if self.is_exception() {
-            return Some(EXCEPTION_REASON.to_string());
-        }
-        if wire == Wire::CanV2 && self.rc_has_control(wire) {
-            return Some(
-                "the RC transmitter has control: put switch SWB at the top (command mode)".to_string(),
-            );
-        }
-        None
     }
 }
 
@@ -236,26 +191,5 @@ mod tests {
         assert_eq!(ControlMode::Serial.request_code(Wire::CanV1), None);
         assert_eq!(ControlMode::Standby.request_code(Wire::Serial), None);
         assert_eq!(ControlMode::Rc.request_code(Wire::CanV2), None);
-    }
-
-    fn state(vehicle_state: u8, control_mode: u8, fault_code: u16) -> SystemState {
-        SystemState { vehicle_state, control_mode, battery_decivolts: 259, fault_code, count: 0 }
-    }
-
-    #[test]
-    fn drivability_from_the_status() {
-        assert_eq!(state(0, 1, 0).why_not_drivable(Wire::CanV2), None);
-        assert!(state(1, 1, 0).why_not_drivable(Wire::CanV2).is_some_and(|r| r.contains("E-stop")));
-        assert!(state(0, 3, 0).why_not_drivable(Wire::CanV2).is_some_and(|r| r.contains("RC transmitter")));
-        // V1/RS232 0 also means "not in command mode yet": not a reason by itself.
-        assert_eq!(state(0, 0, 0).why_not_drivable(Wire::Serial), None);
-        let fault = state(0, 1, 0x0100).why_not_drivable(Wire::CanV2);
-        assert!(fault.is_some_and(|r| r.starts_with("fault set: battery_undervoltage_fault [fault]")));
-    }
-
-    #[test]
-    fn an_undocumented_bit_does_not_block_driving() {
-        // 0x0080: byte 5 bit 7, defined by no TRACER document (a Bunker Mini sets it in E-stop).
-        assert_eq!(state(0, 1, 0x0080).why_not_drivable(Wire::CanV2), None);
     }
 }

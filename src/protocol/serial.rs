@@ -8,6 +8,10 @@
 //! only length 0x0A, and reports a bad checksum as an event of its own.
 
 use super::can::EncodeError;
+use super::id::{
+    CMD_LIGHT_CONTROL, CMD_LIGHT_STATUS, CMD_MOTION_CONTROL, CMD_MOTION_STATUS, CMD_MOTOR1_DRIVER,
+    CMD_MOTOR2_DRIVER, CMD_SYSTEM_STATUS, TYPE_CONTROL, TYPE_FEEDBACK,
+};
 use super::message::*;
 use super::payload::{self, Layout};
 
@@ -17,20 +21,6 @@ pub const SOF2: u8 = 0xA5;
 pub const FRAME_SIZE: usize = 13;
 /// The frame_len field: bytes from frame_len through frame_id (total minus 2 SOF bytes and the checksum).
 pub const FRAME_LEN_BYTE: u8 = 0x0A;
-/// Frames the host sends.
-pub const TYPE_CONTROL: u8 = 0x55;
-/// Frames the chassis sends.
-pub const TYPE_FEEDBACK: u8 = 0xAA;
-
-// Feedback (0xAA) command ids.
-pub const CMD_SYSTEM_STATUS: u8 = 0x01;
-pub const CMD_MOTION_STATUS: u8 = 0x02;
-pub const CMD_MOTOR1_DRIVER: u8 = 0x03;
-pub const CMD_MOTOR2_DRIVER: u8 = 0x04;
-pub const CMD_LIGHT_STATUS: u8 = 0x07;
-// Control (0x55) command ids.
-pub const CMD_MOTION_CONTROL: u8 = 0x01;
-pub const CMD_LIGHT_CONTROL: u8 = 0x02;
 
 const _: () = assert!(FRAME_LEN_BYTE as usize == FRAME_SIZE - 3);
 
