@@ -415,6 +415,24 @@ fn nothing_below_commands_imports_it() {
     );
 }
 
+/// One module-root style: a folder module's root is its `mod.rs`, never a file named after the folder.
+#[test]
+fn every_folder_module_has_its_root_in_mod_rs() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    rust_files(&root, &mut files);
+    let self_named: Vec<String> = files
+        .iter()
+        .filter(|file| file.with_extension("").is_dir())
+        .map(|file| file.strip_prefix(&root).unwrap_or(file).display().to_string())
+        .collect();
+    assert!(self_named.is_empty(), "move these to <folder>/mod.rs: {self_named:?}");
+    assert!(
+        files.iter().any(|file| file.ends_with("commands/decode/parallel/mod.rs")),
+        "the scan reads folders"
+    );
+}
+
 #[test]
 fn clap_stays_in_the_command_line() {
     let sources = scan();
