@@ -35,6 +35,7 @@ mod parallel_logs;
 mod parallel_summary;
 mod plot;
 mod pty_robot;
+mod pure_files;
 mod recording;
 mod robot_commands;
 mod send_raw;

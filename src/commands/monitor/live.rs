@@ -234,7 +234,9 @@ impl<W: Output> Monitor<W> {
         };
         let event = Event { ts: Some(received.ts), iface: &self.iface, dir: None, frame, decoded };
         self.counts.add(&received.frame, secs, event.msg_name());
-        if let Some(resumed) = self.staleness.arrived(&received.frame, now, secs) {
+        if let Some(resumed) =
+            self.staleness.arrived(&received.frame, now.saturating_duration_since(self.started), secs)
+        {
             self.warnings.push(resumed);
         }
         if self.options.filter.passes(&event) {
@@ -350,7 +352,7 @@ impl<W: Output> Monitor<W> {
                     ),
                 });
             }
-            let stale = self.staleness.check(now, scale, &self.name);
+            let stale = self.staleness.check(now.saturating_duration_since(self.started), scale, &self.name);
             self.warnings.extend(stale);
         }
         self.report_error_frames(now);
