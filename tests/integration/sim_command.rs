@@ -44,6 +44,7 @@ impl Drop for Simulator {
 }
 
 #[test]
+#[ignore = "timing group: reaches 0.15 m/s within a 2 s drive between two processes, which a busy machine misses; .ci/run runs it alone"]
 fn a_second_process_drives_the_simulator_over_the_pseudo_terminal() {
     let sim = Simulator::start(&[]);
     let output = tracerctl()
@@ -60,6 +61,7 @@ fn a_second_process_drives_the_simulator_over_the_pseudo_terminal() {
 }
 
 #[test]
+#[ignore = "timing group: the drive must still be running 1.5 s in when the E-stop is injected; .ci/run runs it alone"]
 fn an_estop_injected_at_run_time_stops_the_drive() {
     let mut sim = Simulator::start(&[]);
     let driver = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
