@@ -57,21 +57,10 @@ impl Decoder {
     /// A line that is not a frame: counted by kind (a CAN XL frame is an error with --strict).
     #[inline(never)]
     fn skipped_line(&mut self, name: &str, number: u64, line: Line<'_>) -> Result<()> {
-        match line {
-            Line::Frame(_) => {} // decoded by the caller
-            Line::Blank => self.stats.skipped.blank += 1,
-            Line::Comment => self.stats.skipped.comment += 1,
-            Line::DropCount { dropped } => {
-                self.stats.skipped.dropcount += 1;
-                self.stats.candump_dropped = self.stats.candump_dropped.saturating_add(dropped);
-            }
-            Line::ErrorText => self.stats.skipped.error_text += 1,
-            Line::CanXl => {
-                self.stats.skipped.can_xl += 1;
-                if self.strict {
-                    return Err(Failure::data(format!("{name}:{number}: {CAN_XL_NOT_SUPPORTED}")).into());
-                }
-            }
+        let dropped = self.stats.skipped.count(&line);
+        self.stats.candump_dropped = self.stats.candump_dropped.saturating_add(dropped);
+        if matches!(line, Line::CanXl) && self.strict {
+            return Err(Failure::data(format!("{name}:{number}: {CAN_XL_NOT_SUPPORTED}")).into());
         }
         Ok(())
     }

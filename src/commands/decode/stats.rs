@@ -1,6 +1,6 @@
 //! What decoding counted besides frames: lines, skips, rejections, serial losses; and the totals line.
 
-use crate::candump::{RejectTally, Rejection};
+use crate::candump::{Line, RejectTally, Rejection};
 use crate::protocol;
 
 /// What happened to the input besides frames: everything that was not decoded is counted here.
@@ -37,6 +37,23 @@ pub struct Skipped {
 }
 
 impl Skipped {
+    /// Counts a line that is no frame under its kind; returns the frames a DROPCOUNT line says candump
+    /// dropped (0 for every other line).
+    pub fn count(&mut self, line: &Line<'_>) -> u64 {
+        match *line {
+            Line::Frame(_) => {} // decoded by the caller
+            Line::Blank => self.blank += 1,
+            Line::Comment => self.comment += 1,
+            Line::DropCount { dropped } => {
+                self.dropcount += 1;
+                return dropped;
+            }
+            Line::ErrorText => self.error_text += 1,
+            Line::CanXl => self.can_xl += 1,
+        }
+        0
+    }
+
     pub fn total(&self) -> u64 {
         self.blank + self.comment + self.error_text + self.can_xl + self.dropcount
     }
@@ -139,4 +156,21 @@ pub fn totals_line(stats: &InputStats) -> String {
         line.push_str(&format!("; candump reported {} dropped frames", stats.candump_dropped));
     }
     line
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_kind_of_line_is_counted_once_and_a_dropcount_gives_its_frames() {
+        let mut skipped = Skipped::default();
+        let lines =
+            [Line::Blank, Line::Comment, Line::ErrorText, Line::CanXl, Line::DropCount { dropped: 7 }];
+        let dropped: Vec<u64> = lines.iter().map(|line| skipped.count(line)).collect();
+        assert_eq!(dropped, [0, 0, 0, 0, 7]);
+        let expected = Skipped { blank: 1, comment: 1, error_text: 1, can_xl: 1, dropcount: 1 };
+        assert_eq!(skipped, expected);
+        assert_eq!(skipped.describe(), "1 blank, 1 comment, 1 error-frame text, 1 CAN XL frame, 1 DROPCOUNT");
+    }
 }

@@ -348,23 +348,10 @@ impl LineSink for ChunkLines<'_> {
     /// As `Decoder::skipped_line`.
     #[inline(never)]
     fn skipped(&mut self, number: u64, line: Line<'_>) -> ControlFlow<()> {
-        let skipped = &mut self.outcome.skipped;
-        match line {
-            Line::Frame(_) => {}
-            Line::Blank => skipped.blank += 1,
-            Line::Comment => skipped.comment += 1,
-            Line::DropCount { dropped } => {
-                skipped.dropcount += 1;
-                self.outcome.candump_dropped = self.outcome.candump_dropped.saturating_add(dropped);
-            }
-            Line::ErrorText => skipped.error_text += 1,
-            Line::CanXl => {
-                skipped.can_xl += 1;
-                if self.settings.strict {
-                    let message = super::super::CAN_XL_NOT_SUPPORTED.to_string();
-                    return self.stop(Some(number), message);
-                }
-            }
+        let dropped = self.outcome.skipped.count(&line);
+        self.outcome.candump_dropped = self.outcome.candump_dropped.saturating_add(dropped);
+        if matches!(line, Line::CanXl) && self.settings.strict {
+            return self.stop(Some(number), super::super::CAN_XL_NOT_SUPPORTED.to_string());
         }
         ControlFlow::Continue(())
     }
