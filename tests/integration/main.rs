@@ -21,6 +21,7 @@ mod doctor_interrupted;
 mod drive;
 mod drive_output;
 mod drive_refusals;
+mod file_sizes;
 mod formats;
 mod fuzz;
 mod generated;
