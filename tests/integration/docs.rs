@@ -282,3 +282,128 @@ fn the_per_user_install_works_on_a_plain_system() {
     let text = String::from_utf8_lossy(&completed.stdout);
     assert!(text.contains("-F _tracerctl tracerctl") && text.contains("dashboard dash"), "{completed:?}");
 }
+
+// docs/architecture.md is a map of src/: the checks below keep it true as files move, and short.
+
+/// The map, read whole.
+fn architecture() -> String {
+    std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/architecture.md")).unwrap()
+}
+
+/// Every `src/...` path a text names: from `src/` (at a word's start, or after `../`) up to the first
+/// character no path holds, without a sentence's closing dot. A placeholder stops at its `<`:
+/// `src/commands/<name>.rs` names `src/commands/`.
+fn src_paths(text: &str) -> Vec<String> {
+    let is_path_char = |c: char| c.is_ascii_alphanumeric() || "_./-".contains(c);
+    let mut paths = Vec::new();
+    for (at, _) in text.match_indices("src/") {
+        let before = &text[..at];
+        let starts_a_word = before.ends_with("../") || !before.ends_with(is_path_char);
+        if !starts_a_word {
+            continue;
+        }
+        let rest = &text[at..];
+        let end = rest.find(|c: char| !is_path_char(c)).unwrap_or(rest.len());
+        paths.push(rest[..end].trim_end_matches('.').to_string());
+    }
+    paths
+}
+
+/// The items of the "Map" section (a `- ` line and its indented continuation lines), each joined into one
+/// line.
+fn map_items(text: &str) -> Vec<String> {
+    let section =
+        text.split("\n## Map\n").nth(1).expect("a \"## Map\" section").split("\n## ").next().unwrap();
+    let mut items: Vec<String> = Vec::new();
+    let mut open = false;
+    for line in section.lines() {
+        if let Some(first) = line.strip_prefix("- ") {
+            items.push(first.to_string());
+            open = true;
+        } else if open && line.starts_with("  ") {
+            let item = items.last_mut().unwrap();
+            item.push(' ');
+            item.push_str(line.trim());
+        } else {
+            open = false;
+        }
+    }
+    items
+}
+
+/// The paths an item of the map names that do not exist: its `src/...` paths, and, in an item whose first
+/// path is a folder, the file and folder names in backticks (`lines.rs`, `overlays/`), taken in that folder.
+fn missing_in_map_item(root: &Path, item: &str) -> Vec<String> {
+    let paths = src_paths(item);
+    let mut missing: Vec<String> = paths.iter().filter(|path| !root.join(path).exists()).cloned().collect();
+    let Some(folder) = paths.first().filter(|path| path.ends_with('/')) else { return missing };
+    let is_name_char = |c: char| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_' || c == '/';
+    for name in item.split('`').skip(1).step_by(2) {
+        let shaped = (name.ends_with(".rs") || name.ends_with('/'))
+            && name.trim_end_matches(".rs").chars().all(is_name_char)
+            && !name.starts_with("src/");
+        if shaped && !root.join(folder).join(name).exists() {
+            missing.push(format!("{folder}{name}"));
+        }
+    }
+    missing
+}
+
+#[test]
+fn the_architecture_map_names_only_paths_that_exist() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let text = architecture();
+    let named = src_paths(&text);
+    assert!(named.len() >= 30, "only {} src/ paths found in docs/architecture.md", named.len());
+    let mut missing: Vec<String> = named.into_iter().filter(|path| !root.join(path).exists()).collect();
+    let items = map_items(&text);
+    assert!(items.len() >= 20, "only {} items found in the map", items.len());
+    for item in &items {
+        missing.extend(missing_in_map_item(root, item));
+    }
+    missing.sort();
+    missing.dedup();
+    assert!(
+        missing.is_empty(),
+        "docs/architecture.md names paths that do not exist:\n  {}",
+        missing.join("\n  ")
+    );
+}
+
+#[test]
+fn the_architecture_map_names_every_folder_of_src_and_commands() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let named = src_paths(&architecture());
+    let mut unnamed = Vec::new();
+    for parent in ["src", "src/commands"] {
+        for entry in std::fs::read_dir(root.join(parent)).unwrap() {
+            let entry = entry.unwrap();
+            if entry.file_type().unwrap().is_dir() {
+                let folder = format!("{parent}/{}/", entry.file_name().to_string_lossy());
+                if !named.contains(&folder) {
+                    unnamed.push(folder);
+                }
+            }
+        }
+    }
+    unnamed.sort();
+    assert!(
+        unnamed.is_empty(),
+        "folders missing from docs/architecture.md (a line in its map):\n  {}",
+        unnamed.join("\n  ")
+    );
+}
+
+/// A map a newcomer reads in an hour: measurements go to docs/performance.md, history to CHANGELOG.md.
+#[test]
+fn the_architecture_map_stays_under_20_kb() {
+    let size = architecture().len();
+    assert!(size < 20_000, "docs/architecture.md is {size} bytes, over 20,000: move detail to module docs");
+}
+
+#[test]
+fn src_paths_are_found_where_a_word_starts() {
+    let text = "`src/cli.rs`, [x](../src/a/mod.rs). See src/b/. Not fuzz/src/c.rs nor mysrc/d, \
+                `src/commands/<name>.rs`";
+    assert_eq!(src_paths(text), ["src/cli.rs", "src/a/mod.rs", "src/b/", "src/commands/"]);
+}

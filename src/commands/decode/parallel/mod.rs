@@ -1,14 +1,15 @@
 //! `decode -j N`: a text log (candump, Vector ASC, PEAK trc; a file or a stream, plain or compressed) decoded
 //! by N threads, written byte for byte as one thread would.
 //!
-//! A plain file is cut into ranges of whole lines that each worker reads itself as it decodes them, with
-//! positioned reads into a small buffer of its own ([`Ranges`]). Other input is
-//! cut into chunks that end after a `\n` ([`Splitter`]): a worker reads the next chunk of a compressed file
-//! itself, one worker at a time, and a stream's chunks come from a reader thread. Workers decode each chunk
-//! into its own output buffer with the line counts, rejections and stop (`--strict`) it found, numbered within the
-//! chunk; this thread takes the chunks back in input order, writes their output, and replays their counts
-//! and messages with the chunk's first line number, which is known only then. Chunks travel in a fixed pool,
-//! so memory is bounded by the pool (threads x chunk size), whatever the size of the input.
+//! A plain file is cut into ranges of whole lines that each worker reads itself as it decodes them, through
+//! windows mapped into memory (`mapped.rs`) or with positioned reads into a small buffer of its own
+//! ([`Ranges`]). Other input is cut into chunks that end after a `\n` ([`Splitter`]): a worker reads the next
+//! chunk of a compressed file itself, one worker at a time, and a stream's chunks come from a reader thread.
+//! Workers decode each chunk into its own output buffer with the line counts, rejections and stop
+//! (`--strict`) it found, numbered within the chunk; this thread takes the chunks back in input order, writes
+//! their output, and replays their counts and messages with the chunk's first line number, which is known
+//! only then. Chunks travel in a fixed pool, so memory is bounded by the pool (threads x chunk size),
+//! whatever the size of the input.
 //!
 //! `--summary`, `--plot` and `--delta-stamps` (`-t d`) need state carried over every line before. For
 //! `--summary` alone each worker feeds its chunk's events into a partial [`Summary`] of its own, and this
@@ -36,6 +37,17 @@
 //! written line by line as it comes, while bulk input still makes large chunks. A stream's reader thread is not
 //! joined (a read of a quiet stream may block until the process exits); the workers and this thread wake
 //! every [`WAKE`] to see the end of decoding or a signal.
+//!
+//! With `--strict` a worker stops its chunk at the first bad line; this thread writes that chunk's output up
+//! to there and fails with the message one thread gives, and the chunks after it are dropped. A chunk that
+//! never comes back once every worker has ended is an error (`internal error: chunk N of FILE was lost`),
+//! never a silent gap. RS232 captures (a byte stream with no lines to cut at) and frames given as arguments
+//! stay on one thread.
+//!
+//! The parts: `settings.rs` (what every worker decodes with), `source.rs` (where chunks come from),
+//! `worker.rs` (a chunk through the line loop of `../lines.rs` into the chunk recorder) and `merger.rs`
+//! (chunks back in input order); a plain file is read by `../ranges.rs` and `../mapped.rs`, other input cut
+//! by `../splitter.rs`.
 
 mod merger;
 mod settings;
