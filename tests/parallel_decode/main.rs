@@ -96,7 +96,7 @@ fn assert_parallel_same(path: &Path, chunk_sizes: &[usize]) {
     }
 }
 
-/// The modes whose events are replayed in order by the main thread (see parallel.rs).
+/// The modes whose events are replayed in order by the main thread (see src/commands/decode/parallel/mod.rs).
 const EVENT_MODES: &[&[&str]] = &[
     &["--summary"],
     &["--summary", "-f", "json"],

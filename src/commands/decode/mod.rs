@@ -75,7 +75,7 @@ pub struct Options {
     /// Also draw the plot into this SVG file.
     pub plot: Option<PathBuf>,
     /// Threads decoding text logs (candump, ASC, trc), files or standard input (1: the single-thread path; see
-    /// parallel.rs).
+    /// parallel/mod.rs).
     pub threads: usize,
     /// Input bytes per parallel chunk (default: by mode, see [`parallel::CHUNK_BYTES`]; tests make it tiny).
     pub chunk_bytes: Option<usize>,
