@@ -35,6 +35,12 @@ pub mod protocol;
 pub mod recorder;
 pub mod session;
 pub mod signals;
+/// The source scanners' walk of src/ and blanking (tests/integration includes the same file by path).
+#[cfg(test)]
+pub(crate) mod source_scan;
+// Its tests sit here, not in the file, so that the integration binary does not run them again.
+#[cfg(test)]
+mod source_scan_tests;
 
 pub mod dashboard;
 pub mod sim;

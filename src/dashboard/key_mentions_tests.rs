@@ -6,7 +6,7 @@
 use std::path::Path;
 
 use super::keys::{Action, BINDINGS};
-use crate::protocol::constants::tests::{rust_files, shipped_part};
+use crate::source_scan::{self, shipped_files, without_test_items};
 
 /// Verbs that say what a key does when they follow it: `a disarms`, `q quits`.
 const VERBS: [&str; 12] = [
@@ -187,48 +187,16 @@ fn agrees(mention: &Mention) -> bool {
 
 /// The string literals of shipped code, as `(file, line, text)`.
 fn string_literals(root: &Path) -> Vec<(String, usize, String)> {
-    let mut files = Vec::new();
-    rust_files(&root.join("src"), &mut files);
-    files.sort();
     let mut literals = Vec::new();
-    for path in files {
-        let name = path.file_name().unwrap_or_default().to_string_lossy().into_owned();
-        if name == "tests.rs" || name.ends_with("_tests.rs") {
-            continue;
-        }
+    for path in shipped_files(&root.join("src")) {
         let relative = path.strip_prefix(root).unwrap_or(&path).to_string_lossy().replace('\\', "/");
         let text = std::fs::read_to_string(&path).unwrap_or_default();
-        let code = crate::protocol::catalog::tests::without_comments(shipped_part(&text));
-        let bytes = code.as_bytes();
-        let mut at = 0;
-        while at < bytes.len() {
-            // A character literal ('"', '\'', '↑') is not the start or end of a string.
-            if bytes[at] == b'\'' {
-                let rest = &code[at + 1..];
-                let mut chars = rest.char_indices();
-                let width = match chars.next() {
-                    Some((_, '\\')) => chars.next().map(|(i, c)| i + c.len_utf8()),
-                    Some((_, c)) => Some(c.len_utf8()),
-                    None => None,
-                };
-                if let Some(width) = width.filter(|&w| rest.as_bytes().get(w) == Some(&b'\'')) {
-                    at += width + 2;
-                    continue;
-                }
-            }
-            if bytes[at] != b'"' {
-                at += 1;
-                continue;
-            }
-            let start = at + 1;
-            at = start;
-            while at < bytes.len() && bytes[at] != b'"' {
-                at += if bytes[at] == b'\\' { 2 } else { 1 };
-            }
-            let line = code[..start].matches('\n').count() + 1;
-            literals.push((relative.clone(), line, code[start..at.min(bytes.len())].to_string()));
-            at += 1;
-        }
+        let shipped = without_test_items(&text);
+        literals.extend(
+            source_scan::string_literals(&shipped)
+                .into_iter()
+                .map(|(line, text)| (relative.clone(), line, text.to_string())),
+        );
     }
     literals
 }

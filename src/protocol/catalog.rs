@@ -420,4 +420,4 @@ const fn on_another_wire(id: u16, wire: Wire) -> bool {
 
 #[cfg(test)]
 #[path = "catalog_tests.rs"]
-pub(crate) mod tests;
+mod tests;

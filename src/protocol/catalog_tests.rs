@@ -6,10 +6,10 @@ use std::path::Path;
 
 use super::*;
 use crate::protocol::can::{self, v1_checksum, ProtocolHint};
-use crate::protocol::constants::tests::{rust_files, shipped_part};
 use crate::protocol::frame::CanFrame;
 use crate::protocol::serial::{self, SerialFrame};
 use crate::protocol::Decoded;
+use crate::source_scan::{shipped_files, without_comments, without_test_items};
 
 /// What the codec makes of an all-zero frame with this identifier on this wire (V1 with its checksum).
 fn decode(id: FrameId, wire: Wire) -> Option<Decoded> {
@@ -154,54 +154,6 @@ const CODEC: &[&str] = &[
     "src/fuzzing.rs",
 ];
 
-/// The text the compiler sees: comments blanked (newlines kept), code and string literals as they are.
-pub(crate) fn without_comments(text: &str) -> String {
-    let bytes = text.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut at = 0;
-    let blank = |out: &mut Vec<u8>, byte: u8| out.push(if byte == b'\n' { b'\n' } else { b' ' });
-    while at < bytes.len() {
-        match bytes[at] {
-            b'/' if bytes.get(at + 1) == Some(&b'/') => {
-                while at < bytes.len() && bytes[at] != b'\n' {
-                    blank(&mut out, bytes[at]);
-                    at += 1;
-                }
-            }
-            b'/' if bytes.get(at + 1) == Some(&b'*') => {
-                while at < bytes.len() && !bytes[at..].starts_with(b"*/") {
-                    blank(&mut out, bytes[at]);
-                    at += 1;
-                }
-                out.extend_from_slice(b"  ");
-                at += 2;
-            }
-            b'"' => {
-                // A string literal (raw strings in this crate hold no quotes): copied to its closing quote.
-                out.push(b'"');
-                at += 1;
-                while at < bytes.len() && bytes[at] != b'"' {
-                    let step = if bytes[at] == b'\\' { 2 } else { 1 };
-                    out.extend_from_slice(&bytes[at..(at + step).min(bytes.len())]);
-                    at += step;
-                }
-                out.push(b'"');
-                at += 1;
-            }
-            b'\'' if bytes.get(at + 1) == Some(&b'"') || bytes.get(at + 2) == Some(&b'\'') => {
-                // A character literal such as '"': not the start of a string.
-                out.extend_from_slice(&bytes[at..(at + 3).min(bytes.len())]);
-                at += 3;
-            }
-            byte => {
-                out.push(byte);
-                at += 1;
-            }
-        }
-    }
-    String::from_utf8_lossy(&out).into_owned()
-}
-
 /// The catalog identifiers `line` writes out: hex literals (`0x211`, `0x0211`, `0xAA01`) and cansend frames
 /// (`211#...`), each whole (not part of `0x2110`, `0x00000211` or `x211#`).
 fn identifiers_in(line: &str) -> Vec<String> {
@@ -235,19 +187,16 @@ fn identifiers_in(line: &str) -> Vec<String> {
 /// Every catalog identifier written out in shipped code outside the catalog and the codec, as
 /// `file:line: literal`.
 fn stray_identifiers(root: &Path) -> Vec<String> {
-    let mut files = Vec::new();
-    rust_files(&root.join("src"), &mut files);
+    let files = shipped_files(&root.join("src"));
     assert!(files.len() > 20, "the scan found the sources");
-    files.sort();
     let mut strays = Vec::new();
     for path in &files {
         let relative = path.strip_prefix(root).unwrap().to_string_lossy().replace('\\', "/");
-        let name = path.file_name().unwrap().to_string_lossy();
-        if CODEC.contains(&relative.as_str()) || name == "tests.rs" || name.ends_with("_tests.rs") {
+        if CODEC.contains(&relative.as_str()) {
             continue;
         }
         let text = std::fs::read_to_string(path).unwrap();
-        for (number, line) in without_comments(shipped_part(&text)).lines().enumerate() {
+        for (number, line) in without_comments(&without_test_items(&text)).lines().enumerate() {
             for literal in identifiers_in(line) {
                 strays.push(format!("{relative}:{}: {literal}", number + 1));
             }

@@ -34,4 +34,4 @@ pub const fn volts(decivolts: u16) -> f64 {
 
 #[cfg(test)]
 #[path = "constants_tests.rs"]
-pub(crate) mod tests;
+mod tests;

@@ -4,7 +4,9 @@
 //! out: a test may reach anywhere.
 
 use std::collections::{BTreeMap, BTreeSet};
-use std::path::{Path, PathBuf};
+use std::path::Path;
+
+use crate::source_scan::{code_only, is_test_file, rust_files, without_test_items};
 
 /// Top layer first; a module may import its own layer (no circles, see below) and any layer below.
 const LAYERS: &[&[&str]] = &[
@@ -31,24 +33,6 @@ fn layer_of(module: &str) -> Option<usize> {
     LAYERS.iter().position(|layer| layer.contains(&module))
 }
 
-fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
-    let mut entries: Vec<_> = std::fs::read_dir(dir).unwrap().map(|entry| entry.unwrap().path()).collect();
-    entries.sort();
-    for path in entries {
-        if path.is_dir() {
-            rust_files(&path, out);
-        } else if path.extension().is_some_and(|ext| ext == "rs") {
-            out.push(path);
-        }
-    }
-}
-
-/// Test-only files, by the project's naming.
-fn is_test_file(relative: &Path) -> bool {
-    let name = relative.file_name().and_then(|name| name.to_str()).unwrap_or_default();
-    name.ends_with("_tests.rs") || name == "tests.rs"
-}
-
 /// The module path of a file under src/: `a/b.rs` and `a/b/mod.rs` are `[a, b]`, `lib.rs` is `[]`.
 fn module_path(relative: &Path) -> Vec<String> {
     let mut parts: Vec<String> =
@@ -57,142 +41,6 @@ fn module_path(relative: &Path) -> Vec<String> {
         parts.pop();
     }
     parts
-}
-
-/// The source with comments, string and char literals blanked (newlines kept, so lines still count).
-#[expect(clippy::too_many_lines, reason = "one scanner: each literal and comment kind is one arm")]
-fn code_only(source: &str) -> String {
-    let chars: Vec<char> = source.chars().collect();
-    let mut out = String::with_capacity(source.len());
-    let blank = |c: char| if c == '\n' { '\n' } else { ' ' };
-    let mut i = 0;
-    while i < chars.len() {
-        let at = |j: usize| chars.get(j).copied().unwrap_or('\0');
-        match chars[i] {
-            '/' if at(i + 1) == '/' => {
-                while i < chars.len() && chars[i] != '\n' {
-                    out.push(' ');
-                    i += 1;
-                }
-            }
-            '/' if at(i + 1) == '*' => {
-                let mut depth = 0;
-                while i < chars.len() {
-                    if chars[i] == '/' && at(i + 1) == '*' {
-                        depth += 1;
-                        out.push_str("  ");
-                        i += 2;
-                    } else if chars[i] == '*' && at(i + 1) == '/' {
-                        depth -= 1;
-                        out.push_str("  ");
-                        i += 2;
-                        if depth == 0 {
-                            break;
-                        }
-                    } else {
-                        out.push(blank(chars[i]));
-                        i += 1;
-                    }
-                }
-            }
-            'r' if (at(i + 1) == '"' || at(i + 1) == '#')
-                && !chars.get(i.wrapping_sub(1)).is_some_and(|c| c.is_alphanumeric() || *c == '_') =>
-            {
-                // A raw string r"..." or r#"..."#.
-                let mut hashes = 0;
-                let mut j = i + 1;
-                while chars.get(j) == Some(&'#') {
-                    hashes += 1;
-                    j += 1;
-                }
-                if chars.get(j) != Some(&'"') {
-                    out.push(chars[i]);
-                    i += 1;
-                    continue;
-                }
-                let closing: String = std::iter::once('"').chain(std::iter::repeat_n('#', hashes)).collect();
-                let body_start = j + 1;
-                let text: String = chars[body_start..].iter().collect();
-                let end =
-                    text.find(&closing).map_or(chars.len(), |at| body_start + text[..at].chars().count());
-                let stop = (end + closing.chars().count()).min(chars.len());
-                for &c in &chars[i..stop] {
-                    out.push(blank(c));
-                }
-                i = stop;
-            }
-            '"' => {
-                out.push(' ');
-                i += 1;
-                while i < chars.len() && chars[i] != '"' {
-                    if chars[i] == '\\' {
-                        out.push(' ');
-                        i += 1;
-                    }
-                    if i < chars.len() {
-                        out.push(blank(chars[i]));
-                        i += 1;
-                    }
-                }
-                out.push(' ');
-                i += 1;
-            }
-            // A char literal ('x', '\n', '\''), not a lifetime ('a).
-            '\'' if at(i + 1) == '\\' || at(i + 2) == '\'' => {
-                out.push(' ');
-                i += 1;
-                if chars.get(i) == Some(&'\\') {
-                    out.push_str("  ");
-                    i += 2;
-                }
-                while i < chars.len() && chars[i] != '\'' {
-                    out.push(' ');
-                    i += 1;
-                }
-                out.push(' ');
-                i += 1;
-            }
-            c => {
-                out.push(c);
-                i += 1;
-            }
-        }
-    }
-    out
-}
-
-/// `code` without the items marked `#[cfg(test)]` (a test module, a test-only function or import).
-fn without_test_items(code: &str) -> String {
-    let mut out = String::with_capacity(code.len());
-    let mut rest = code;
-    while let Some(at) = ["#[cfg(test)]", "#[cfg(all(test"].iter().filter_map(|mark| rest.find(mark)).min() {
-        out.push_str(&rest[..at]);
-        let item = &rest[at..];
-        // The item ends at its first `;` outside braces, or where its first brace block closes.
-        let mut depth = 0usize;
-        let mut end = item.len();
-        for (index, c) in item.char_indices() {
-            match c {
-                '{' => depth += 1,
-                '}' => {
-                    depth = depth.saturating_sub(1);
-                    if depth == 0 {
-                        end = index + 1;
-                        break;
-                    }
-                }
-                ';' if depth == 0 => {
-                    end = index + 1;
-                    break;
-                }
-                _ => {}
-            }
-        }
-        out.extend(item[..end].chars().map(|c| if c == '\n' { '\n' } else { ' ' }));
-        rest = &item[end..];
-    }
-    out.push_str(rest);
-    out
 }
 
 fn ident_at(text: &str) -> &str {
@@ -286,8 +134,7 @@ struct Sources {
 
 fn scan() -> Sources {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    rust_files(&src, &mut files);
+    let files = rust_files(&src);
     let modules: BTreeSet<String> = files
         .iter()
         .filter_map(|file| module_path(file.strip_prefix(&src).unwrap()).first().cloned())
@@ -419,8 +266,7 @@ fn nothing_below_commands_imports_it() {
 #[test]
 fn every_folder_module_has_its_root_in_mod_rs() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut files = Vec::new();
-    rust_files(&root, &mut files);
+    let files = rust_files(&root);
     let self_named: Vec<String> = files
         .iter()
         .filter(|file| file.with_extension("").is_dir())
@@ -754,8 +600,7 @@ fn folder_edges(files: &BTreeMap<Vec<String>, SourceFile>) -> Vec<FolderEdge> {
 
 fn scan_files() -> BTreeMap<Vec<String>, SourceFile> {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
-    let mut paths = Vec::new();
-    rust_files(&src, &mut paths);
+    let paths = rust_files(&src);
     let mut files = BTreeMap::new();
     for path in paths {
         let relative = path.strip_prefix(&src).unwrap();

@@ -44,6 +44,10 @@ mod serial_peer;
 mod serial_text;
 mod sim_command;
 mod sim_training;
+// The library's test-only source scanner, shared with its unit tests; this binary uses a part of it.
+#[path = "../../src/source_scan.rs"]
+#[allow(dead_code, reason = "the scanners in src use the rest")]
+mod source_scan;
 mod stress;
 mod usage;
 mod util;
