@@ -4,6 +4,8 @@
 
 use std::path::Path;
 
+use crate::source_scan::{code_only, without_test_items};
+
 const PURE: &[&str] = &[
     "src/control/limits.rs",
     "src/commands/monitor/counts.rs",
@@ -28,10 +30,9 @@ const IMPURE: &[&str] = &[
     "stderr()",
 ];
 
-/// The file's code before its tests, without `//` comments.
+/// The file's code without its test items, comments and literals.
 fn code_before_tests(source: &str) -> String {
-    let code = source.split("#[cfg(test)]").next().unwrap_or_default();
-    code.lines().map(|line| line.split("//").next().unwrap_or_default()).collect::<Vec<_>>().join("\n")
+    code_only(&without_test_items(source))
 }
 
 fn impurities(code: &str) -> Vec<&'static str> {
