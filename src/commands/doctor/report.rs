@@ -6,6 +6,8 @@ use std::io::{self, Write};
 
 use serde_json::json;
 
+use crate::signals::Caught;
+
 /// The result of one check. Ordered from good to bad.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Outcome {
@@ -137,8 +139,8 @@ impl<'a, W: Write> Report<'a, W> {
     }
 
     /// A signal (`SIGINT`) cut the probe short: the verdict says its result is unknown.
-    pub fn interrupt(&mut self, signal: &'static str) {
-        self.interrupted = Some(signal);
+    pub fn interrupt(&mut self, caught: Caught) {
+        self.interrupted = Some(caught.name());
     }
 
     /// True when no check failed.

@@ -31,7 +31,7 @@ use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT};
 use crate::protocol::Codec;
 use crate::protocol::{ControlMode, Wire};
 use crate::session::{RobotStatus, Session};
-use crate::signals::{self, SignalFlag};
+use crate::signals::{self, Caught, SignalFlag};
 
 /// The main loop refreshes the target this often; the watchdog zeroes it if that stops for this long.
 const REFRESH: Duration = Duration::from_millis(20);
@@ -58,7 +58,7 @@ const SUSPEND_WAIT: Duration = Duration::from_millis(100);
 #[derive(Debug, PartialEq)]
 enum End {
     TimeUp,
-    Signal(&'static str, u8),
+    Signal(Caught),
     EStop,
     /// The robot reported the vehicle state "exception" (a latched fault, battery cut-off, RC link lost).
     Exception,
@@ -159,8 +159,8 @@ fn execute_with(
         _ => sender.stop(),
     };
     // A signal during the ramp down stopped it at once (the signal thread ends the sender): say so.
-    let end = match (end, signal.exit_status()) {
-        (End::TimeUp, Some(status)) => End::Signal(signal.name(), status),
+    let end = match (end, signal.caught()) {
+        (End::TimeUp, Some(caught)) => End::Signal(caught),
         (end, _) => end,
     };
     context.sender_slot.lock().take();
@@ -188,7 +188,7 @@ fn execute_with(
             writeln!(out, "{record}")
         }
         (_, End::TimeUp) => writeln!(out, "{}", lines("time up")),
-        (_, End::Signal(name, _)) => writeln!(out, "{}", lines(name)),
+        (_, End::Signal(caught)) => writeln!(out, "{}", lines(caught.name())),
         _ => Ok(()),
     };
     match (written.and_then(|()| out.flush()), result) {
@@ -210,7 +210,7 @@ fn report_json(
     serde_json::json!({
         "type": "report",
         "end": end.name(),
-        "signal": match end { End::Signal(name, _) => Some(*name), _ => None },
+        "signal": match end { End::Signal(caught) => Some(caught.name()), _ => None },
         "elapsed": status::round(elapsed, 3),
         "exit_status": exit_status,
         "frames_sent": stats.frames,
@@ -258,9 +258,9 @@ fn check_before_driving(
 ) -> Result<Option<u8>> {
     let signal = &context.signal;
     let first = live::first_status_unless(session, || signal.received().is_some());
-    if let (Some(status), name) = (signal.exit_status(), signal.name()) {
-        crate::say!("tracerctl: {name} before driving: nothing was sent");
-        return Ok(Some(status));
+    if let Some(caught) = signal.caught() {
+        crate::say!("tracerctl: {} before driving: nothing was sent", caught.name());
+        return Ok(Some(caught.exit_status()));
     }
     let refusal = match first {
         Some((state, wire)) => {
@@ -366,8 +366,8 @@ impl<'a> DriveLoop<'a> {
 
     /// One iteration: `Some` when the drive must end.
     fn step(&mut self, out: &mut impl Write, signal: &SignalFlag) -> Option<End> {
-        if let (Some(signo), name) = (signal.exit_status(), signal.name()) {
-            return Some(End::Signal(name, signo));
+        if let Some(caught) = signal.caught() {
+            return Some(End::Signal(caught));
         }
         // After a gap in this loop (suspended with the rest of the process, or blocked on a slow
         // terminal), let the sender take its next tick first: it alone knows whether commands stopped.
@@ -478,7 +478,7 @@ fn outcome(
 ) -> Result<u8> {
     match end {
         End::TimeUp => Ok(if stats.stop_confirmed() { SUCCESS } else { FAILURE }),
-        End::Signal(_, status) => Ok(*status),
+        End::Signal(caught) => Ok(caught.exit_status()),
         End::EStop => {
             Err(Failure::not_done(format!("stopped after {elapsed:.2} s: the E-stop was pressed; {report}"))
                 .into())
