@@ -25,6 +25,7 @@ use crate::link::queue_full_meaning;
 /// taken in (a stalled peer's backlog, or the latest frames on a loaded machine) and cannot say how much.
 pub const UNCOUNTED_DISCARD: &str =
     "output the pseudo-terminal still held flushed before the stop frames, uncounted";
+use crate::output::palette::CLEAR_LINE;
 use crate::output::Format;
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT};
@@ -454,7 +455,7 @@ impl<'a> DriveLoop<'a> {
         let written = match self.style {
             Style::Overwrite => {
                 let width = terminal_columns().unwrap_or(DEFAULT_COLUMNS);
-                write!(out, "\r\x1b[K{}", status::fit(&view, width))
+                write!(out, "\r{CLEAR_LINE}{}", status::fit(&view, width))
             }
             Style::Lines => writeln!(out, "{}", status::full(&view)),
             Style::Json => writeln!(out, "{}", status::json(&view)),
