@@ -13,7 +13,7 @@ use crate::control::limits::{LimitError, LimitName, Limits};
 use crate::link::LinkChoice;
 use crate::output::stamp::TimeMode;
 use crate::output::{ColorChoice, Format};
-use crate::protocol::{ClearTarget, ControlMode, ProtocolHint};
+use crate::protocol::{ClearTarget, ControlMode, LightMode, ProtocolHint};
 
 const ABOUT: &str = "Decode, monitor, drive and diagnose the AgileX TRACER robot";
 
@@ -569,39 +569,28 @@ pub enum ClearTargetArg {
     Motor2,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
-pub enum LightModeArg {
-    Off,
-    On,
-    Breath,
-    Custom,
-}
-
-impl From<LightModeArg> for commands::lights::LightModeChoice {
-    fn from(value: LightModeArg) -> Self {
-        match value {
-            LightModeArg::Off => Self::Off,
-            LightModeArg::On => Self::On,
-            LightModeArg::Breath => Self::Breath,
-            LightModeArg::Custom => Self::Custom,
-        }
-    }
+/// The light modes `tracerctl lights` accepts, named by `protocol::LightMode` itself.
+fn light_mode() -> impl clap::builder::TypedValueParser<Value = LightMode> {
+    use clap::builder::{PossibleValuesParser, TypedValueParser};
+    use strum::VariantArray;
+    PossibleValuesParser::new(LightMode::VARIANTS.iter().map(|mode| mode.name()))
+        .try_map(|name| name.parse::<LightMode>())
 }
 
 #[derive(Debug, Args)]
 #[command(group(clap::ArgGroup::new("what").required(true).args(["front", "release"])))]
 pub struct LightsArgs {
     /// Front light mode
-    #[arg(long, value_enum)]
-    pub front: Option<LightModeArg>,
+    #[arg(long, value_parser = light_mode())]
+    pub front: Option<LightMode>,
 
     /// Front brightness for --front custom, percent (0-100)
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
     pub brightness: Option<u8>,
 
     /// Rear light mode (reserved on TRACER: the firmware ignores it)
-    #[arg(long, value_enum)]
-    pub rear: Option<LightModeArg>,
+    #[arg(long, value_parser = light_mode())]
+    pub rear: Option<LightMode>,
 
     /// Rear brightness for --rear custom, percent (0-100)
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u8).range(0..=100))]
@@ -619,9 +608,9 @@ pub struct LightsArgs {
 impl LightsArgs {
     fn options(self) -> commands::lights::Options {
         commands::lights::Options {
-            front: self.front.map(Into::into),
+            front: self.front,
             brightness: self.brightness,
-            rear: self.rear.map(Into::into),
+            rear: self.rear,
             rear_brightness: self.rear_brightness,
             release: self.release,
             timeout: self.timeout,

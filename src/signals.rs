@@ -8,10 +8,46 @@ use std::sync::Arc;
 use anyhow::Context;
 use anyhow::Result;
 
+use crate::exit::SIGNAL_BASE;
+
+/// Ctrl-C: libc's number (2 on every system, Windows' C runtime included).
+pub const SIGINT: i32 = libc::SIGINT;
+/// `kill`'s default: libc's number (15).
+pub const SIGTERM: i32 = libc::SIGTERM;
+/// The terminal went away: libc's number (1).
+#[cfg(unix)]
+pub const SIGHUP: i32 = libc::SIGHUP;
+/// Windows' C runtime has no SIGHUP; a closed console stands for it with the POSIX number, so that the exit
+/// status is the same as on Linux.
+#[cfg(not(unix))]
+pub const SIGHUP: i32 = 1;
+
 /// The termination signals every command that can move the robot handles.
 #[cfg(unix)]
-pub const TERMINATION: [i32; 3] =
-    [signal_hook::consts::SIGINT, signal_hook::consts::SIGTERM, signal_hook::consts::SIGHUP];
+pub const TERMINATION: [i32; 3] = [SIGINT, SIGTERM, SIGHUP];
+
+/// A termination signal a command caught: what its end says and the exit status it gives.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Caught {
+    pub signal: i32,
+}
+
+impl Caught {
+    /// `SIGINT`, `SIGTERM`, `SIGHUP`, or `a signal` for any other.
+    pub fn name(self) -> &'static str {
+        match self.signal {
+            SIGINT => "SIGINT",
+            SIGTERM => "SIGTERM",
+            SIGHUP => "SIGHUP",
+            _ => "a signal",
+        }
+    }
+
+    /// The conventional exit status after a signal: 128 + its number (130 SIGINT, 143 SIGTERM, 129 SIGHUP).
+    pub fn exit_status(self) -> u8 {
+        (i32::from(SIGNAL_BASE) + self.signal).clamp(0, 255) as u8
+    }
+}
 
 /// Which signal arrived (0 = none yet).
 #[derive(Clone, Default)]
@@ -26,19 +62,9 @@ impl SignalFlag {
         }
     }
 
-    /// The conventional exit status after a signal: 128 + its number.
-    pub fn exit_status(&self) -> Option<u8> {
-        self.received().map(|signal| (128 + signal).clamp(0, 255) as u8)
-    }
-
-    pub fn name(&self) -> &'static str {
-        match self.received() {
-            Some(2) => "SIGINT",
-            Some(15) => "SIGTERM",
-            Some(1) => "SIGHUP",
-            Some(_) => "a signal",
-            None => "",
-        }
+    /// The signal received, if any.
+    pub fn caught(&self) -> Option<Caught> {
+        self.received().map(|signal| Caught { signal })
     }
 }
 
@@ -119,8 +145,6 @@ fn console_signal(event: u32) -> Option<i32> {
     const CTRL_CLOSE_EVENT: u32 = 2;
     const CTRL_LOGOFF_EVENT: u32 = 5;
     const CTRL_SHUTDOWN_EVENT: u32 = 6;
-    const SIGINT: i32 = 2;
-    const SIGHUP: i32 = 1;
     match event {
         CTRL_C_EVENT | CTRL_BREAK_EVENT => Some(SIGINT),
         CTRL_CLOSE_EVENT | CTRL_LOGOFF_EVENT | CTRL_SHUTDOWN_EVENT => Some(SIGHUP),
@@ -139,7 +163,7 @@ mod console {
     use windows_sys::core::BOOL;
     use windows_sys::Win32::System::Console::SetConsoleCtrlHandler;
 
-    use super::SignalFlag;
+    use super::{SignalFlag, SIGHUP};
 
     // console_signal's numbers are the API's.
     const _: () = {
@@ -148,7 +172,6 @@ mod console {
         assert!(c::CTRL_LOGOFF_EVENT == 5 && c::CTRL_SHUTDOWN_EVENT == 6);
     };
 
-    const SIGHUP: i32 = 1;
     /// How long a closing console waits for the command to finish on its own once the robot is stopped;
     /// Windows ends the process 5 s after the close whatever the handler does.
     const CLOSE_GRACE: Duration = Duration::from_secs(3);
@@ -212,7 +235,8 @@ mod tests {
         let status = |event| {
             let flag = SignalFlag::default();
             flag.0.store(console_signal(event).unwrap(), Ordering::SeqCst);
-            (flag.name(), flag.exit_status().unwrap())
+            let caught = flag.caught().unwrap();
+            (caught.name(), caught.exit_status())
         };
         assert_eq!(status(0), ("SIGINT", 130), "Ctrl-C");
         assert_eq!(status(1), ("SIGINT", 130), "Ctrl-Break");
@@ -221,5 +245,16 @@ mod tests {
         assert_eq!(status(6), ("SIGHUP", 129), "shutdown");
         assert_eq!(console_signal(3), None);
         assert_eq!(console_signal(4), None);
+    }
+
+    #[test]
+    fn caught_signals_name_themselves_and_give_128_plus_their_number() {
+        let caught = |signal| (Caught { signal }.name(), Caught { signal }.exit_status());
+        assert_eq!(caught(SIGINT), ("SIGINT", 130));
+        assert_eq!(caught(SIGTERM), ("SIGTERM", 143));
+        assert_eq!(caught(SIGHUP), ("SIGHUP", 129));
+        assert_eq!(caught(10), ("a signal", 138));
+        assert_eq!(caught(200), ("a signal", 255), "clamped to a byte");
+        assert_eq!(SignalFlag::default().caught(), None);
     }
 }

@@ -19,30 +19,21 @@ use crate::exit::{Failure, SUCCESS, USAGE};
 use crate::output::plural;
 use crate::protocol::catalog;
 use crate::protocol::message::MessageKind;
-use crate::protocol::message::{light_mode_name, Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
-use crate::protocol::{ControlMode, Wire};
+use crate::protocol::message::{Lights, LIGHT_CUSTOM};
+use crate::protocol::{ControlMode, LightMode, Wire};
 use crate::session::confirm::send_until;
 use crate::session::Session;
 
 /// Sends after the first one, if the light state does not match yet.
 const RESENDS: u32 = 3;
 
-/// A light mode, as asked for.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum LightModeChoice {
-    Off,
-    On,
-    Breath,
-    Custom,
-}
-
 /// `tracerctl lights`' settings (checked against each other by [`requested`]).
 #[derive(Clone, Debug)]
 pub struct Options {
-    pub front: Option<LightModeChoice>,
+    pub front: Option<LightMode>,
     /// Front brightness for custom mode, percent.
     pub brightness: Option<u8>,
-    pub rear: Option<LightModeChoice>,
+    pub rear: Option<LightMode>,
     pub rear_brightness: Option<u8>,
     /// Hand the lights back to the firmware.
     pub release: bool,
@@ -131,43 +122,33 @@ pub fn requested(args: &Options) -> Result<Lights, Failure> {
     let front_brightness = brightness("--front", "--brightness", front, args.brightness).map_err(usage)?;
     let (rear_mode, rear_brightness) = match args.rear {
         Some(rear) => (
-            mode_code(rear),
+            rear.code(),
             brightness("--rear", "--rear-brightness", rear, args.rear_brightness).map_err(usage)?,
         ),
         None if args.rear_brightness.is_some() => {
             return Err(usage("--rear-brightness applies only to --rear custom".into()))
         }
-        None => (LIGHT_OFF, 0),
+        None => (LightMode::Off.code(), 0),
     };
-    let lights =
-        Lights::front(mode_code(front), front_brightness).map_err(|error| usage(error.to_string()))?;
+    let lights = Lights::front(front, front_brightness).map_err(|error| usage(error.to_string()))?;
     Ok(Lights { rear_mode, rear_brightness, ..lights })
 }
 
 fn brightness(
     option: &str,
     brightness_option: &str,
-    mode: LightModeChoice,
+    mode: LightMode,
     value: Option<u8>,
 ) -> Result<u8, String> {
     match (mode, value) {
-        (LightModeChoice::Custom, Some(percent)) => Ok(percent),
-        (LightModeChoice::Custom, None) => {
+        (LightMode::Custom, Some(percent)) => Ok(percent),
+        (LightMode::Custom, None) => {
             Err(format!("{option} custom needs {brightness_option} PERCENT (0-100)"))
         }
         (_, Some(_)) => Err(format!(
             "{brightness_option} applies only to {option} custom (the other modes have a fixed brightness)"
         )),
         (_, None) => Ok(0),
-    }
-}
-
-fn mode_code(mode: LightModeChoice) -> u8 {
-    match mode {
-        LightModeChoice::Off => LIGHT_OFF,
-        LightModeChoice::On => LIGHT_ON,
-        LightModeChoice::Breath => LIGHT_BREATH,
-        LightModeChoice::Custom => LIGHT_CUSTOM,
     }
 }
 
@@ -184,8 +165,8 @@ pub fn matches(asked: &Lights, shown: &Lights) -> bool {
 
 /// `front custom 30 %`, `front on`, `firmware control, front on`
 pub fn describe(lights: &Lights) -> String {
-    let mode = light_mode_name(lights.front_mode)
-        .map_or_else(|| format!("mode 0x{:02X}", lights.front_mode), str::to_string);
+    let mode = LightMode::from_code(lights.front_mode)
+        .map_or_else(|| format!("mode 0x{:02X}", lights.front_mode), |mode| mode.name().to_string());
     let front = if lights.front_mode == LIGHT_CUSTOM {
         format!("front {mode} {} %", lights.front_brightness)
     } else {
@@ -198,12 +179,10 @@ pub fn describe(lights: &Lights) -> String {
     }
 }
 
-fn rear_text(rear: LightModeChoice, lights: &Lights) -> String {
+fn rear_text(rear: LightMode, lights: &Lights) -> String {
     match rear {
-        LightModeChoice::Custom => format!("custom {} %", lights.rear_brightness),
-        LightModeChoice::Off => "off".into(),
-        LightModeChoice::On => "on".into(),
-        LightModeChoice::Breath => "breath".into(),
+        LightMode::Custom => format!("custom {} %", lights.rear_brightness),
+        LightMode::Off | LightMode::On | LightMode::Breath => rear.name().to_string(),
     }
 }
 
@@ -221,9 +200,10 @@ fn state_source(wire: Wire) -> String {
 mod tests {
     use super::*;
     use crate::link::LinkFrame;
+    use crate::protocol::message::{LIGHT_BREATH, LIGHT_ON};
     use crate::protocol::Codec;
 
-    fn args(front: Option<LightModeChoice>, brightness: Option<u8>) -> Options {
+    fn args(front: Option<LightMode>, brightness: Option<u8>) -> Options {
         Options {
             front,
             brightness,
@@ -242,7 +222,7 @@ mod tests {
 
     #[test]
     fn custom_30_percent_is_the_documented_frame_with_a_rolling_count() {
-        let lights = requested(&args(Some(LightModeChoice::Custom), Some(30))).unwrap();
+        let lights = requested(&args(Some(LightMode::Custom), Some(30))).unwrap();
         let mut codec = Codec::new(Wire::CanV2);
         let frames: Vec<String> = (0..3)
             .map(|_| match codec.lights(lights) {
@@ -263,21 +243,21 @@ mod tests {
 
     #[test]
     fn brightness_belongs_to_custom_only() {
-        let message = usage_message(requested(&args(Some(LightModeChoice::On), Some(30))));
+        let message = usage_message(requested(&args(Some(LightMode::On), Some(30))));
         assert_eq!(
             message,
             "--brightness applies only to --front custom (the other modes have a fixed brightness)"
         );
-        let message = usage_message(requested(&args(Some(LightModeChoice::Custom), None)));
+        let message = usage_message(requested(&args(Some(LightMode::Custom), None)));
         assert_eq!(message, "--front custom needs --brightness PERCENT (0-100)");
-        let rear = Options { rear_brightness: Some(5), ..args(Some(LightModeChoice::On), None) };
+        let rear = Options { rear_brightness: Some(5), ..args(Some(LightMode::On), None) };
         assert_eq!(usage_message(requested(&rear)), "--rear-brightness applies only to --rear custom");
-        let rear = Options { rear: Some(LightModeChoice::Custom), ..args(Some(LightModeChoice::On), None) };
+        let rear = Options { rear: Some(LightMode::Custom), ..args(Some(LightMode::On), None) };
         assert_eq!(usage_message(requested(&rear)), "--rear custom needs --rear-brightness PERCENT (0-100)");
         let rear = Options {
-            rear: Some(LightModeChoice::Custom),
+            rear: Some(LightMode::Custom),
             rear_brightness: Some(40),
-            ..args(Some(LightModeChoice::Breath), None)
+            ..args(Some(LightMode::Breath), None)
         };
         let lights = requested(&rear).unwrap();
         assert_eq!(
@@ -288,11 +268,11 @@ mod tests {
 
     #[test]
     fn confirmation_compares_what_the_mode_uses() {
-        let custom = Lights::front(LIGHT_CUSTOM, 30).unwrap();
+        let custom = Lights::front(LightMode::Custom, 30).unwrap();
         assert!(matches(&custom, &Lights { count: 9, ..custom }));
         assert!(!matches(&custom, &Lights { front_brightness: 31, ..custom }));
         assert!(!matches(&custom, &Lights { enable: 0, ..custom }));
-        let on = Lights::front(LIGHT_ON, 0).unwrap();
+        let on = Lights::front(LightMode::On, 0).unwrap();
         assert!(matches(&on, &Lights { front_brightness: 77, rear_mode: 2, ..on }));
         assert!(!matches(&on, &Lights { front_mode: LIGHT_BREATH, ..on }));
         let release = Lights::release();
@@ -302,8 +282,8 @@ mod tests {
 
     #[test]
     fn descriptions() {
-        assert_eq!(describe(&Lights::front(LIGHT_CUSTOM, 30).unwrap()), "front custom 30 %");
-        assert_eq!(describe(&Lights::front(LIGHT_BREATH, 0).unwrap()), "front breath");
+        assert_eq!(describe(&Lights::front(LightMode::Custom, 30).unwrap()), "front custom 30 %");
+        assert_eq!(describe(&Lights::front(LightMode::Breath, 0).unwrap()), "front breath");
         assert_eq!(
             describe(&Lights { enable: 0, front_mode: LIGHT_ON, ..Lights::default() }),
             "firmware control, front on"

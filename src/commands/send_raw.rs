@@ -23,6 +23,7 @@ use crate::protocol::id::{CMD_MOTION_CONTROL, ID_V1_MOTION_COMMAND, TYPE_CONTROL
 use crate::protocol::serial::{self, SerialFrame, FRAME_SIZE};
 use crate::protocol::Codec;
 use crate::protocol::{self, FrameKind, Wire};
+use crate::signals::Caught;
 use crate::{session, signals};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -121,7 +122,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         }
     };
     drop(simulator);
-    let stopped_by = stops.flag.received().map(|_| stops.flag.name());
+    let caught = stops.flag.caught();
+    let stopped_by = caught.map(Caught::name);
     out.result(&report, total, &link.name, stopped_by, None);
     say_what_was_not_sent(&report, stopped_by, total, &link.name, queue_full_meaning(link.kind));
     if stops.suspended.load(Ordering::SeqCst) {
@@ -129,7 +131,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
             "suspended (SIGTSTP): the repeats ended with zero-velocity frames; run send-raw again to send more"
         ));
     }
-    Ok(stops.flag.exit_status().unwrap_or(SUCCESS))
+    Ok(caught.map_or(SUCCESS, Caught::exit_status))
 }
 
 /// Every frame of the command line parsed and described; the first that is not a frame is a usage error.

@@ -107,7 +107,7 @@ fn serve_until_done(config: SimConfig, link: Link, duration: Option<Duration>) -
     // The status lines are for a person watching; with nobody reading them (a closed stderr) the simulator
     // goes on serving.
     let mut stderr = std::io::stderr().lock();
-    while signal.received().is_none() && duration.is_none_or(|d| started.elapsed() < d) {
+    while signal.caught().is_none() && duration.is_none_or(|d| started.elapsed() < d) {
         if running.has_ended() {
             break;
         }

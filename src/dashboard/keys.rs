@@ -4,7 +4,7 @@
 //! ([`dispatch`]), the footer and the help overlay (`render`) and `tracerctl dashboard --help`
 //! ([`help_text`]) all read it: adding a key is adding a row.
 
-use std::fmt::Write as _;
+use std::fmt::{self, Write as _};
 
 use ratatui::crossterm::event::{KeyCode, KeyEvent, KeyEventKind, KeyModifiers};
 
@@ -262,6 +262,22 @@ pub const BINDINGS: &[Binding] = &[
         watching: Watching::Works,
     },
 ];
+
+/// A drive key as the screen shows it held: the arrow it drives (`↑`, `↖`).
+impl fmt::Display for Key {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Key::Up => "↑",
+            Key::Down => "↓",
+            Key::Left => "←",
+            Key::Right => "→",
+            Key::ForwardLeft => "↖",
+            Key::ForwardRight => "↗",
+            Key::BackLeft => "↙",
+            Key::BackRight => "↘",
+        })
+    }
+}
 
 /// The row and key a key event belongs to; a Ctrl chord wins over the plain key.
 pub fn lookup(key: &KeyEvent) -> Option<(&'static Binding, &'static Bind)> {
@@ -720,6 +736,23 @@ mod tests {
             on(Prompt::None, false, true),
         ] {
             assert_eq!(dispatch(&press(KeyCode::Esc), context), Effect::Close, "{context:?}");
+        }
+    }
+
+    #[test]
+    fn drive_keys_show_as_the_arrows_the_table_names() {
+        let shown: Vec<String> = Key::ALL.iter().map(Key::to_string).collect();
+        assert_eq!(shown, ["↑", "↓", "←", "→", "↖", "↗", "↙", "↘"]);
+        // The arrows' rows show them as they are displayed held; the diagonals' help lists theirs.
+        let row_of = |a: Key, b: Key| {
+            let actions = [Action::Drive(a), Action::Drive(b)];
+            BINDINGS.iter().find(|row| row.keys.iter().map(|bind| bind.action).eq(actions)).unwrap().shown
+        };
+        assert_eq!(row_of(Key::Up, Key::Down), format!("{} {}", Key::Up, Key::Down));
+        assert_eq!(row_of(Key::Left, Key::Right), format!("{} {}", Key::Left, Key::Right));
+        let arcs = BINDINGS.iter().find(|row| row.shown == "u o m .").unwrap();
+        for key in &Key::ALL[4..] {
+            assert!(arcs.help.contains(&key.to_string()), "{key:?}");
         }
     }
 

@@ -1,13 +1,14 @@
 //! What the lights key cycles through: pure data, read by the glue (what to send) and shown by name.
 
-use crate::protocol::message::{Lights, LIGHT_BREATH, LIGHT_CUSTOM, LIGHT_OFF, LIGHT_ON};
+use crate::protocol::message::Lights;
+use crate::protocol::LightMode;
 
 /// The light settings, in the order the lights key steps through them, and what the message calls each.
 pub const LIGHT_CYCLE: [(Lights, &str); 5] = [
     (
         Lights {
             enable: 1,
-            front_mode: LIGHT_ON,
+            front_mode: LightMode::On.code(),
             front_brightness: 0,
             rear_mode: 0,
             rear_brightness: 0,
@@ -18,7 +19,7 @@ pub const LIGHT_CYCLE: [(Lights, &str); 5] = [
     (
         Lights {
             enable: 1,
-            front_mode: LIGHT_BREATH,
+            front_mode: LightMode::Breath.code(),
             front_brightness: 0,
             rear_mode: 0,
             rear_brightness: 0,
@@ -29,7 +30,7 @@ pub const LIGHT_CYCLE: [(Lights, &str); 5] = [
     (
         Lights {
             enable: 1,
-            front_mode: LIGHT_CUSTOM,
+            front_mode: LightMode::Custom.code(),
             front_brightness: 30,
             rear_mode: 0,
             rear_brightness: 0,
@@ -40,7 +41,7 @@ pub const LIGHT_CYCLE: [(Lights, &str); 5] = [
     (
         Lights {
             enable: 1,
-            front_mode: LIGHT_OFF,
+            front_mode: LightMode::Off.code(),
             front_brightness: 0,
             rear_mode: 0,
             rear_brightness: 0,

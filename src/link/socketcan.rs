@@ -8,7 +8,10 @@ use std::ptr;
 use std::sync::Arc;
 use std::time::Duration;
 
-use socketcan::{CanSocket, Socket, SocketOptions};
+use socketcan::{
+    CanDataFrame, CanErrorFrame, CanRemoteFrame, CanSocket, EmbeddedFrame, ExtendedId, Id, Socket,
+    SocketOptions, StandardId,
+};
 
 use super::can_interface::{self, Presence};
 use super::{FrameRx, FrameTx, Link, LinkFrame, LinkKind, Received, RxStats};
@@ -32,15 +35,27 @@ impl FrameTx for SocketTx {
     }
 }
 
-/// Our frame as the kernel's `can_frame`, wrapped in socketcan's type.
+/// Our frame as socketcan's, built by its own constructors (the identifier's kind from StandardId or
+/// ExtendedId, the RTR and error flags by the frame type). An error frame goes out with all 8 bytes, as the
+/// kernel writes error frames.
 fn to_socketcan(frame: &CanFrame) -> io::Result<socketcan::CanFrame> {
-    // SAFETY: can_frame is plain integers and bytes, for which all zeros is a valid value.
-    let mut raw: libc::can_frame = unsafe { zeroed() };
-    raw.can_id = match frame.kind() {
-        FrameKind::Data if frame.is_extended() => frame.id() | CAN_EFF_FLAG,
-        FrameKind::Data => frame.id(),
-        FrameKind::Remote => frame.id() | CAN_RTR_FLAG | if frame.is_extended() { CAN_EFF_FLAG } else { 0 },
-        FrameKind::Error => frame.id() | ERR_FLAG,
+    let id = || -> Option<Id> {
+        if frame.is_extended() {
+            ExtendedId::new(frame.id()).map(Id::Extended)
+        } else {
+            u16::try_from(frame.id()).ok().and_then(StandardId::new).map(Id::Standard)
+        }
+    };
+    let built = match frame.kind() {
+        FrameKind::Data => {
+            id().and_then(|id| CanDataFrame::new(id, frame.data())).map(socketcan::CanFrame::Data)
+        }
+        FrameKind::Remote => {
+            id().and_then(|id| CanRemoteFrame::new_remote(id, frame.len())).map(socketcan::CanFrame::Remote)
+        }
+        FrameKind::Error => {
+            CanErrorFrame::new_error(frame.id(), frame.data()).ok().map(socketcan::CanFrame::Error)
+        }
         FrameKind::Fd => {
             return Err(io::Error::new(
                 io::ErrorKind::InvalidInput,
@@ -48,9 +63,10 @@ fn to_socketcan(frame: &CanFrame) -> io::Result<socketcan::CanFrame> {
             ))
         }
     };
-    raw.can_dlc = frame.len() as u8;
-    raw.data[..frame.data().len()].copy_from_slice(frame.data());
-    Ok(socketcan::CanFrame::from(raw))
+    // Our frames keep their identifiers and lengths within what these constructors take.
+    built.ok_or_else(|| {
+        io::Error::new(io::ErrorKind::InvalidInput, format!("{frame} is not a classic CAN frame"))
+    })
 }
 
 /// The kernel's `can_frame` as our frame.
@@ -243,6 +259,64 @@ mod tests {
             let raw: &libc::can_frame = kernel.as_ref();
             assert_eq!(from_raw(raw), Some(frame), "{frame}");
         }
+    }
+
+    /// The conversion before socketcan's constructors, kept as the reference they must match.
+    fn zeroed_can_frame(frame: &CanFrame) -> libc::can_frame {
+        // SAFETY: can_frame is plain integers and bytes, for which all zeros is a valid value.
+        let mut raw: libc::can_frame = unsafe { zeroed() };
+        raw.can_id = match frame.kind() {
+            FrameKind::Data if frame.is_extended() => frame.id() | CAN_EFF_FLAG,
+            FrameKind::Data => frame.id(),
+            FrameKind::Remote => {
+                frame.id() | CAN_RTR_FLAG | if frame.is_extended() { CAN_EFF_FLAG } else { 0 }
+            }
+            FrameKind::Error => frame.id() | ERR_FLAG,
+            FrameKind::Fd => unreachable!("refused"),
+        };
+        raw.can_dlc = frame.len() as u8;
+        raw.data[..frame.data().len()].copy_from_slice(frame.data());
+        raw
+    }
+
+    fn fields(raw: &libc::can_frame) -> (u32, u8, u8, [u8; 8]) {
+        (raw.can_id, raw.can_dlc, raw.len8_dlc, raw.data)
+    }
+
+    #[test]
+    fn socketcan_constructors_build_the_frames_the_zeroed_can_frame_did() {
+        for frame in [
+            CanFrame::new(0x111, &[]).unwrap(),
+            CanFrame::new(0x211, &[0, 0, 1, 3, 0, 0, 0, 0xB1]).unwrap(),
+            CanFrame::new(0x7FF, &[0xAA, 0x55, 1]).unwrap(),
+            CanFrame::new_extended(0x123, &[0x11]).unwrap(),
+            CanFrame::new_extended(0x1FFF_FFFF, &[1, 2, 3, 4, 5, 6, 7, 8]).unwrap(),
+            CanFrame::new_remote(0x7FF, false, 5).unwrap(),
+            CanFrame::new_remote(0x0, false, 0).unwrap(),
+            CanFrame::new_remote(0x18FF_0001, true, 8).unwrap(),
+            CanFrame::new_error(0x44, &[0, 0, 0, 0, 0, 0, 127, 0]).unwrap(),
+            CanFrame::new_error(0x1FFF_FFFF, &[0xFF; 8]).unwrap(),
+        ] {
+            let built = to_socketcan(&frame).unwrap();
+            assert_eq!(fields(built.as_ref()), fields(&zeroed_can_frame(&frame)), "{frame}");
+        }
+    }
+
+    #[test]
+    fn a_short_error_frame_goes_out_with_8_bytes_and_fd_is_refused() {
+        // The one difference from the zeroed can_frame: its length was the frame's, socketcan's is the
+        // kernel's 8 for every error frame (the same identifier, the missing bytes zero as before).
+        let short = CanFrame::new_error(0x40, &[0, 4]).unwrap();
+        let built = to_socketcan(&short).unwrap();
+        let (id, dlc, _, data) = fields(built.as_ref());
+        let (old_id, old_dlc, _, old_data) = fields(&zeroed_can_frame(&short));
+        assert_eq!((id, dlc, data), (old_id, 8, old_data));
+        assert_eq!((id, old_dlc), (0x2000_0040, 2));
+
+        let fd = CanFrame::new_fd(0x123, false, 0, &[0; 12]).unwrap();
+        let error = to_socketcan(&fd).unwrap_err();
+        assert_eq!(error.kind(), io::ErrorKind::InvalidInput);
+        assert_eq!(error.to_string(), "CAN FD frames are not sent on a classic link");
     }
 
     #[test]

@@ -9,6 +9,7 @@ pub mod filter;
 pub mod json;
 pub mod mcap;
 pub mod number;
+pub mod palette;
 pub mod queue;
 pub mod short_text;
 pub mod stamp;

@@ -2,16 +2,17 @@
 //! `monitor` adds [`Columns`]: candump's time modes and the raw bytes after the identifier.
 
 use super::number::*;
+use super::palette;
 use super::short_text::{field_keys, push_short, ShortText};
 use super::stamp::{Clock, TimeMode};
 use super::{direction_name, Event, FrameRef, Shape};
 use crate::protocol::fields::ALL_FIELD_NAMES;
 use crate::protocol::{for_each_field, Field, Flags, Severity, Value};
 
-const BOLD_CYAN: &[u8] = b"\x1b[1;36m";
-const RED: &[u8] = b"\x1b[31m";
-const YELLOW: &[u8] = b"\x1b[33m";
-const RESET: &[u8] = b"\x1b[0m";
+const MESSAGE: &[u8] = palette::MESSAGE.as_bytes();
+const FAULT: &[u8] = palette::FAULT.as_bytes();
+const WARNING: &[u8] = palette::WARNING.as_bytes();
+const RESET: &[u8] = palette::RESET.as_bytes();
 
 /// Classic CAN's 8 data bytes as `00 11 22 33 44 55 66 77`: shorter payloads are padded to this width.
 const CAN_BYTES_WIDTH: usize = 8 * 3 - 1;
@@ -116,8 +117,8 @@ fn write_rest(out: &mut Vec<u8>, event: &Event, color: bool, data_field: bool) {
     };
     let msg = event.msg_name().as_bytes();
     match shape {
-        Shape::Invalid(_) => paint(out, RED, msg),
-        _ => paint(out, BOLD_CYAN, msg),
+        Shape::Invalid(_) => paint(out, FAULT, msg),
+        _ => paint(out, MESSAGE, msg),
     }
     match shape {
         Shape::Message(decoded) => for_each_field(&decoded, |field| push_field(out, &field, color)),
@@ -225,8 +226,8 @@ fn push_flags(out: &mut Vec<u8>, flags: &Flags, color: bool) {
         return;
     }
     let code = match flags.worst() {
-        Some(Severity::Fault | Severity::Protection | Severity::Unknown) => RED,
-        Some(Severity::Warning) => YELLOW,
+        Some(Severity::Fault | Severity::Protection | Severity::Unknown) => FAULT,
+        Some(Severity::Warning) => WARNING,
         _ => b"".as_slice(),
     };
     if color {

@@ -352,6 +352,7 @@ pub fn encode(decoded: &Decoded) -> Result<CanFrame, EncodeError> {
 mod tests {
     use super::*;
     use crate::protocol::faults::Severity;
+    use crate::protocol::LightMode;
 
     fn frame(id: u32, hex_data: &str) -> CanFrame {
         CanFrame::new(id, &hex::decode(hex_data).unwrap()).unwrap()
@@ -493,12 +494,12 @@ mod tests {
         assert_eq!(cmd, MotionCommand { linear_mm_s: -1500, angular_mrad_s: 785 });
         let (_, clamped) = MotionCommand::clamped_from_si(1.0, -0.5);
         assert!(!clamped);
-        assert!(Lights::front(LIGHT_CUSTOM, 101).is_err());
+        assert!(Lights::front(LightMode::Custom, 101).is_err());
     }
 
     #[test]
     fn light_mode_and_fault_clear_commands() {
-        let lights = Lights { count: 5, ..Lights::front(LIGHT_CUSTOM, 30).unwrap() };
+        let lights = Lights { count: 5, ..Lights::front(LightMode::Custom, 30).unwrap() };
         assert_eq!(encode_v2(&Message::LightCommand(lights)).unwrap().to_string(), "121#01031E0000000005");
         assert_eq!(encode_v2(&Message::ControlModeCommand(MODE_CAN)).unwrap().to_string(), "421#01");
         assert_eq!(encode_v2(&Message::FaultClear(CLEAR_MOTOR2)).unwrap().to_string(), "441#02");

@@ -1,6 +1,7 @@
 //! The named fields of every message, in SI units: the one schema behind text, JSON and CSV output.
 
 use super::faults::Flags;
+use super::light::LightMode;
 use super::message::*;
 
 /// One field value, kept exact (fixed-point) so printing never needs float formatting.
@@ -83,7 +84,11 @@ pub fn for_each_field(decoded: &Decoded, mut visit: impl FnMut(Field)) {
         }
         Message::LightCommand(lights) | Message::LightState(lights) => {
             visit(field(Enabled, Value::Bool(lights.enable != 0), ""));
-            visit(named(FrontMode, lights.front_mode, light_mode_name(lights.front_mode)));
+            visit(named(
+                FrontMode,
+                lights.front_mode,
+                LightMode::from_code(lights.front_mode).map(LightMode::name),
+            ));
             visit(int(FrontBrightness, lights.front_brightness, "%"));
             visit(int(Count, lights.count, ""));
         }

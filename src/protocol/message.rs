@@ -5,6 +5,7 @@
 //! values outside the documented ranges.
 
 use super::faults::{FlagTable, Flags};
+use super::light::LightMode;
 use super::mode::ControlMode;
 // Messages are read from and written to a wire: `message::Wire` is the usual way to name it, defined in a
 // leaf of its own so that the control mode's codes can read it too.
@@ -145,7 +146,7 @@ impl PercentMotionCommand {
 pub struct Lights {
     /// 0 = firmware controls the lights, 1 = the host does.
     pub enable: u8,
-    /// 0 off, 1 on, 2 breathing, 3 custom brightness.
+    /// 0 off, 1 on, 2 breathing, 3 custom brightness ([`LightMode::from_code`]).
     pub front_mode: u8,
     /// 0-100 %, used in mode 3.
     pub front_brightness: u8,
@@ -157,19 +158,19 @@ pub struct Lights {
     pub count: u8,
 }
 
-/// Light modes of byte 1.
-pub const LIGHT_OFF: u8 = 0;
-pub const LIGHT_ON: u8 = 1;
-pub const LIGHT_BREATH: u8 = 2;
-pub const LIGHT_CUSTOM: u8 = 3;
+/// Light-mode bytes of byte 1, from [`LightMode::code`], for matching on a raw byte; prefer [`LightMode`].
+pub const LIGHT_OFF: u8 = LightMode::Off.code();
+pub const LIGHT_ON: u8 = LightMode::On.code();
+pub const LIGHT_BREATH: u8 = LightMode::Breath.code();
+pub const LIGHT_CUSTOM: u8 = LightMode::Custom.code();
 
 impl Lights {
-    /// Host-controlled front lights; `brightness` only matters for `LIGHT_CUSTOM`.
-    pub fn front(mode: u8, brightness: u8) -> Result<Self, RangeError> {
+    /// Host-controlled front lights; `brightness` only matters for [`LightMode::Custom`].
+    pub fn front(mode: LightMode, brightness: u8) -> Result<Self, RangeError> {
         if brightness > BRIGHTNESS_MAX {
             return Err(RangeError::Brightness(brightness));
         }
-        Ok(Self { enable: 1, front_mode: mode, front_brightness: brightness, ..Self::default() })
+        Ok(Self { enable: 1, front_mode: mode.code(), front_brightness: brightness, ..Self::default() })
     }
     /// Hand the lights back to the firmware.
     pub fn release() -> Self {
@@ -279,16 +280,6 @@ pub fn vehicle_state_name(value: u8) -> Option<&'static str> {
 /// The name of a reported control-mode byte ([`ControlMode::from_code`]).
 pub fn control_mode_name(wire: Wire, value: u8) -> Option<&'static str> {
     ControlMode::from_code(wire, value).map(ControlMode::name)
-}
-
-pub fn light_mode_name(value: u8) -> Option<&'static str> {
-    match value {
-        LIGHT_OFF => Some("off"),
-        LIGHT_ON => Some("on"),
-        LIGHT_BREATH => Some("breath"),
-        LIGHT_CUSTOM => Some("custom"),
-        _ => None,
-    }
 }
 
 /// 0x441 codes (V2).

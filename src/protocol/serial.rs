@@ -337,6 +337,7 @@ impl StreamDecoder {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::LightMode;
 
     fn bytes(text: &str) -> Vec<u8> {
         hex::decode(text.replace(' ', "")).unwrap()
@@ -388,7 +389,7 @@ mod tests {
         assert_eq!(encode(&back, 1).unwrap().to_bytes().to_vec(), bytes(BACK_10));
 
         let light = decode(&frame(LIGHT_50)).unwrap().message;
-        let expected = Lights { front_brightness: 50, ..Lights::front(LIGHT_CUSTOM, 50).unwrap() };
+        let expected = Lights { front_brightness: 50, ..Lights::front(LightMode::Custom, 50).unwrap() };
         assert_eq!(light, Message::LightCommand(expected));
         assert_eq!(encode(&light, 0).unwrap().to_bytes().to_vec(), bytes(LIGHT_50));
     }
@@ -497,7 +498,7 @@ mod tests {
     fn encoder_counts_motion_and_light_separately_and_wraps() {
         let motion =
             Message::PercentMotionCommand(PercentMotionCommand::from_si(MODE_SERIAL, 0.15, 0.0).unwrap());
-        let light = Message::LightCommand(Lights::front(LIGHT_CUSTOM, 50).unwrap());
+        let light = Message::LightCommand(Lights::front(LightMode::Custom, 50).unwrap());
         let mut encoder = SerialEncoder::new();
         assert_eq!(encoder.encode_next(&motion).unwrap().to_vec(), bytes(MANUAL));
         assert_eq!(encoder.encode_next(&motion).unwrap()[11], 1);

@@ -6,6 +6,7 @@ use super::chassis::*;
 use super::*;
 use crate::protocol::faults::{FlagTable, Flags};
 use crate::protocol::message::*;
+use crate::protocol::LightMode;
 
 fn ms(n: u64) -> Duration {
     Duration::from_millis(n)
@@ -978,7 +979,7 @@ fn lights_are_echoed_and_handed_back() {
     let firmware = light_state(&mut robot, ms(0));
     assert_eq!((firmware.enable, firmware.front_mode, firmware.count), (0, LIGHT_ON, 0));
 
-    robot.receive(ms(10), &Message::LightCommand(Lights::front(LIGHT_CUSTOM, 30).unwrap()));
+    robot.receive(ms(10), &Message::LightCommand(Lights::front(LightMode::Custom, 30).unwrap()));
     let echoed = light_state(&mut robot, ms(20));
     assert_eq!(
         echoed,
@@ -1008,7 +1009,7 @@ fn lights_are_echoed_and_handed_back() {
 
     // Serial lights too.
     let mut robot = serial();
-    robot.receive(ms(0), &Message::LightCommand(Lights::front(LIGHT_BREATH, 0).unwrap()));
+    robot.receive(ms(0), &Message::LightCommand(Lights::front(LightMode::Breath, 0).unwrap()));
     assert_eq!(robot.state().lights.front_mode, LIGHT_BREATH);
 }
 

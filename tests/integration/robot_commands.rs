@@ -4,12 +4,12 @@
 
 use std::time::Duration;
 
-use tracerctl::commands::lights::LightModeChoice;
 use tracerctl::commands::{clear_errors, lights, mode};
 use tracerctl::exit::{Failure, NOT_DONE, USAGE};
 use tracerctl::link::LinkChoice;
 use tracerctl::protocol::message::{LIGHT_CUSTOM, VEHICLE_NORMAL};
 use tracerctl::protocol::ClearTarget;
+use tracerctl::protocol::LightMode;
 use tracerctl::protocol::ProtocolHint;
 use tracerctl::session::Session;
 use tracerctl::sim::{ControlMode, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimWire};
@@ -281,7 +281,7 @@ fn clear_errors_over_rs232_uses_the_serial_fault_bits() {
 fn lights_through_the_library_reach_the_simulator() {
     let session = session(SimConfig::default());
     let args = lights::Options {
-        front: Some(LightModeChoice::Custom),
+        front: Some(LightMode::Custom),
         brightness: Some(55),
         rear: None,
         rear_brightness: None,

@@ -16,7 +16,7 @@ use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, Teleop};
 use crate::dashboard::terminal::{Input, Screen};
 use crate::link::LinkKind;
-use crate::signals::SignalFlag;
+use crate::signals::{Caught, SignalFlag};
 
 /// The loop's period: targets are refreshed this often (the sender's watchdog is ten times longer).
 const LOOP: Duration = Duration::from_millis(20);
@@ -30,7 +30,7 @@ const GAP_SETTLE: Duration = Duration::from_millis(300);
 /// Why the dashboard ended.
 pub(super) enum End {
     Quit,
-    Signal(u8, &'static str),
+    Signal(Caught),
     TerminalLost(String),
     LinkLost(String),
 }
@@ -90,8 +90,8 @@ impl<'a> Loop<'a> {
         input: &Receiver<Input>,
         signal: &SignalFlag,
     ) -> Result<Option<End>> {
-        if let (Some(status), name) = (signal.exit_status(), signal.name()) {
-            return Ok(Some(End::Signal(status, name)));
+        if let Some(caught) = signal.caught() {
+            return Ok(Some(End::Signal(caught)));
         }
         // After SIGTSTP or Ctrl-Z the terminal was given back: take it again (a cheap check of a flag).
         if screen.take_back()? {

@@ -74,7 +74,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     };
     let (status, message) = match end {
         End::Quit => (SUCCESS, format!("quit: {robot}")),
-        End::Signal(status, name) => (status, format!("{name}: {robot}")),
+        End::Signal(caught) => (caught.exit_status(), format!("{}: {robot}", caught.name())),
         End::TerminalLost(why) => (FAILURE, format!("the terminal went away ({why}): {robot}")),
         End::LinkLost(why) => (FAILURE, format!("the link {} failed ({why}): {robot}", session.name)),
     };

@@ -156,11 +156,11 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         inputs.push("-");
     }
     let result = decoder.all_inputs(&inputs, serial);
-    if let Some(status) = decoder.signals.exit_status() {
+    if let Some(caught) = decoder.signals.caught() {
         // Interrupted (Ctrl-C, kill): what was decoded is written, with the totals, before exiting 128+n.
         decoder.write_out_or_say(args);
-        crate::say!("tracerctl: {}: {}", decoder.signals.name(), totals_line(&decoder.stats));
-        return Ok(status);
+        crate::say!("tracerctl: {}: {}", caught.name(), totals_line(&decoder.stats));
+        return Ok(caught.exit_status());
     }
     decoder.finish(args, result)
 }

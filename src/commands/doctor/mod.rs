@@ -25,6 +25,7 @@ use super::Global;
 use crate::exit::{Failure, NOT_DONE, SUCCESS, USAGE};
 use crate::link::LinkChoice;
 use crate::session::Session;
+use crate::signals::Caught;
 use report::{Check, Report};
 
 /// `tracerctl doctor`'s settings.
@@ -181,10 +182,12 @@ fn examine<W: Write>(session: &Session, args: &Options, report: &mut Report<W>) 
         } else {
             // The probe only ever sends zero velocity; a signal ends it early and cleanly.
             let signals = crate::signals::listen(|_| {})?;
-            if probe::run(session, &signals, &mut |check| Ok(report.add(check)?))? {
-                report.interrupt(signals.name());
+            let cut_short = probe::run(session, &signals, &mut |check| Ok(report.add(check)?))?;
+            let caught = signals.caught();
+            if let (true, Some(caught)) = (cut_short, caught) {
+                report.interrupt(caught);
             }
-            return Ok(signals.exit_status());
+            return Ok(caught.map(Caught::exit_status));
         }
     }
     Ok(None)

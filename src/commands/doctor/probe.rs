@@ -15,7 +15,7 @@ use crate::protocol::message::{MessageKind, MotionCommand};
 use crate::protocol::{catalog, ControlMode, Wire};
 use crate::session::confirm::{send_until, Attempt};
 use crate::session::Session;
-use crate::signals::SignalFlag;
+use crate::signals::{Caught, SignalFlag};
 
 /// How long to wait for the mode to switch (the command is sent up to three times).
 const MODE_TIMEOUT: Duration = Duration::from_millis(600);
@@ -118,7 +118,7 @@ fn probe_motion(session: &Session, wanted: u8, mode_ok: bool, signals: &SignalFl
             error,
         ));
     }
-    if let Some(name) = signals.received().map(|_| signals.name()) {
+    if let Some(name) = signals.caught().map(Caught::name) {
         // Cut short, the probe found nothing out either way: not a failure of the robot.
         return Ok(Check::skip(
             ID,

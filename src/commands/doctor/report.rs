@@ -6,6 +6,9 @@ use std::io::{self, Write};
 
 use serde_json::json;
 
+use crate::output::palette;
+use crate::signals::Caught;
+
 /// The result of one check. Ordered from good to bad.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub enum Outcome {
@@ -28,13 +31,13 @@ impl Outcome {
         }
     }
 
-    /// ANSI colour: green, dim, yellow, red.
+    /// The palette's colour: green, dim, yellow, bold red.
     fn color(self) -> &'static str {
         match self {
-            Outcome::Pass => "\x1b[32m",
-            Outcome::Skip => "\x1b[2m",
-            Outcome::Warn => "\x1b[33m",
-            Outcome::Fail => "\x1b[1;31m",
+            Outcome::Pass => palette::PASS.as_str(),
+            Outcome::Skip => palette::SKIPPED.as_str(),
+            Outcome::Warn => palette::WARNING.as_str(),
+            Outcome::Fail => palette::FAILED.as_str(),
         }
     }
 }
@@ -137,8 +140,8 @@ impl<'a, W: Write> Report<'a, W> {
     }
 
     /// A signal (`SIGINT`) cut the probe short: the verdict says its result is unknown.
-    pub fn interrupt(&mut self, signal: &'static str) {
-        self.interrupted = Some(signal);
+    pub fn interrupt(&mut self, caught: Caught) {
+        self.interrupted = Some(caught.name());
     }
 
     /// True when no check failed.
@@ -190,7 +193,7 @@ impl<'a, W: Write> Report<'a, W> {
 /// `PASS  frames arriving  512 frames in 1.0 s`, then `      -> what to do` for WARN and FAIL.
 pub fn text_line(check: &Check, color: bool) -> String {
     let status = if color {
-        format!("{}{}\x1b[0m", check.outcome.color(), check.outcome)
+        format!("{}{}{}", check.outcome.color(), check.outcome, palette::RESET.as_str())
     } else {
         check.outcome.to_string()
     };

@@ -25,13 +25,14 @@ use crate::link::queue_full_meaning;
 /// taken in (a stalled peer's backlog, or the latest frames on a loaded machine) and cannot say how much.
 pub const UNCOUNTED_DISCARD: &str =
     "output the pseudo-terminal still held flushed before the stop frames, uncounted";
+use crate::output::palette::CLEAR_LINE;
 use crate::output::Format;
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{MotionCommand, COMMAND_TIMEOUT};
 use crate::protocol::Codec;
 use crate::protocol::{ControlMode, Wire};
 use crate::session::{RobotStatus, Session};
-use crate::signals::{self, SignalFlag};
+use crate::signals::{self, Caught, SignalFlag};
 
 /// The main loop refreshes the target this often; the watchdog zeroes it if that stops for this long.
 const REFRESH: Duration = Duration::from_millis(20);
@@ -58,7 +59,7 @@ const SUSPEND_WAIT: Duration = Duration::from_millis(100);
 #[derive(Debug, PartialEq)]
 enum End {
     TimeUp,
-    Signal(&'static str, u8),
+    Signal(Caught),
     EStop,
     /// The robot reported the vehicle state "exception" (a latched fault, battery cut-off, RC link lost).
     Exception,
@@ -159,8 +160,8 @@ fn execute_with(
         _ => sender.stop(),
     };
     // A signal during the ramp down stopped it at once (the signal thread ends the sender): say so.
-    let end = match (end, signal.exit_status()) {
-        (End::TimeUp, Some(status)) => End::Signal(signal.name(), status),
+    let end = match (end, signal.caught()) {
+        (End::TimeUp, Some(caught)) => End::Signal(caught),
         (end, _) => end,
     };
     context.sender_slot.lock().take();
@@ -188,7 +189,7 @@ fn execute_with(
             writeln!(out, "{record}")
         }
         (_, End::TimeUp) => writeln!(out, "{}", lines("time up")),
-        (_, End::Signal(name, _)) => writeln!(out, "{}", lines(name)),
+        (_, End::Signal(caught)) => writeln!(out, "{}", lines(caught.name())),
         _ => Ok(()),
     };
     match (written.and_then(|()| out.flush()), result) {
@@ -210,7 +211,7 @@ fn report_json(
     serde_json::json!({
         "type": "report",
         "end": end.name(),
-        "signal": match end { End::Signal(name, _) => Some(*name), _ => None },
+        "signal": match end { End::Signal(caught) => Some(caught.name()), _ => None },
         "elapsed": status::round(elapsed, 3),
         "exit_status": exit_status,
         "frames_sent": stats.frames,
@@ -258,9 +259,9 @@ fn check_before_driving(
 ) -> Result<Option<u8>> {
     let signal = &context.signal;
     let first = live::first_status_unless(session, || signal.received().is_some());
-    if let (Some(status), name) = (signal.exit_status(), signal.name()) {
-        crate::say!("tracerctl: {name} before driving: nothing was sent");
-        return Ok(Some(status));
+    if let Some(caught) = signal.caught() {
+        crate::say!("tracerctl: {} before driving: nothing was sent", caught.name());
+        return Ok(Some(caught.exit_status()));
     }
     let refusal = match first {
         Some((state, wire)) => {
@@ -366,8 +367,8 @@ impl<'a> DriveLoop<'a> {
 
     /// One iteration: `Some` when the drive must end.
     fn step(&mut self, out: &mut impl Write, signal: &SignalFlag) -> Option<End> {
-        if let (Some(signo), name) = (signal.exit_status(), signal.name()) {
-            return Some(End::Signal(name, signo));
+        if let Some(caught) = signal.caught() {
+            return Some(End::Signal(caught));
         }
         // After a gap in this loop (suspended with the rest of the process, or blocked on a slow
         // terminal), let the sender take its next tick first: it alone knows whether commands stopped.
@@ -454,7 +455,7 @@ impl<'a> DriveLoop<'a> {
         let written = match self.style {
             Style::Overwrite => {
                 let width = terminal_columns().unwrap_or(DEFAULT_COLUMNS);
-                write!(out, "\r\x1b[K{}", status::fit(&view, width))
+                write!(out, "\r{CLEAR_LINE}{}", status::fit(&view, width))
             }
             Style::Lines => writeln!(out, "{}", status::full(&view)),
             Style::Json => writeln!(out, "{}", status::json(&view)),
@@ -478,7 +479,7 @@ fn outcome(
 ) -> Result<u8> {
     match end {
         End::TimeUp => Ok(if stats.stop_confirmed() { SUCCESS } else { FAILURE }),
-        End::Signal(_, status) => Ok(*status),
+        End::Signal(caught) => Ok(caught.exit_status()),
         End::EStop => {
             Err(Failure::not_done(format!("stopped after {elapsed:.2} s: the E-stop was pressed; {report}"))
                 .into())

@@ -39,7 +39,7 @@ use crate::output::Format;
 use crate::protocol;
 use crate::recorder::LogFile;
 use crate::recorder::Recorder;
-use crate::signals::SignalFlag;
+use crate::signals::{Caught, SignalFlag};
 use crate::{session, signals};
 
 /// The longest the receive call blocks: how soon a signal is noticed on a silent bus.
@@ -128,7 +128,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         End::Duration => (SUCCESS, "duration reached".to_string()),
         End::Count => (SUCCESS, "frame count reached".to_string()),
         End::Eof => (SUCCESS, "end of the source".to_string()),
-        End::Signal => (flag.exit_status().unwrap_or(exit::SIGNAL_BASE), flag.name().to_string()),
+        End::Signal(caught) => (caught.exit_status(), caught.name().to_string()),
         End::LinkError(error) => {
             crate::say!("tracerctl: the link {} failed: {error}", link.name);
             (FAILURE, "link failed".to_string())
@@ -169,8 +169,8 @@ fn receive_until_end(
     let Until { flag, deadline, count } = *until;
     let mut next_tick = Instant::now() + TICK;
     loop {
-        if flag.received().is_some() {
-            return Ok(End::Signal);
+        if let Some(caught) = flag.caught() {
+            return Ok(End::Signal(caught));
         }
         if count.is_some_and(|count| monitor.printed() >= count) {
             return Ok(End::Count);
@@ -222,6 +222,6 @@ enum End {
     /// As many frames shown as asked for.
     Count,
     Eof,
-    Signal,
+    Signal(Caught),
     LinkError(io::Error),
 }

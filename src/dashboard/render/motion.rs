@@ -26,7 +26,7 @@ pub(super) fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: The
     let row = |label: &str, linear: String, angular: String| {
         format!("{label:<label_width$}{linear:>value_width$} {angular:>value_width$}")
     };
-    let held: String = teleop.held.iter().copied().map(arrow).collect();
+    let held: String = teleop.held.iter().map(Key::to_string).collect();
     let mm = |value: i16| speed_text(f64::from(value) / 1000.0);
     let mut lines = vec![
         Line::styled(row("", "m/s".into(), "rad/s".into()), theme.dim()),
@@ -52,18 +52,4 @@ pub(super) fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: The
         ));
     }
     frame.render_widget(Paragraph::new(lines).block(block), area);
-}
-
-/// A held drive key, as the arrow it drives.
-fn arrow(key: Key) -> &'static str {
-    match key {
-        Key::Up => "↑",
-        Key::Down => "↓",
-        Key::Left => "←",
-        Key::Right => "→",
-        Key::ForwardLeft => "↖",
-        Key::ForwardRight => "↗",
-        Key::BackLeft => "↙",
-        Key::BackRight => "↘",
-    }
 }

@@ -9,7 +9,8 @@ use super::text::fit_words;
 use super::theme::{block, Theme};
 use crate::dashboard::app::{App, Protocol};
 use crate::protocol::catalog;
-use crate::protocol::message::{light_mode_name, MessageKind};
+use crate::protocol::message::MessageKind;
+use crate::protocol::LightMode;
 
 /// Why the odometry panel is empty: not yet, or never on a wire that does not report it (RS232, V1).
 fn no_odometry_text(protocol: Protocol) -> String {
@@ -65,9 +66,9 @@ fn lights_span(app: &App, theme: Theme) -> Span<'static> {
     match app.shown.lights {
         None => Span::styled("?", theme.dim()),
         Some((enable, mode, brightness)) => {
-            let name = match light_mode_name(mode) {
-                Some("custom") => format!("custom {brightness} %"),
-                Some(name) => name.to_string(),
+            let name = match LightMode::from_code(mode) {
+                Some(LightMode::Custom) => format!("custom {brightness} %"),
+                Some(mode) => mode.name().to_string(),
                 None => format!("mode 0x{mode:02X}"),
             };
             if enable == 0 {
