@@ -138,13 +138,26 @@ normalise() { sed -e "s#$(printf '%s' "$bin" | sed 's/[.[\*^$/]/\\&/g')/##g" -e 
 # Runs `decode ARGS` on both builds (stdin from $stdin), compares stdout, normalised stderr and exit status.
 # Sets $why on a difference.
 stdin=/dev/null
+# wine's own process dying of a Unix signal (status 128 + N: wine 8.0 crashed once in 56 x 11 runs on CI, exit
+# 139, and never in 450 runs under load here) is not tracerctl's status: a Windows program's crash is an
+# exception code, which wine reports as a status below 128. Such a run is tried again (twice at most) and
+# counted in a NOTE; any other difference fails at once.
+wine_crashes=0
 same_decode() {
-    local out=$work/a
+    local out=$work/a tries=0 wrc
     L decode "$@" <"$stdin" >"$out.l.out" 2>"$out.l.err"; local lrc=$?
-    W decode "$@" <"$stdin" >"$out.w.out" 2>"$out.w.err"; local wrc=$?
+    while :; do
+        W decode "$@" <"$stdin" >"$out.w.out" 2>"$out.w.err"; wrc=$?
+        [ "$wrc" -ge 128 ] && [ "$lrc" -lt 128 ] && [ $tries -lt 2 ] || break
+        tries=$((tries + 1)) wine_crashes=$((wine_crashes + 1))
+        echo "run.sh: wine itself ended by signal $((wrc - 128)) on: decode $*; trying again" >&2
+    done
     lines=$((lines + $(wc -l <"$out.l.out")))
     [ "$lrc" = 0 ] || nonzero=$((nonzero + 1))
-    if [ "$lrc" != "$wrc" ]; then why="exit $wrc, Linux $lrc: decode $*"; return 1; fi
+    if [ "$lrc" != "$wrc" ]; then
+        why="exit $wrc, Linux $lrc: decode $* (stderr: $(tr -d '\r' <"$out.w.err" | head -c 300 | tr '\n' ' '))"
+        return 1
+    fi
     if ! cmp -s "$out.l.out" "$out.w.out"; then
         why="stdout differs: decode $* ($(cmp "$out.l.out" "$out.w.out" 2>&1 | head -1)"
         grep -q $'\r' "$out.w.out" && why="$why; CR in the Windows output"
@@ -505,6 +518,7 @@ if wants f; then
 fi
 
 # --- verdict ----------------------------------------------------------------------------------------------------
+[ $wine_crashes = 0 ] || note a.wine-crashes "wine itself ended by a Unix signal $wine_crashes times in check a; each run was tried again and then compared (see stderr)"
 fails=()
 for result in "${results[@]}"; do [ "${result##*:}" = PASS ] || fails+=("${result%:*}"); done
 echo "TIMES: builds ${build_seconds} s, wine prefix and start ${prefix_seconds} s, total $(elapsed) s"
