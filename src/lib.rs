@@ -22,8 +22,10 @@ macro_rules! say_raw {
     }};
 }
 
+pub mod blackbox;
 pub mod candump;
 pub mod cli;
+pub mod config;
 pub mod commands;
 pub mod control;
 pub mod exit;

@@ -13,8 +13,8 @@ const LAYERS: &[&[&str]] = &[
     &["main", "cli", "fuzzing"],
     &["commands"],
     &["dashboard", "session"],
-    &["link", "control", "sim", "recorder", "signals"],
-    &["candump", "output", "exit"],
+    &["link", "control", "sim", "recorder", "blackbox", "signals"],
+    &["candump", "output", "exit", "config"],
     &["protocol"],
 ];
 
