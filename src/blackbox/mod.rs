@@ -1,5 +1,6 @@
 //! `tracerctl record`, the black box: the bus recorded unattended into a bounded ring of compressed candump
 //! segments, decoded events watched for triggers, and the window around each trigger kept as an incident.
+//! The parts here are the recorder's pieces; the loop that runs them is `commands/record/`.
 //!
 //! Layout of a recorder directory (docs/json.md has the files' fields):
 //!
@@ -10,3 +11,21 @@
 //! DIR/status.json                             the running recorder's state, rewritten every few seconds
 //! DIR/recorder.lock                           held (flock) by the running recorder: one per directory
 //! ```
+
+pub mod lock;
+pub mod marks;
+pub mod names;
+pub mod ring;
+pub mod segment;
+pub mod status;
+pub mod window;
+
+/// The ring's folder in a recorder directory.
+pub fn ring_dir(dir: &std::path::Path) -> std::path::PathBuf {
+    dir.join("ring")
+}
+
+/// The incidents' folder in a recorder directory.
+pub fn incidents_dir(dir: &std::path::Path) -> std::path::PathBuf {
+    dir.join("incidents")
+}
