@@ -108,8 +108,225 @@ pub enum Command {
     /// Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive
     #[command(visible_alias = "dash", after_help = reflow(&crate::dashboard::keys::help_text()))]
     Dashboard(DashboardArgs),
+    /// Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends
+    #[command(after_help = reflow(RECORD_AFTER_HELP))]
+    Record(RecordArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
+}
+
+const RECORD_AFTER_HELP: &str = "\
+The recorder keeps every frame in a ring of zstd-compressed candump -L segments under DIR/ring (bounded by
+--max-total and --max-age, oldest removed first) and, for each trigger, an incident in DIR/incidents: the
+frames from --before to --after around it as frames.log and frames.mcap, summary.txt, summary.json and
+incident.json. It never sends a frame. SIGTERM or Ctrl-C ends it (exit 0); a link that goes away is
+waited for. docs/troubleshooting.md sets it up as a service (tracerctl-record@can0).
+
+Examples:
+  Record can0 into /var/lib/tracerctl/can0 with the default triggers:
+    tracerctl --iface can0 record --dir /var/lib/tracerctl/can0
+  Also keep an incident when the battery drops below 23 V:
+    tracerctl record --dir DIR --trigger 'battery_voltage<23.0'
+  The operator saw something: mark it (the running recorder keeps an incident):
+    tracerctl record --mark --dir DIR 'stopped by the lift'
+  Is it running, what did it keep?
+    tracerctl record --status --dir DIR
+    tracerctl record --list --dir DIR
+
+Exit status: 0 success (--status: a recorder runs), 1 error (--status: none runs), 2 usage error.";
+
+/// `record --max-total`: a ring below 1 MiB holds too little to be a ring.
+pub const RING_SIZE: (u64, u64) = (1 << 20, 1 << 50);
+/// `record --segment`.
+pub const SEGMENT_TIME: DurationRange = DurationRange { min: secs(1), max: secs(24 * 3600) };
+/// `record --max-age`.
+pub const RING_AGE: DurationRange = DurationRange { min: secs(60), max: secs(366 * 24 * 3600) };
+/// `record --before`, `--after`.
+pub const WINDOW_TIME: DurationRange = DurationRange { min: Duration::ZERO, max: secs(3600) };
+
+#[derive(Debug, Args)]
+pub struct RecordArgs {
+    /// The recorder directory [default: the only one under /var/lib/tracerctl for --status, --list and
+    /// --mark; else $XDG_STATE_HOME/tracerctl/record]
+    #[arg(long, value_name = "DIR", value_hint = clap::ValueHint::DirPath)]
+    pub dir: Option<PathBuf>,
+
+    /// A new segment this often (1s to 1d)
+    #[arg(long, value_name = "DURATION", default_value = "1m", value_parser = duration_in(SEGMENT_TIME))]
+    pub segment: Duration,
+
+    /// The ring's size, e.g. 1GiB, 500MB (at least 1 MiB)
+    #[arg(long, value_name = "SIZE", default_value = "1GiB", value_parser = parse_size)]
+    pub max_total: u64,
+
+    /// Segments older than this are removed (1m to 366d)
+    #[arg(long, value_name = "DURATION", default_value = "7days", value_parser = duration_in(RING_AGE))]
+    pub max_age: Duration,
+
+    /// An incident keeps the frames from this long before its trigger (0 to 1h)
+    #[arg(long, value_name = "DURATION", default_value = "60s", value_parser = duration_in(WINDOW_TIME))]
+    pub before: Duration,
+
+    /// ... to this long after it; a trigger inside extends the window (0 to 1h)
+    #[arg(long, value_name = "DURATION", default_value = "30s", value_parser = duration_in(WINDOW_TIME))]
+    pub after: Duration,
+
+    /// Incidents kept, the oldest removed first
+    #[arg(long, value_name = "N", default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=100_000))]
+    pub max_incidents: u32,
+
+    /// Also a trigger: a decoded field compared with a value, e.g. 'battery_voltage<23.0', 'id=0x441' (repeatable)
+    #[arg(long, value_name = "EXPR", value_parser = parse_trigger)]
+    pub trigger: Vec<crate::blackbox::triggers::Expression>,
+
+    /// Only the --trigger expressions and marks, not the default triggers
+    #[arg(long)]
+    pub no_default_triggers: bool,
+
+    /// The link from a systemd instance name: can0 (SocketCAN), ttyUSB0 or dev/ttyUSB0 (serial /dev/ttyUSB0)
+    #[arg(long, value_name = "NAME", conflicts_with_all = ["status", "list", "mark"])]
+    pub instance: Option<String>,
+
+    /// Print the link, directory and settings it would record with, and exit without opening the link
+    #[arg(long, conflicts_with_all = ["status", "list", "mark"])]
+    pub dry_run: bool,
+
+    /// Is a recorder running in DIR: since when, frames recorded and lost, the ring, the last incidents
+    #[arg(long, conflicts_with_all = ["list", "mark"])]
+    pub status: bool,
+
+    /// The incidents in DIR, oldest first
+    #[arg(long, conflicts_with = "mark")]
+    pub list: bool,
+
+    /// Leave a mark (with NOTE): the running recorder keeps an incident around now
+    #[arg(long)]
+    pub mark: bool,
+
+    /// The mark's note (with --mark)
+    #[arg(value_name = "NOTE", requires = "mark")]
+    pub note: Option<String>,
+
+    /// Output format of --status and --list
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
+}
+
+fn parse_trigger(text: &str) -> Result<crate::blackbox::triggers::Expression, String> {
+    text.parse().map_err(|error| format!("{error}"))
+}
+
+/// A size such as `1GiB`, `500MB`, `64M` or plain bytes, within [`RING_SIZE`]; K, M, G, T are powers of
+/// 1024 (with or without `iB`), KB, MB, GB, TB powers of 1000.
+pub fn parse_size(text: &str) -> Result<u64, String> {
+    let trimmed = text.trim();
+    let split = trimmed.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(trimmed.len());
+    let (number, unit) = trimmed.split_at(split);
+    let factor: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1,
+        "k" | "kib" => 1 << 10,
+        "m" | "mib" => 1 << 20,
+        "g" | "gib" => 1 << 30,
+        "t" | "tib" => 1 << 40,
+        "kb" => 1_000,
+        "mb" => 1_000_000,
+        "gb" => 1_000_000_000,
+        "tb" => 1_000_000_000_000,
+        _ => return Err(format!("'{text}' is not a size such as 1GiB or 500MB (units: B, KiB, MiB, GiB, TiB, KB, MB, GB, TB)")),
+    };
+    let value = number.parse::<f64>().map_err(|_| format!("'{text}' is not a size such as 1GiB or 500MB"))?;
+    let bytes = value * factor as f64;
+    if !(bytes >= RING_SIZE.0 as f64 && bytes <= RING_SIZE.1 as f64) {
+        return Err(format!("'{text}' is out of range: give a size from 1MiB to 1024TiB"));
+    }
+    Ok(bytes as u64)
+}
+
+/// The directory `record` uses without `--dir`.
+fn default_record_dir(looking: bool) -> PathBuf {
+    // --status, --list and --mark find the service's directory when there is exactly one.
+    if looking {
+        let found: Vec<PathBuf> = std::fs::read_dir("/var/lib/tracerctl")
+            .map(|entries| entries.flatten().map(|entry| entry.path()).filter(|path| path.join("status.json").is_file()).collect())
+            .unwrap_or_default();
+        if let [only] = found.as_slice() {
+            return only.clone();
+        }
+    }
+    let state = std::env::var_os("XDG_STATE_HOME")
+        .filter(|dir| !dir.is_empty())
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("LOCALAPPDATA").filter(|dir| !dir.is_empty()).map(PathBuf::from))
+        .or_else(|| std::env::var_os("HOME").filter(|dir| !dir.is_empty()).map(|home| PathBuf::from(home).join(".local/state")))
+        .unwrap_or_else(|| PathBuf::from("."));
+    state.join("tracerctl").join("record")
+}
+
+/// `--instance NAME`: the link a systemd instance name gives.
+pub fn instance_link(name: &str) -> anyhow::Result<LinkChoice> {
+    let name = name.trim();
+    if name.is_empty() {
+        return Err(usage("--instance needs a name: can0, ttyUSB0 or dev/ttyUSB0"));
+    }
+    if name.contains('/') {
+        let path = format!("/{}", name.trim_start_matches('/'));
+        return Ok(LinkChoice::Serial { path: PathBuf::from(path), baud: DEFAULT_BAUD });
+    }
+    if name.starts_with("tty") || name.starts_with("rfcomm") {
+        return Ok(LinkChoice::Serial { path: PathBuf::from("/dev").join(name), baud: DEFAULT_BAUD });
+    }
+    if name.len() > 15 {
+        return Err(usage(format!("--instance {name}: an interface name has at most 15 characters")));
+    }
+    Ok(LinkChoice::SocketCan { iface: name.to_string() })
+}
+
+impl RecordArgs {
+    /// The options, and the link `--instance` chose (refused beside the link options).
+    fn options(self, link: &LinkArgs) -> anyhow::Result<(commands::record::Options, Option<LinkChoice>)> {
+        use commands::record::{Action, Options, Settings};
+        let format = match self.format {
+            ReportFormatArg::Text => commands::decode::ReportFormat::Text,
+            ReportFormatArg::Json => commands::decode::ReportFormat::Json,
+        };
+        let looking = self.status || self.list || self.mark;
+        let dir = self.dir.clone().unwrap_or_else(|| default_record_dir(looking));
+        let instance_link = match &self.instance {
+            Some(name) => {
+                if link.sim || link.replay.is_some() || link.iface.is_some() || !link.serial.is_empty() {
+                    return Err(usage("--instance chooses the link: give it without --iface, --serial, --sim or --replay"));
+                }
+                Some(instance_link(name)?)
+            }
+            None => None,
+        };
+        let settings = Settings {
+            segment: self.segment,
+            max_total: self.max_total,
+            max_age: self.max_age,
+            before: self.before,
+            after: self.after,
+            max_incidents: self.max_incidents,
+            triggers: crate::blackbox::triggers::TriggerSettings {
+                defaults: !self.no_default_triggers,
+                expressions: self.trigger,
+                ..Default::default()
+            },
+            instance: self.instance,
+        };
+        let action = if self.status {
+            Action::Status(format)
+        } else if self.list {
+            Action::List(format)
+        } else if self.mark {
+            Action::Mark(self.note.unwrap_or_default())
+        } else if self.dry_run {
+            Action::DryRun(settings)
+        } else {
+            Action::Record(settings)
+        };
+        Ok((Options { dir, action }, instance_link))
+    }
 }
 
 const DECODE_AFTER_HELP: &str = "\
@@ -1321,6 +1538,14 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             let options = args.options()?;
             link.refuse_overwriting("--record", options.record.as_deref())?;
             commands::dashboard::run(&global(link.choice()?), &options)
+        }
+        Command::Record(args) => {
+            let (options, instance) = args.options(&link)?;
+            let choice = match instance {
+                Some(choice) => choice,
+                None => link.choice()?,
+            };
+            commands::record::run(&global(choice), &options)
         }
     }
 }

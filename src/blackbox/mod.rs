@@ -18,6 +18,7 @@ pub mod names;
 pub mod ring;
 pub mod segment;
 pub mod status;
+pub mod triggers;
 pub mod window;
 
 /// The ring's folder in a recorder directory.
