@@ -222,18 +222,21 @@ pub fn parse_size(text: &str) -> Result<u64, String> {
     let trimmed = text.trim();
     let split = trimmed.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(trimmed.len());
     let (number, unit) = trimmed.split_at(split);
-    let factor: u64 = match unit.trim().to_ascii_lowercase().as_str() {
-        "" | "b" => 1,
-        "k" | "kib" => 1 << 10,
-        "m" | "mib" => 1 << 20,
-        "g" | "gib" => 1 << 30,
-        "t" | "tib" => 1 << 40,
-        "kb" => 1_000,
-        "mb" => 1_000_000,
-        "gb" => 1_000_000_000,
-        "tb" => 1_000_000_000_000,
-        _ => return Err(format!("'{text}' is not a size such as 1GiB or 500MB (units: B, KiB, MiB, GiB, TiB, KB, MB, GB, TB)")),
-    };
+    let factor: u64 =
+        match unit.trim().to_ascii_lowercase().as_str() {
+            "" | "b" => 1,
+            "k" | "kib" => 1 << 10,
+            "m" | "mib" => 1 << 20,
+            "g" | "gib" => 1 << 30,
+            "t" | "tib" => 1 << 40,
+            "kb" => 1_000,
+            "mb" => 1_000_000,
+            "gb" => 1_000_000_000,
+            "tb" => 1_000_000_000_000,
+            _ => return Err(format!(
+                "'{text}' is not a size such as 1GiB or 500MB (units: B, KiB, MiB, GiB, TiB, KB, MB, GB, TB)"
+            )),
+        };
     let value = number.parse::<f64>().map_err(|_| format!("'{text}' is not a size such as 1GiB or 500MB"))?;
     let bytes = value * factor as f64;
     if !(bytes >= RING_SIZE.0 as f64 && bytes <= RING_SIZE.1 as f64) {
@@ -247,7 +250,13 @@ fn default_record_dir(looking: bool) -> PathBuf {
     // --status, --list and --mark find the service's directory when there is exactly one.
     if looking {
         let found: Vec<PathBuf> = std::fs::read_dir("/var/lib/tracerctl")
-            .map(|entries| entries.flatten().map(|entry| entry.path()).filter(|path| path.join("status.json").is_file()).collect())
+            .map(|entries| {
+                entries
+                    .flatten()
+                    .map(|entry| entry.path())
+                    .filter(|path| path.join("status.json").is_file())
+                    .collect()
+            })
             .unwrap_or_default();
         if let [only] = found.as_slice() {
             return only.clone();
@@ -257,7 +266,11 @@ fn default_record_dir(looking: bool) -> PathBuf {
         .filter(|dir| !dir.is_empty())
         .map(PathBuf::from)
         .or_else(|| std::env::var_os("LOCALAPPDATA").filter(|dir| !dir.is_empty()).map(PathBuf::from))
-        .or_else(|| std::env::var_os("HOME").filter(|dir| !dir.is_empty()).map(|home| PathBuf::from(home).join(".local/state")))
+        .or_else(|| {
+            std::env::var_os("HOME")
+                .filter(|dir| !dir.is_empty())
+                .map(|home| PathBuf::from(home).join(".local/state"))
+        })
         .unwrap_or_else(|| PathBuf::from("."));
     state.join("tracerctl").join("record")
 }
@@ -294,7 +307,9 @@ impl RecordArgs {
         let instance_link = match &self.instance {
             Some(name) => {
                 if link.sim || link.replay.is_some() || link.iface.is_some() || !link.serial.is_empty() {
-                    return Err(usage("--instance chooses the link: give it without --iface, --serial, --sim or --replay"));
+                    return Err(usage(
+                        "--instance chooses the link: give it without --iface, --serial, --sim or --replay",
+                    ));
                 }
                 Some(instance_link(name)?)
             }

@@ -25,7 +25,9 @@ impl DirLock {
         let path = dir.join(NAME);
         let mut file = OpenOptions::new().read(true).write(true).create(true).truncate(false).open(&path)?;
         if !try_lock(&file, true)? {
-            return Ok(Acquired::Busy(std::fs::read_to_string(&path).ok().and_then(|t| t.trim().parse().ok())));
+            return Ok(Acquired::Busy(
+                std::fs::read_to_string(&path).ok().and_then(|t| t.trim().parse().ok()),
+            ));
         }
         file.set_len(0)?;
         write!(file, "{}", std::process::id())?;
@@ -79,7 +81,9 @@ mod tests {
         assert_eq!(DirLock::holder(dir.path()), None);
         let Acquired::Held(lock) = DirLock::acquire(dir.path()).unwrap() else { panic!("free") };
         // flock locks belong to the open file: a second open in this process is refused as another would be.
-        assert!(matches!(DirLock::acquire(dir.path()).unwrap(), Acquired::Busy(Some(pid)) if pid == std::process::id()));
+        assert!(
+            matches!(DirLock::acquire(dir.path()).unwrap(), Acquired::Busy(Some(pid)) if pid == std::process::id())
+        );
         assert_eq!(DirLock::holder(dir.path()), Some(std::process::id()));
         drop(lock);
         assert_eq!(DirLock::holder(dir.path()), None);

@@ -69,11 +69,7 @@ pub fn incident_time(name: &str) -> Option<u64> {
 /// The time of a line the recorder wrote: `(1700000000.002500) can0 ...` (CAN) or
 /// `5AA5... # (1700000000.002500) /dev/ttyUSB0` (RS232).
 pub fn line_time(line: &[u8]) -> Option<u64> {
-    let open = if line.first() == Some(&b'(') {
-        0
-    } else {
-        memchr::memmem::find(line, b" # (")? + 3
-    };
+    let open = if line.first() == Some(&b'(') { 0 } else { memchr::memmem::find(line, b" # (")? + 3 };
     let rest = &line[open + 1..];
     let close = memchr::memchr(b')', rest)?;
     let (secs, micros) = split_stamp(&rest[..close])?;
@@ -93,9 +89,8 @@ fn digits(text: &[u8]) -> Option<u64> {
     if text.is_empty() || text.len() > 19 {
         return None;
     }
-    text.iter().try_fold(0u64, |value, &byte| {
-        byte.is_ascii_digit().then(|| value * 10 + u64::from(byte - b'0'))
-    })
+    text.iter()
+        .try_fold(0u64, |value, &byte| byte.is_ascii_digit().then(|| value * 10 + u64::from(byte - b'0')))
 }
 
 #[cfg(test)]
@@ -133,7 +128,10 @@ mod tests {
     #[test]
     fn line_times_of_can_and_serial_lines() {
         assert_eq!(line_time(b"(1700000000.002500) can0 211#00000103000000B1"), Some(1_700_000_000_002_500));
-        assert_eq!(line_time(b"5AA50A55010200000000000061 # (1700000000.002500) /dev/ttyUSB0"), Some(1_700_000_000_002_500));
+        assert_eq!(
+            line_time(b"5AA50A55010200000000000061 # (1700000000.002500) /dev/ttyUSB0"),
+            Some(1_700_000_000_002_500)
+        );
         assert_eq!(line_time(b"(1700000000.0025) can0 211#00"), None);
         assert_eq!(line_time(b"can0 211#00"), None);
         assert_eq!(line_time(b"(x) can0"), None);

@@ -50,7 +50,12 @@ pub struct TriggerSettings {
 
 impl Default for TriggerSettings {
     fn default() -> Self {
-        Self { defaults: true, expressions: Vec::new(), battery_warning_volts: 22.5, rearm: std::time::Duration::from_secs(1) }
+        Self {
+            defaults: true,
+            expressions: Vec::new(),
+            battery_warning_volts: 22.5,
+            rearm: std::time::Duration::from_secs(1),
+        }
     }
 }
 

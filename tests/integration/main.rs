@@ -2,6 +2,7 @@
 // Test diagnostics may print; the closed-stream rule (clippy.toml) is for the tool itself.
 #![allow(clippy::disallowed_macros)]
 
+mod black_box;
 mod compressed_input;
 mod dashboard;
 mod dashboard_driver;

@@ -78,7 +78,8 @@ pub fn write(dir: &Path, ring: &Ring, request: &Request) -> Result<Made> {
         }
     };
     let done = incidents.join(&name);
-    fs::rename(&partial, &done).with_context(|| format!("cannot rename {} to {}", partial.display(), done.display()))?;
+    fs::rename(&partial, &done)
+        .with_context(|| format!("cannot rename {} to {}", partial.display(), done.display()))?;
     Ok(Made { name, frames })
 }
 
@@ -95,7 +96,9 @@ fn free_name(incidents: &Path, name: &str) -> String {
 
 fn fill(folder: &Path, ring: &Ring, request: &Request, name: &str) -> Result<u64> {
     let frames_path = folder.join(FRAMES);
-    let mut out = BufWriter::new(File::create(&frames_path).with_context(|| format!("cannot create {}", frames_path.display()))?);
+    let mut out = BufWriter::new(
+        File::create(&frames_path).with_context(|| format!("cannot create {}", frames_path.display()))?,
+    );
     let mut write_error: Option<io::Error> = None;
     let window = &request.window;
     let back = ring
@@ -110,7 +113,9 @@ fn fill(folder: &Path, ring: &Ring, request: &Request, name: &str) -> Result<u64
     if let Some(error) = write_error {
         return Err(error).with_context(|| format!("cannot write {}", frames_path.display()));
     }
-    out.into_inner().map_err(|e| e.into_error()).and_then(|file| file.sync_data())
+    out.into_inner()
+        .map_err(|e| e.into_error())
+        .and_then(|file| file.sync_data())
         .with_context(|| format!("cannot write {}", frames_path.display()))?;
     let decoded = decode_window(folder, &frames_path, request)?;
     let incident = incident_json(request, name, back.lines, &back.damaged, &decoded);
@@ -153,12 +158,19 @@ fn decode_window(folder: &Path, frames_path: &Path, request: &Request) -> Result
         let event_result = if let Some((frame, ts, port)) = serial_line(line) {
             serial = true;
             let decoded = Ok(crate::protocol::serial::decode(&frame));
-            let event = Event { ts: Some(ts), iface: port, dir: None, frame: FrameRef::Serial(&frame), decoded };
+            let event =
+                Event { ts: Some(ts), iface: port, dir: None, frame: FrameRef::Serial(&frame), decoded };
             summary.event(&event);
             mcap.event(&event)
         } else if let Ok(Line::Frame(record)) = parser.parse(line) {
             let decoded = detector.observe_and_decode(&record.frame, request.protocol);
-            let event = Event { ts: record.ts, iface: record.iface, dir: record.dir, frame: FrameRef::Can(&record.frame), decoded };
+            let event = Event {
+                ts: record.ts,
+                iface: record.iface,
+                dir: record.dir,
+                frame: FrameRef::Can(&record.frame),
+                decoded,
+            };
             summary.event(&event);
             mcap.event(&event)
         } else {
@@ -175,7 +187,9 @@ fn decode_window(folder: &Path, frames_path: &Path, request: &Request) -> Result
         Verdict::V2 => "can-v2",
         Verdict::Unknown | Verdict::Mixed => "unknown",
     };
-    let mut out = mcap.finish(protocol).map_err(|error| anyhow::anyhow!("cannot write {}: {error}", mcap_path.display()))?;
+    let mut out = mcap
+        .finish(protocol)
+        .map_err(|error| anyhow::anyhow!("cannot write {}: {error}", mcap_path.display()))?;
     out.flush().with_context(|| format!("cannot write {}", mcap_path.display()))?;
     let report = summary.report(&stats, &detector);
     fs::write(folder.join(SUMMARY_TEXT), report).with_context(|| format!("cannot write {SUMMARY_TEXT}"))?;
@@ -199,7 +213,11 @@ fn serial_line(line: &[u8]) -> Option<(SerialFrame, Timestamp, &str)> {
     let us = names::line_time(line)?;
     let close = memchr::memchr(b')', &line[comment..])? + comment;
     let port = std::str::from_utf8(line.get(close + 2..)?).ok()?;
-    let ts = Timestamp { secs: us / 1_000_000, nanos: (us % 1_000_000) as u32 * 1000, kind: TimestampKind::Absolute };
+    let ts = Timestamp {
+        secs: us / 1_000_000,
+        nanos: (us % 1_000_000) as u32 * 1000,
+        kind: TimestampKind::Absolute,
+    };
     Some((frame, ts, port))
 }
 
@@ -217,6 +235,9 @@ fn incident_json(request: &Request, name: &str, frames: u64, damaged: &[String],
         "window": {
             "from": names::rfc3339_millis(window.start),
             "to": names::rfc3339_millis(window.end),
+            // Exact bounds (inclusive), microseconds since the epoch as in the frames' stamps.
+            "from_us": window.start,
+            "to_us": window.end,
             "before_s": request.before_us as f64 / 1e6,
             "after_s": request.after_us as f64 / 1e6,
             "cut_short": request.cut_short,

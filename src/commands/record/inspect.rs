@@ -102,7 +102,10 @@ fn print_out(text: &str) {
 fn missing(dir: &Path) -> anyhow::Error {
     Failure {
         code: FAILURE,
-        message: format!("{} is not a recorder directory (no such directory): see tracerctl record --help", dir.display()),
+        message: format!(
+            "{} is not a recorder directory (no such directory): see tracerctl record --help",
+            dir.display()
+        ),
     }
     .into()
 }
@@ -131,7 +134,8 @@ fn incident_facts(name: &str, path: &Path) -> Value {
 }
 
 fn incident_line(facts: &Value) -> String {
-    let causes: Vec<&str> = facts["causes"].as_array().map(|c| c.iter().filter_map(Value::as_str).collect()).unwrap_or_default();
+    let causes: Vec<&str> =
+        facts["causes"].as_array().map(|c| c.iter().filter_map(Value::as_str).collect()).unwrap_or_default();
     format!(
         "{}  {}  ({} frames, {})",
         facts["incident"].as_str().unwrap_or("?"),
@@ -145,7 +149,8 @@ pub fn list(dir: &Path, format: ReportFormat) -> Result<u8> {
     if !dir.is_dir() {
         return Err(missing(dir));
     }
-    let incidents: Vec<Value> = incident::list(dir).iter().map(|(name, path)| incident_facts(name, path)).collect();
+    let incidents: Vec<Value> =
+        incident::list(dir).iter().map(|(name, path)| incident_facts(name, path)).collect();
     let text = match format {
         ReportFormat::Json => format!("{}\n", serde_json::to_string_pretty(&Value::Array(incidents))?),
         ReportFormat::Text if incidents.is_empty() => format!("no incidents in {}\n", dir.display()),
@@ -170,7 +175,8 @@ pub fn status(dir: &Path, format: ReportFormat) -> Result<u8> {
         "last_segment_from": segments.last().map(|s| names::rfc3339_millis(s.start)),
     });
     let incidents = incident::list(dir);
-    let last: Vec<Value> = incidents.iter().rev().take(5).map(|(name, path)| incident_facts(name, path)).collect();
+    let last: Vec<Value> =
+        incidents.iter().rev().take(5).map(|(name, path)| incident_facts(name, path)).collect();
     let report = json!({
         "dir": dir.display().to_string(),
         "running": holder.is_some(),
@@ -192,26 +198,33 @@ fn status_text(report: &Value) -> String {
     let written = &report["status"];
     let mut text = format!("recorder directory {}: ", report["dir"].as_str().unwrap_or("?"));
     match (report["pid"].as_u64(), written.is_null()) {
-        (Some(pid), _) => text += &format!(
-            "running (process {pid}) since {}, {} {}\n",
-            written["started"].as_str().unwrap_or("?"),
-            written["state"].as_str().unwrap_or("?"),
-            written["link"].as_str().unwrap_or("?")
-        ),
+        (Some(pid), _) => {
+            text += &format!(
+                "running (process {pid}) since {}, {} {}\n",
+                written["started"].as_str().unwrap_or("?"),
+                written["state"].as_str().unwrap_or("?"),
+                written["link"].as_str().unwrap_or("?")
+            )
+        }
         (None, true) => text += "not running, and no recorder has written a status here\n",
-        (None, false) => text += &format!(
-            "not running (the last status was written at {} by process {})\n",
-            written["updated"].as_str().unwrap_or("?"),
-            written["pid"]
-        ),
+        (None, false) => {
+            text += &format!(
+                "not running (the last status was written at {} by process {})\n",
+                written["updated"].as_str().unwrap_or("?"),
+                written["pid"]
+            )
+        }
     }
     if !written.is_null() {
         text += &format!(
             "frames: {} recorded, {} lost (status written at {})\n",
-            written["frames_recorded"], written["frames_lost"], written["updated"].as_str().unwrap_or("?")
+            written["frames_recorded"],
+            written["frames_lost"],
+            written["updated"].as_str().unwrap_or("?")
         );
         for loss in written["losses"].as_array().into_iter().flatten() {
-            text += &format!("  lost {} frames: {}\n", loss["frames"], loss["reason"].as_str().unwrap_or("?"));
+            text +=
+                &format!("  lost {} frames: {}\n", loss["frames"], loss["reason"].as_str().unwrap_or("?"));
         }
     }
     let ring = &report["ring"];
@@ -238,7 +251,10 @@ pub fn mark(dir: &Path, note: &str) -> Result<u8> {
     let Some(pid) = DirLock::holder(dir) else {
         return Err(Failure {
             code: FAILURE,
-            message: format!("no recorder runs in {}: nothing to mark (see tracerctl record --status)", dir.display()),
+            message: format!(
+                "no recorder runs in {}: nothing to mark (see tracerctl record --status)",
+                dir.display()
+            ),
         }
         .into());
     };

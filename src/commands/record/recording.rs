@@ -43,8 +43,11 @@ const LIVE_GRACE_US: u64 = 500_000;
 const REOPEN_EVERY: Duration = Duration::from_secs(1);
 
 pub fn run(global: &Global, dir: &Path, settings: &Settings) -> Result<u8> {
-    std::fs::create_dir_all(dir).map_err(|error| anyhow::anyhow!("cannot create {}: {error}", dir.display()))?;
-    let _lock = match DirLock::acquire(dir).map_err(|error| anyhow::anyhow!("cannot lock {}: {error}", dir.display()))? {
+    std::fs::create_dir_all(dir)
+        .map_err(|error| anyhow::anyhow!("cannot create {}: {error}", dir.display()))?;
+    let _lock = match DirLock::acquire(dir)
+        .map_err(|error| anyhow::anyhow!("cannot lock {}: {error}", dir.display()))?
+    {
         Acquired::Held(lock) => lock,
         Acquired::Busy(pid) => {
             let who = pid.map_or_else(|| "another process".to_string(), |pid| format!("process {pid}"));
@@ -235,7 +238,10 @@ impl<'a> Recorder<'a> {
                 Err(error) => {
                     let error = format!("{error:#}");
                     if outage.as_ref().is_none_or(|(_, said)| *said != error) {
-                        crate::say!("tracerctl: cannot open {}: {error}; trying again every second", self.link_name);
+                        crate::say!(
+                            "tracerctl: cannot open {}: {error}; trying again every second",
+                            self.link_name
+                        );
                         self.status.lock().state = format!("waiting for {}: {error}", self.link_name);
                     }
                     let since = outage.map_or_else(Instant::now, |(since, _)| since);
@@ -245,7 +251,11 @@ impl<'a> Recorder<'a> {
                 }
             };
             if let Some((since, _)) = outage.take() {
-                crate::say!("tracerctl: {} is back after {:.1} s; recording", self.link_name, since.elapsed().as_secs_f64());
+                crate::say!(
+                    "tracerctl: {} is back after {:.1} s; recording",
+                    self.link_name,
+                    since.elapsed().as_secs_f64()
+                );
                 self.status.lock().link_outages += 1;
             }
             self.status.lock().state = "recording".to_string();
@@ -437,7 +447,8 @@ impl<'a> Recorder<'a> {
             Err(TrySendError::Full(_)) => {
                 // The segment still starts, with the next batch.
                 self.new_segment = segment;
-                let reason = format!("the disk was too slow: {} s of frames were waiting", writer::QUEUE_BATCHES);
+                let reason =
+                    format!("the disk was too slow: {} s of frames were waiting", writer::QUEUE_BATCHES);
                 self.status.lock().lose(lines, &reason);
             }
             Err(TrySendError::Disconnected(_)) => self.status.lock().lose(lines, "the writer thread stopped"),

@@ -28,7 +28,12 @@ pub const QUEUE_BATCHES: usize = 32;
 /// Work for the writer, in the order the receive loop sent it.
 pub enum Job {
     /// Whole lines to append; with `segment`, first close the open segment and start one at that time.
-    Batch { segment: Option<u64>, text: Vec<u8>, lines: u64, now: u64 },
+    Batch {
+        segment: Option<u64>,
+        text: Vec<u8>,
+        lines: u64,
+        now: u64,
+    },
     /// An incident window is over: its files, from the ring (every line of it was sent before this).
     Incident(Box<incident::Request>),
     Stop,
@@ -45,7 +50,8 @@ pub fn start(
     limits: Limits,
     status: Arc<Mutex<Status>>,
 ) -> Result<(SyncSender<Job>, JoinHandle<()>)> {
-    let ring = Ring::open(&ring_dir(dir)).with_context(|| format!("cannot create {}", ring_dir(dir).display()))?;
+    let ring =
+        Ring::open(&ring_dir(dir)).with_context(|| format!("cannot create {}", ring_dir(dir).display()))?;
     std::fs::create_dir_all(incidents_dir(dir))
         .with_context(|| format!("cannot create {}", incidents_dir(dir).display()))?;
     incident::remove_partial(dir);
@@ -147,7 +153,8 @@ impl Writer {
                 }
                 Err(error) if is_disk_full(&error) && self.make_room() => {}
                 Err(error) => {
-                    let reason = if is_disk_full(&error) { self.full() } else { self.failed(&error.to_string()) };
+                    let reason =
+                        if is_disk_full(&error) { self.full() } else { self.failed(&error.to_string()) };
                     self.status.lock().lose(lines, &reason);
                     return;
                 }
@@ -167,7 +174,10 @@ impl Writer {
                     if is_disk_full(&error) {
                         self.full();
                     } else {
-                        self.failed(&format!("cannot create a segment in {}: {error}", self.ring.dir().display()));
+                        self.failed(&format!(
+                            "cannot create a segment in {}: {error}",
+                            self.ring.dir().display()
+                        ));
                     }
                     return;
                 }
@@ -191,7 +201,9 @@ impl Writer {
     fn trim(&mut self, now: u64) {
         match self.ring.trim(self.limits.bounds, now) {
             Ok(removed) => self.status.lock().ring_segments_removed += removed.segments,
-            Err(error) => crate::say!("tracerctl: cannot trim the ring {}: {error}", self.ring.dir().display()),
+            Err(error) => {
+                crate::say!("tracerctl: cannot trim the ring {}: {error}", self.ring.dir().display())
+            }
         }
     }
 

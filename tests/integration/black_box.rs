@@ -1,0 +1,262 @@
+//! `tracerctl record`, the black box, run for real on the simulator and on replayed logs: the ring, the
+//! incidents and what they hold, --status, --list, --mark, one recorder per directory.
+
+use std::path::{Path, PathBuf};
+use std::process::{Child, Stdio};
+use std::time::{Duration, Instant};
+
+use serde_json::Value;
+
+use crate::util::{stderr, stdout, tracerctl, wait_with_timeout};
+
+/// Starts `tracerctl LINK... record --dir DIR ARGS...` with stderr captured.
+fn start(link: &[&str], dir: &Path, args: &[&str]) -> Child {
+    let mut command = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"));
+    command.args(link).arg("record").arg("--dir").arg(dir).args(args);
+    command.stdout(Stdio::piped()).stderr(Stdio::piped()).spawn().expect("tracerctl starts")
+}
+
+/// Waits (up to a minute: a loaded machine is slow, this asserts no time) until `ready` holds.
+fn wait_until(what: &str, mut ready: impl FnMut() -> bool) {
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while !ready() {
+        assert!(Instant::now() < deadline, "waited a minute for {what}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn status_json(dir: &Path) -> Option<Value> {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("status.json")).ok()?).ok()
+}
+
+fn incidents(dir: &Path) -> Vec<PathBuf> {
+    let mut found: Vec<PathBuf> = std::fs::read_dir(dir.join("incidents"))
+        .map(|entries| {
+            entries
+                .flatten()
+                .map(|e| e.path())
+                .filter(|p| !p.file_name().unwrap().to_string_lossy().starts_with('.'))
+                .collect()
+        })
+        .unwrap_or_default();
+    found.sort();
+    found
+}
+
+/// Every line of every ring segment, in order (the segments decompressed with the zstd library).
+fn ring_lines(dir: &Path) -> Vec<String> {
+    let mut segments: Vec<PathBuf> =
+        std::fs::read_dir(dir.join("ring")).unwrap().flatten().map(|e| e.path()).collect();
+    segments.sort();
+    let mut lines = Vec::new();
+    for segment in segments {
+        let text = zstd::decode_all(std::fs::File::open(&segment).unwrap()).unwrap();
+        lines.extend(String::from_utf8(text).unwrap().lines().map(str::to_string));
+    }
+    lines
+}
+
+fn line_us(line: &str) -> u64 {
+    let stamp = &line[1..line.find(')').unwrap()];
+    let (secs, micros) = stamp.split_once('.').unwrap();
+    secs.parse::<u64>().unwrap() * 1_000_000 + micros.parse::<u64>().unwrap()
+}
+
+fn stop(child: Child) -> std::process::Output {
+    crate::util::signal(child.id(), libc::SIGTERM);
+    wait_with_timeout(child, Duration::from_secs(60))
+}
+
+#[test]
+fn a_mark_keeps_exactly_the_rings_frames_of_its_window() {
+    let dir = tempfile::tempdir().unwrap();
+    let child = start(&["--sim"], dir.path(), &["--segment", "1s", "--before", "2s", "--after", "1s"]);
+    wait_until("frames recorded", || {
+        status_json(dir.path()).is_some_and(|s| s["frames_recorded"].as_u64() > Some(200))
+    });
+    let marked = tracerctl()
+        .args(["record", "--mark", "--dir"])
+        .arg(dir.path())
+        .arg("the lift door")
+        .output()
+        .unwrap();
+    assert!(marked.status.success(), "{}", stderr(&marked));
+    assert!(stderr(&marked).contains("it becomes an incident within a second"), "{}", stderr(&marked));
+    wait_until("the incident", || incidents(dir.path()).len() == 1);
+    // --status while it runs: exit 0, running.
+    let status =
+        tracerctl().args(["record", "--status", "-f", "json", "--dir"]).arg(dir.path()).output().unwrap();
+    assert_eq!(status.status.code(), Some(0), "{}", stderr(&status));
+    let report: Value = serde_json::from_str(&stdout(&status)).unwrap();
+    assert_eq!(report["running"], true);
+    assert_eq!(report["incidents"], 1);
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let log = stderr(&output);
+    assert!(log.contains("watch-only: nothing is ever sent"), "{log}");
+    assert!(log.contains("stopped (SIGTERM)"), "{log}");
+
+    let incident = &incidents(dir.path())[0];
+    assert!(incident.file_name().unwrap().to_string_lossy().ends_with("-mark"), "{incident:?}");
+    let facts: Value =
+        serde_json::from_str(&std::fs::read_to_string(incident.join("incident.json")).unwrap()).unwrap();
+    assert_eq!(facts["causes"][0]["cause"], "mark");
+    assert_eq!(facts["causes"][0]["description"], "marked: the lift door");
+    let (from, to) =
+        (facts["window"]["from_us"].as_u64().unwrap(), facts["window"]["to_us"].as_u64().unwrap());
+    assert_eq!(to - from, 3_000_000);
+    // Byte for byte the ring's lines in [from, to].
+    let expected: Vec<String> =
+        ring_lines(dir.path()).into_iter().filter(|line| (from..=to).contains(&line_us(line))).collect();
+    let kept: Vec<String> =
+        std::fs::read_to_string(incident.join("frames.log")).unwrap().lines().map(str::to_string).collect();
+    assert!(kept.len() > 100, "{}", kept.len());
+    assert_eq!(kept, expected);
+    assert_eq!(facts["frames"], kept.len());
+    // The summaries are decode --summary's of the window.
+    let summary =
+        tracerctl().args(["decode", "--summary"]).arg(incident.join("frames.log")).output().unwrap();
+    assert_eq!(std::fs::read_to_string(incident.join("summary.txt")).unwrap(), stdout(&summary));
+    let summary = tracerctl()
+        .args(["decode", "--summary", "-f", "json"])
+        .arg(incident.join("frames.log"))
+        .output()
+        .unwrap();
+    let ours: Value =
+        serde_json::from_str(&std::fs::read_to_string(incident.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(ours, serde_json::from_str::<Value>(&stdout(&summary)).unwrap());
+    // The MCAP file holds every frame on /tracer/raw.
+    let mcap = std::fs::read(incident.join("frames.mcap")).unwrap();
+    let raw = mcap::MessageStream::new(&mcap)
+        .unwrap()
+        .filter(|message| message.as_ref().unwrap().channel.topic == "/tracer/raw")
+        .count();
+    assert_eq!(raw, kept.len());
+
+    // After the stop: --status says it is not running (exit 1), with the counts; --list names the incident.
+    let status =
+        tracerctl().args(["record", "--status", "-f", "json", "--dir"]).arg(dir.path()).output().unwrap();
+    assert_eq!(status.status.code(), Some(1));
+    let report: Value = serde_json::from_str(&stdout(&status)).unwrap();
+    assert_eq!(report["running"], false);
+    assert_eq!(report["status"]["state"], "stopped");
+    assert_eq!(report["status"]["frames_recorded"].as_u64().unwrap(), ring_lines(dir.path()).len() as u64);
+    assert_eq!(report["status"]["frames_lost"], 0);
+    let list = tracerctl().args(["record", "--list", "--dir"]).arg(dir.path()).output().unwrap();
+    assert!(
+        stdout(&list).starts_with(&incident.file_name().unwrap().to_string_lossy().to_string()),
+        "{}",
+        stdout(&list)
+    );
+    assert!(stdout(&list).contains("marked: the lift door"), "{}", stdout(&list));
+}
+
+#[test]
+fn segments_read_with_decode_and_hold_every_frame_recorded() {
+    let dir = tempfile::tempdir().unwrap();
+    let child = start(&["--sim"], dir.path(), &["--segment", "1s"]);
+    wait_until("three segments", || std::fs::read_dir(dir.path().join("ring")).is_ok_and(|d| d.count() >= 3));
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let recorded = status_json(dir.path()).unwrap()["frames_recorded"].as_u64().unwrap();
+    let mut decoded = 0;
+    let mut segments: Vec<PathBuf> =
+        std::fs::read_dir(dir.path().join("ring")).unwrap().flatten().map(|e| e.path()).collect();
+    segments.sort();
+    assert!(segments.len() >= 3);
+    for segment in &segments {
+        let output = tracerctl().args(["decode", "--summary", "-f", "json"]).arg(segment).output().unwrap();
+        assert!(output.status.success(), "{segment:?}: {}", stderr(&output));
+        let report: Value = serde_json::from_str(&stdout(&output)).unwrap();
+        assert_eq!(report["rejected_lines"], 0, "{segment:?}");
+        decoded += report["frames"].as_u64().unwrap();
+    }
+    assert_eq!(decoded, recorded);
+    // Each segment's lines are within its time: the name is its first frame's time.
+    let lines = ring_lines(dir.path());
+    assert!(lines.windows(2).all(|pair| line_us(&pair[0]) <= line_us(&pair[1])), "in time order");
+}
+
+#[test]
+fn one_recorder_per_directory_and_a_mark_needs_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let marked = tracerctl().args(["record", "--mark", "--dir"]).arg(dir.path()).output().unwrap();
+    assert_eq!(marked.status.code(), Some(1));
+    assert!(stderr(&marked).contains("no recorder runs in"), "{}", stderr(&marked));
+    assert!(!dir.path().join("marks").exists(), "no mark left behind");
+    let child = start(&["--sim"], dir.path(), &[]);
+    wait_until("the recorder", || status_json(dir.path()).is_some());
+    let second = tracerctl().args(["--sim", "record", "--dir"]).arg(dir.path()).output().unwrap();
+    assert_eq!(second.status.code(), Some(1));
+    assert!(
+        stderr(&second).contains(&format!("process {} already records into", child.id())),
+        "{}",
+        stderr(&second)
+    );
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+}
+
+#[test]
+fn status_and_list_of_a_missing_directory_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("nothing");
+    for flag in ["--status", "--list"] {
+        let output = tracerctl().args(["record", flag, "--dir"]).arg(&missing).output().unwrap();
+        assert_eq!(output.status.code(), Some(1), "{flag}");
+        assert!(stderr(&output).contains("is not a recorder directory"), "{flag}: {}", stderr(&output));
+    }
+    let output = tracerctl().args(["record", "--list", "--dir"]).arg(dir.path()).output().unwrap();
+    assert_eq!(stdout(&output), format!("no incidents in {}\n", dir.path().display()));
+}
+
+#[test]
+fn dry_run_shows_the_instance_link_and_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        ("can0", "link: SocketCAN can0"),
+        ("dev/ttyUSB0", "link: serial /dev/ttyUSB0 at 115200 baud"),
+        ("ttyACM1", "link: serial /dev/ttyACM1 at 115200 baud"),
+    ];
+    for (instance, link) in cases {
+        let output = tracerctl()
+            .args([
+                "record",
+                "--dry-run",
+                "--instance",
+                instance,
+                "--max-total",
+                "500MB",
+                "--trigger",
+                "battery_voltage<23.0",
+                "--dir",
+            ])
+            .arg(dir.path())
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{}", stderr(&output));
+        let text = stdout(&output);
+        assert!(
+            text.starts_with(&format!("{link}\ninstance: {instance}\ndirectory: {}\n", dir.path().display())),
+            "{text}"
+        );
+        assert!(text.contains("max-total: 476.8 MiB\n"), "{text}");
+        assert!(text.contains("battery_voltage<23.0"), "{text}");
+    }
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none(), "a dry run creates nothing");
+}
+
+#[test]
+fn bad_record_options_are_usage_errors() {
+    let cases: [&[&str]; 5] = [
+        &["record", "--max-total", "10KiB"],
+        &["record", "--max-total", "lots"],
+        &["record", "--segment", "0s"],
+        &["--sim", "record", "--instance", "can0"],
+        &["record", "--status", "--mark"],
+    ];
+    for args in cases {
+        let output = tracerctl().args(args).output().unwrap();
+        assert_eq!(output.status.code(), Some(2), "{args:?}: {}", stderr(&output));
+    }
+}
