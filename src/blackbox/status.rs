@@ -13,6 +13,9 @@ use super::names;
 /// How often the running recorder rewrites the file.
 pub const EVERY: std::time::Duration = std::time::Duration::from_secs(5);
 
+/// The file is padded with spaces to at least this many bytes.
+const PADDED: usize = 4096;
+
 pub fn path(dir: &Path) -> PathBuf {
     dir.join("status.json")
 }
@@ -71,14 +74,37 @@ impl Status {
         }
     }
 
-    /// Writes `DIR/status.json` whole.
+    /// Writes `DIR/status.json` whole (a new file renamed over the old one). On a full disk, where no new
+    /// file can be written, the old file's blocks are written over instead, padded with spaces to its
+    /// length: the losses are then still told.
     pub fn write(&self, dir: &Path) -> io::Result<()> {
         let partial = dir.join(".status.json.partial");
         let mut text = serde_json::to_string_pretty(&self.to_json()).map_err(io::Error::other)?;
         text.push('\n');
-        fs::write(&partial, text)?;
-        fs::rename(&partial, path(dir))
+        // Padded, so that the in-place write of a full disk has room for larger counts.
+        text.push_str(&" ".repeat(PADDED.saturating_sub(text.len())));
+        match fs::write(&partial, &text).and_then(|()| fs::rename(&partial, path(dir))) {
+            Ok(()) => Ok(()),
+            Err(error) => {
+                let _ = fs::remove_file(&partial);
+                overwrite(&path(dir), text).map_err(|_| error)
+            }
+        }
     }
+}
+
+/// Writes `text` over the file at `path` without growing it (so without new blocks); fails when it is
+/// longer than the file.
+fn overwrite(path: &Path, mut text: String) -> io::Result<()> {
+    use std::io::{Seek, Write};
+    let mut file = fs::OpenOptions::new().write(true).open(path)?;
+    let length = file.metadata()?.len() as usize;
+    if text.len() > length {
+        return Err(io::Error::other("the status is longer than the file it would overwrite"));
+    }
+    text.push_str(&" ".repeat(length - text.len()));
+    file.seek(io::SeekFrom::Start(0))?;
+    file.write_all(text.as_bytes())
 }
 
 /// The last status a recorder wrote into `dir`, if any.
@@ -118,6 +144,12 @@ mod tests {
         assert_eq!(value["frames_lost"], 5);
         assert_eq!(value["losses"], json!([{"reason": "disk full", "frames": 5}]));
         assert_eq!(value, status.to_json());
+        // Written over in place, padded, when no new file can be made (here: the old file is longer).
+        fs::write(path(dir.path()), " ".repeat(2000)).unwrap();
+        overwrite(&path(dir.path()), serde_json::to_string(&status.to_json()).unwrap()).unwrap();
+        assert_eq!(fs::metadata(path(dir.path())).unwrap().len(), 2000);
+        assert_eq!(read(dir.path()).unwrap().unwrap(), status.to_json());
+        assert!(overwrite(&path(dir.path()), "x".repeat(2001)).is_err());
         fs::write(path(dir.path()), "{").unwrap();
         assert!(read(dir.path()).unwrap_err().to_string().contains("status.json"));
     }

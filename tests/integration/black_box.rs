@@ -260,3 +260,84 @@ fn bad_record_options_are_usage_errors() {
         assert_eq!(output.status.code(), Some(2), "{args:?}: {}", stderr(&output));
     }
 }
+
+/// A tmpfs of `size` mounted on `at` for the test's life (root only).
+struct Tmpfs(PathBuf);
+
+impl Tmpfs {
+    fn mount(at: &Path, size: &str) -> Tmpfs {
+        let status = std::process::Command::new("mount")
+            .args(["-t", "tmpfs", "-o", &format!("size={size}"), "tmpfs"])
+            .arg(at)
+            .status()
+            .expect("mount runs");
+        assert!(status.success(), "mount -t tmpfs failed: this test needs root");
+        Tmpfs(at.to_path_buf())
+    }
+}
+
+impl Drop for Tmpfs {
+    fn drop(&mut self) {
+        let _ = std::process::Command::new("umount").arg("-l").arg(&self.0).status();
+    }
+}
+
+/// Fills the file system of `path` until it refuses (ENOSPC).
+fn fill(path: &Path) {
+    use std::io::Write;
+    let mut file = std::fs::File::create(path).unwrap();
+    let block = vec![0xA5u8; 64 * 1024];
+    loop {
+        if file.write_all(&block).is_err() {
+            let _ = file.write_all(&block[..512]);
+            let _ = file.write_all(&block[..1]);
+            return;
+        }
+    }
+}
+
+#[test]
+#[ignore = "needs root: mounts a 4 MiB tmpfs (.ci/run runs the ignored integration tests as root)"]
+fn a_full_disk_shrinks_the_ring_counts_losses_and_recording_resumes() {
+    let base = tempfile::tempdir().unwrap();
+    let _disk = Tmpfs::mount(base.path(), "4m");
+    let dir = base.path().join("rec");
+    // A first run leaves closed segments and an incident ...
+    let child = start(&["--sim"], &dir, &["--segment", "1s", "--before", "1s", "--after", "1s"]);
+    wait_until("segments", || std::fs::read_dir(dir.join("ring")).is_ok_and(|d| d.count() >= 5));
+    tracerctl().args(["record", "--mark", "--dir"]).arg(&dir).assert().success();
+    wait_until("the incident", || incidents(&dir).len() == 1);
+    let incident = incidents(&dir)[0].clone();
+    assert_eq!(stop(child).status.code(), Some(0));
+    // ... a second one writes one long segment: on a full disk it removes the closed ones to grow, then
+    // counts the frames it cannot write.
+    let child = start(&["--sim"], &dir, &["--segment", "1h"]);
+    wait_until("frames recorded", || {
+        status_json(&dir).is_some_and(|s| s["frames_recorded"].as_u64() > Some(100))
+    });
+    fill(&base.path().join("filler"));
+    wait_until("the ring shrinking", || {
+        status_json(&dir).is_some_and(|s| s["ring_segments_removed"].as_u64() > Some(0))
+    });
+    wait_until("frames lost", || status_json(&dir).is_some_and(|s| s["frames_lost"].as_u64() > Some(0)));
+    let during = status_json(&dir).unwrap();
+    assert!(during["losses"][0]["reason"].as_str().unwrap().contains("is full"), "{during}");
+    assert!(during["state"].as_str().unwrap().starts_with("losing frames: the disk holding"), "{during}");
+    // Room again: it records again by itself.
+    std::fs::remove_file(base.path().join("filler")).unwrap();
+    let recorded = during["frames_recorded"].as_u64().unwrap();
+    wait_until("recording again", || {
+        status_json(&dir).is_some_and(|s| {
+            s["frames_recorded"].as_u64() > Some(recorded + 100) && s["state"] == "recording"
+        })
+    });
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let log = stderr(&output);
+    assert!(log.contains("is full, with nothing older left to remove"), "{log}");
+    assert!(log.contains("recording again ("), "{log}");
+    assert!(incident.join("frames.log").is_file(), "the incident was kept: incidents go last");
+    let end = status_json(&dir).unwrap();
+    assert!(end["frames_lost"].as_u64() > Some(0), "{end}");
+    assert_eq!(end["incidents_removed"], 0, "{end}");
+}

@@ -15,6 +15,7 @@ mod serial_peer;
 #[path = "../integration/util.rs"]
 mod util;
 
+mod black_box;
 mod dashboard;
 mod dashboard_mode;
 mod drive;

@@ -30,8 +30,9 @@ use crate::link::FrameRx;
 use crate::session;
 use crate::signals::SignalFlag;
 
-/// Batches go to the writer this often (what a crash of the process can lose) ...
-const BATCH_EVERY: Duration = Duration::from_secs(1);
+/// Batches go to the writer this often: a crash of the process (kill -9) loses at most this, plus the
+/// moments the writer takes to write it, within the one second ...
+const BATCH_EVERY: Duration = Duration::from_millis(500);
 /// ... or when this large (a replay at full speed).
 const BATCH_BYTES: usize = 256 * 1024;
 /// Triggers on time (link silence, windows over) and marks are looked at this often.

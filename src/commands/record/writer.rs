@@ -20,7 +20,7 @@ use crate::blackbox::status::{self, Status};
 use crate::blackbox::{incidents_dir, names, ring_dir};
 
 /// Segments are fsynced this often, and when they close: what a power cut can lose (a crash of the
-/// process loses only the batch not yet written, at most a second).
+/// process loses only the batch not yet written, at most half a second).
 pub const SYNC_EVERY: Duration = Duration::from_secs(10);
 /// Batches waiting for the disk before further ones are counted as lost.
 pub const QUEUE_BATCHES: usize = 32;
@@ -66,6 +66,7 @@ pub fn start(
         status,
         disk_full: false,
         failing: None,
+        status_failing: false,
     };
     let handle = std::thread::Builder::new()
         .name("tracerctl-record-writer".into())
@@ -86,6 +87,8 @@ struct Writer {
     disk_full: bool,
     /// Another write error, said once until a write succeeds.
     failing: Option<String>,
+    /// status.json could not be written (said once until it can).
+    status_failing: bool,
 }
 
 impl Writer {
@@ -120,10 +123,13 @@ impl Writer {
     fn write_status(&mut self) {
         let mut status = self.status.lock();
         status.updated = crate::link::now_timestamp().as_nanos() as u64 / 1000;
-        if let Err(error) = status.write(&self.dir) {
-            // Said once per episode with the other write failures.
-            drop(status);
-            self.failed(&format!("cannot write {}: {error}", status::path(&self.dir).display()));
+        match status.write(&self.dir) {
+            Ok(()) => self.status_failing = false,
+            Err(error) if !self.status_failing => {
+                self.status_failing = true;
+                crate::say!("tracerctl: cannot write {}: {error}", status::path(&self.dir).display());
+            }
+            Err(_) => {}
         }
         self.status_written = Some(Instant::now());
     }
@@ -207,10 +213,19 @@ impl Writer {
         }
     }
 
-    /// Frees room on a full disk: the oldest ring segment, else the oldest incident. False: nothing left.
+    /// Frees room on a full disk for the ring: its oldest segment. False: nothing left (incidents are
+    /// not removed for the ring, only for a new incident: [`Self::make_room_for_incident`]).
     fn make_room(&mut self) -> bool {
         if let Ok(Some(removed)) = self.ring.remove_oldest() {
             self.status.lock().ring_segments_removed += removed.segments;
+            return true;
+        }
+        false
+    }
+
+    /// Frees room for a new incident: the oldest ring segment first, incidents last.
+    fn make_room_for_incident(&mut self) -> bool {
+        if self.make_room() {
             return true;
         }
         match incident::remove_oldest(&self.dir) {
@@ -258,7 +273,13 @@ impl Writer {
     fn incident(&mut self, request: &incident::Request) {
         // The window's last lines are in the open segment: out of this process's buffers first.
         let started = Instant::now();
-        match incident::write(&self.dir, &self.ring, request) {
+        let mut result = incident::write(&self.dir, &self.ring, request);
+        while result.as_ref().is_err_and(|error| error.chain().any(is_full_disk_cause))
+            && self.make_room_for_incident()
+        {
+            result = incident::write(&self.dir, &self.ring, request);
+        }
+        match result {
             Ok(made) => {
                 crate::say!(
                     "tracerctl: incident {}: {}; {} frames from {} to {} (written in {} ms)",
@@ -284,6 +305,10 @@ impl Writer {
             self.status.lock().incidents_removed += removed;
         }
     }
+}
+
+fn is_full_disk_cause(cause: &(dyn std::error::Error + 'static)) -> bool {
+    cause.downcast_ref::<io::Error>().is_some_and(is_disk_full)
 }
 
 fn is_disk_full(error: &io::Error) -> bool {
