@@ -45,6 +45,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)')
             [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
             [CompletionResult]::new('dash', 'dash', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
+            [CompletionResult]::new('record', 'record', [CompletionResultType]::ParameterValue, 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -308,6 +309,38 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
             break
         }
+        'tracerctl;record' {
+            [CompletionResult]::new('--dir', '--dir', [CompletionResultType]::ParameterName, 'The recorder directory [default: the only one under /var/lib/tracerctl for --status, --list and --mark; else $XDG_STATE_HOME/tracerctl/record]')
+            [CompletionResult]::new('--segment', '--segment', [CompletionResultType]::ParameterName, 'A new segment this often (1s to 1d)')
+            [CompletionResult]::new('--max-total', '--max-total', [CompletionResultType]::ParameterName, 'The ring''s size, e.g. 1GiB, 500MB (at least 1 MiB)')
+            [CompletionResult]::new('--max-age', '--max-age', [CompletionResultType]::ParameterName, 'Segments older than this are removed (1m to 366d)')
+            [CompletionResult]::new('--before', '--before', [CompletionResultType]::ParameterName, 'An incident keeps the frames from this long before its trigger (0 to 1h)')
+            [CompletionResult]::new('--after', '--after', [CompletionResultType]::ParameterName, '... to this long after it; a trigger inside extends the window (0 to 1h)')
+            [CompletionResult]::new('--max-incidents', '--max-incidents', [CompletionResultType]::ParameterName, 'Incidents kept, the oldest removed first')
+            [CompletionResult]::new('--trigger', '--trigger', [CompletionResultType]::ParameterName, 'Also a trigger: a decoded field compared with a value, e.g. ''battery_voltage<23.0'', ''id=0x441'' (repeatable)')
+            [CompletionResult]::new('--instance', '--instance', [CompletionResultType]::ParameterName, 'The link from a systemd instance name: can0 (SocketCAN), ttyUSB0 or dev/ttyUSB0 (serial /dev/ttyUSB0)')
+            [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format of --status and --list')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format of --status and --list')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play back a candump log as a read-only source (for monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
+            [CompletionResult]::new('--no-default-triggers', '--no-default-triggers', [CompletionResultType]::ParameterName, 'Only the --trigger expressions and marks, not the default triggers')
+            [CompletionResult]::new('--dry-run', '--dry-run', [CompletionResultType]::ParameterName, 'Print the link, directory and settings it would record with, and exit without opening the link')
+            [CompletionResult]::new('--status', '--status', [CompletionResultType]::ParameterName, 'Is a recorder running in DIR: since when, frames recorded and lost, the ring, the last incidents')
+            [CompletionResult]::new('--list', '--list', [CompletionResultType]::ParameterName, 'The incidents in DIR, oldest first')
+            [CompletionResult]::new('--mark', '--mark', [CompletionResultType]::ParameterName, 'Leave a mark (with NOTE): the running recorder keeps an incident around now')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Drive an in-process virtual TRACER, not a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
         'tracerctl;completions' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
@@ -335,6 +368,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('send-raw', 'send-raw', [CompletionResultType]::ParameterValue, 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)')
             [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
+            [CompletionResult]::new('record', 'record', [CompletionResultType]::ParameterValue, 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -367,6 +401,9 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;help;dashboard' {
+            break
+        }
+        'tracerctl;help;record' {
             break
         }
         'tracerctl;help;completions' {

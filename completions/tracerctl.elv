@@ -42,6 +42,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand sim 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand dash 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+            cand record 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -293,6 +294,37 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand -V 'Print version'
             cand --version 'Print version'
         }
+        &'tracerctl;record'= {
+            cand --dir 'The recorder directory [default: the only one under /var/lib/tracerctl for --status, --list and --mark; else $XDG_STATE_HOME/tracerctl/record]'
+            cand --segment 'A new segment this often (1s to 1d)'
+            cand --max-total 'The ring''s size, e.g. 1GiB, 500MB (at least 1 MiB)'
+            cand --max-age 'Segments older than this are removed (1m to 366d)'
+            cand --before 'An incident keeps the frames from this long before its trigger (0 to 1h)'
+            cand --after '... to this long after it; a trigger inside extends the window (0 to 1h)'
+            cand --max-incidents 'Incidents kept, the oldest removed first'
+            cand --trigger 'Also a trigger: a decoded field compared with a value, e.g. ''battery_voltage<23.0'', ''id=0x441'' (repeatable)'
+            cand --instance 'The link from a systemd instance name: can0 (SocketCAN), ttyUSB0 or dev/ttyUSB0 (serial /dev/ttyUSB0)'
+            cand -f 'Output format of --status and --list'
+            cand --format 'Output format of --status and --list'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --no-default-triggers 'Only the --trigger expressions and marks, not the default triggers'
+            cand --dry-run 'Print the link, directory and settings it would record with, and exit without opening the link'
+            cand --status 'Is a recorder running in DIR: since when, frames recorded and lost, the ring, the last incidents'
+            cand --list 'The incidents in DIR, oldest first'
+            cand --mark 'Leave a mark (with NOTE): the running recorder keeps an incident around now'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
         &'tracerctl;completions'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
@@ -319,6 +351,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand send-raw 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
             cand sim 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+            cand record 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -341,6 +374,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help;sim'= {
         }
         &'tracerctl;help;dashboard'= {
+        }
+        &'tracerctl;help;record'= {
         }
         &'tracerctl;help;completions'= {
         }
