@@ -213,7 +213,8 @@ pub struct RecordArgs {
 }
 
 fn parse_trigger(text: &str) -> Result<crate::blackbox::triggers::Expression, String> {
-    text.parse().map_err(|error: <crate::blackbox::triggers::Expression as std::str::FromStr>::Err| error.to_string())
+    text.parse()
+        .map_err(|error: <crate::blackbox::triggers::Expression as std::str::FromStr>::Err| error.to_string())
 }
 
 /// A size such as `1GiB`, `500MB`, `64M` or plain bytes, within [`RING_SIZE`]; K, M, G, T are powers of

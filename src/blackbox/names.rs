@@ -67,7 +67,7 @@ pub fn incident_time(name: &str) -> Option<u64> {
 }
 
 /// The time of a line the recorder wrote: `(1700000000.002500) can0 ...` (CAN) or
-/// `5AA5... # (1700000000.002500) /dev/ttyUSB0` (RS232).
+/// `5AA5... # (1700000000.002500123) /dev/ttyUSB0` (RS232, nanoseconds: truncated to microseconds).
 pub fn line_time(line: &[u8]) -> Option<u64> {
     let open = if line.first() == Some(&b'(') { 0 } else { memchr::memmem::find(line, b" # (")? + 3 };
     let rest = &line[open + 1..];
@@ -79,10 +79,13 @@ pub fn line_time(line: &[u8]) -> Option<u64> {
 fn split_stamp(text: &[u8]) -> Option<(u64, u64)> {
     let dot = memchr::memchr(b'.', text)?;
     let (secs, fraction) = (&text[..dot], &text[dot + 1..]);
-    if fraction.len() != 6 {
-        return None;
-    }
-    Some((digits(secs)?, digits(fraction)?))
+    // candump -L has microseconds; an RS232 line's comment has the link's nanoseconds.
+    let micros = match fraction.len() {
+        6 => digits(fraction)?,
+        9 => digits(fraction)? / 1000,
+        _ => return None,
+    };
+    Some((digits(secs)?, micros))
 }
 
 fn digits(text: &[u8]) -> Option<u64> {
@@ -130,6 +133,10 @@ mod tests {
         assert_eq!(line_time(b"(1700000000.002500) can0 211#00000103000000B1"), Some(1_700_000_000_002_500));
         assert_eq!(
             line_time(b"5AA50A55010200000000000061 # (1700000000.002500) /dev/ttyUSB0"),
+            Some(1_700_000_000_002_500)
+        );
+        assert_eq!(
+            line_time(b"5AA50A55010200000000000061 # (1700000000.002500999) /dev/pts/0"),
             Some(1_700_000_000_002_500)
         );
         assert_eq!(line_time(b"(1700000000.0025) can0 211#00"), None);

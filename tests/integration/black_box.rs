@@ -341,3 +341,38 @@ fn a_full_disk_shrinks_the_ring_counts_losses_and_recording_resumes() {
     assert!(end["frames_lost"].as_u64() > Some(0), "{end}");
     assert_eq!(end["incidents_removed"], 0, "{end}");
 }
+
+#[test]
+fn an_rs232_recording_keeps_hex_lines_and_its_incidents_decode() {
+    let sim = crate::sim_command::Simulator::start(&[]);
+    let dir = tempfile::tempdir().unwrap();
+    let child =
+        start(&["--serial", &sim.path], dir.path(), &["--segment", "1s", "--before", "1s", "--after", "1s"]);
+    wait_until("frames recorded", || {
+        status_json(dir.path()).is_some_and(|s| s["frames_recorded"].as_u64() > Some(50))
+    });
+    tracerctl().args(["record", "--mark", "--dir"]).arg(dir.path()).assert().success();
+    wait_until("the incident", || incidents(dir.path()).len() == 1);
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    // 13 bytes in hex, the stamp and the port in a comment, as monitor --log writes them.
+    let lines = ring_lines(dir.path());
+    let line = &lines[0];
+    assert_eq!(line.find(" # ("), Some(26), "{line}");
+    assert!(line.starts_with("5AA5"), "{line}");
+    assert!(line.ends_with(&format!(") {}", sim.path)), "{line}");
+    let incident = &incidents(dir.path())[0];
+    let facts: Value =
+        serde_json::from_str(&std::fs::read_to_string(incident.join("incident.json")).unwrap()).unwrap();
+    assert_eq!(facts["protocol"], "serial");
+    assert_eq!(facts["unreadable_lines"], 0);
+    let frames = facts["frames"].as_u64().unwrap();
+    assert!(frames > 10, "{facts}");
+    // decode --serial reads the incident's frames; its summary counted every frame.
+    let decoded = tracerctl().args(["decode", "--serial"]).arg(incident.join("frames.log")).output().unwrap();
+    assert!(decoded.status.success(), "{}", stderr(&decoded));
+    assert_eq!(stdout(&decoded).lines().count() as u64, frames);
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(incident.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["frames"].as_u64(), Some(frames));
+}
