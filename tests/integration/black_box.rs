@@ -376,3 +376,41 @@ fn an_rs232_recording_keeps_hex_lines_and_its_incidents_decode() {
         serde_json::from_str(&std::fs::read_to_string(incident.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["frames"].as_u64(), Some(frames));
 }
+
+#[test]
+fn max_incidents_removes_the_oldest_and_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let child = start(&["--sim"], dir.path(), &["--before", "0s", "--after", "0s", "--max-incidents", "2"]);
+    wait_until("the recorder", || status_json(dir.path()).is_some());
+    let mut names = Vec::new();
+    for number in 1..=3 {
+        tracerctl()
+            .args(["record", "--mark", "--dir"])
+            .arg(dir.path())
+            .arg(format!("mark {number}"))
+            .assert()
+            .success();
+        wait_until("the incident", || {
+            let listed: Vec<String> = incidents(dir.path())
+                .iter()
+                .map(|p| std::fs::read_to_string(p.join("incident.json")).unwrap())
+                .collect();
+            listed.iter().any(|text| text.contains(&format!("marked: mark {number}")))
+        });
+        names.push(incidents(dir.path()).last().unwrap().clone());
+    }
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    assert_eq!(incidents(dir.path()), names[1..], "the two newest are kept");
+    assert!(
+        stderr(&output).contains("removed the 1 oldest incident(s): more than --max-incidents 2 are kept"),
+        "{}",
+        stderr(&output)
+    );
+    let end = status_json(dir.path()).unwrap();
+    assert_eq!(
+        (end["incidents_made"].as_u64(), end["incidents_removed"].as_u64()),
+        (Some(3), Some(1)),
+        "{end}"
+    );
+}
