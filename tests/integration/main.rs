@@ -43,6 +43,7 @@ mod robot_commands;
 mod send_raw;
 mod serial_peer;
 mod serial_text;
+mod service;
 mod sim_command;
 mod sim_training;
 // The library's test-only source scanner, shared with its unit tests; this binary uses a part of it.
