@@ -197,7 +197,6 @@ fn systemd_analyze_verify_accepts_the_instances() {
 /// ExecStart exactly as systemd runs it, for a CAN and a serial instance, the state directory moved to a
 /// temporary one and `--dry-run` added: the recorder names the link it resolved and the directory, exit 0.
 #[test]
-#[ignore = "needs tracerctl record (issue 31), un-ignore at merge"]
 fn exec_start_resolves_the_link_and_the_directory() {
     let state = tempfile::tempdir().unwrap();
     let config_home = tempfile::tempdir().unwrap();
