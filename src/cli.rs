@@ -108,8 +108,106 @@ pub enum Command {
     /// Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive
     #[command(visible_alias = "dash", after_help = reflow(&crate::dashboard::keys::help_text()))]
     Dashboard(DashboardArgs),
+    /// Make the support bundle: doctor, firmware version, rates, incidents, the ring's last minutes, host facts
+    #[command(after_help = reflow(REPORT_AFTER_HELP))]
+    Report(ReportArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
+}
+
+const REPORT_AFTER_HELP: &str = "\
+Writes tracerctl-report-HOST-TIME.tar.gz (UTC time) for the vendor: doctor's report (text and JSON), the
+firmware version when the robot answers the version query (sent only on a live CAN link where the robot
+is heard; nothing else is sent unless --probe), the protocol and frames per identifier, host facts (OS
+release, kernel, CAN driver and modules, ip -details -statistics link, serial port owner and mode), and
+from the recorder's directory: its fault timeline, the newest incidents and the ring's last minutes, under
+--max-size (what is left out is said, in README.txt and here). When no recorder runs, the frames of the
+listen are kept instead. README.txt inside says what each file is. Never in a bundle: environment
+variables, files from outside the recorder's directory, anything about other processes.
+
+Examples:
+  On the robot's computer, with the recorder's service running:
+    tracerctl --iface can0 report
+  Offline, to a USB stick, at most 20 MB:
+    tracerctl --iface can0 report -o /media/usb/ --max-size 20MB
+
+Exit status: 0 the bundle was written (whatever the doctor found), 1 it could not be, 2 usage error (an
+existing file without --force, the output an input or in the recorder's directory).";
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// The bundle's file, or a directory to write the default name in [default:
+    /// tracerctl-report-HOST-TIME.tar.gz here]
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+
+    /// Replace an existing file of that name
+    #[arg(long)]
+    pub force: bool,
+
+    /// The recorder's directory [default: /var/lib/tracerctl/record when it exists]
+    #[arg(long, value_name = "DIR")]
+    pub dir: Option<PathBuf>,
+
+    /// Also run doctor's probe (it sends a mode command and zero-velocity motion; the robot does not move)
+    #[arg(long)]
+    pub probe: bool,
+
+    /// How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs
+    #[arg(long, value_name = "DURATION", default_value = "10s", allow_hyphen_values = true, value_parser = duration_in(LISTEN))]
+    pub listen: std::time::Duration,
+
+    /// The cap on the bundle's size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)
+    #[arg(long, value_name = "SIZE", default_value = "50MB", value_parser = parse_size)]
+    pub max_size: u64,
+
+    /// How many incidents to take, newest first
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub incidents: usize,
+
+    /// How many minutes of the recorder's ring to take (its last ones)
+    #[arg(long, value_name = "MINUTES", default_value_t = 10, value_parser = clap::value_parser!(u64).range(0..=10_080))]
+    pub ring_minutes: u64,
+}
+
+impl ReportArgs {
+    fn options(self) -> commands::report::Options {
+        commands::report::Options {
+            output: self.output,
+            force: self.force,
+            dir: self.dir,
+            probe: self.probe,
+            listen: self.listen,
+            max_size: self.max_size,
+            incidents: self.incidents,
+            ring_minutes: self.ring_minutes,
+        }
+    }
+}
+
+/// A size such as `50MB`, `500kB`, `1GiB` or plain bytes: kB, MB, GB (and k, M, G) are powers of 1000, KiB,
+/// MiB, GiB of 1024. At least 1 kB.
+pub fn parse_size(text: &str) -> Result<u64, String> {
+    let trimmed = text.trim();
+    let split = trimmed.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(trimmed.len());
+    let (number, unit) = trimmed.split_at(split);
+    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+        "" | "b" => 1,
+        "k" | "kb" => 1_000,
+        "m" | "mb" => 1_000_000,
+        "g" | "gb" => 1_000_000_000,
+        "kib" => 1 << 10,
+        "mib" => 1 << 20,
+        "gib" => 1 << 30,
+        _ => return Err(format!("'{text}' is not a size such as 50MB, 500kB or 1GiB")),
+    };
+    let value: f64 =
+        number.parse().map_err(|_| format!("'{text}' is not a size such as 50MB, 500kB or 1GiB"))?;
+    let bytes = value * scale as f64;
+    if !(1_000.0..=1e15).contains(&bytes) {
+        return Err(format!("'{text}' is out of range: give a size from 1kB to 1000TB"));
+    }
+    Ok(bytes as u64)
 }
 
 const DECODE_AFTER_HELP: &str = "\
@@ -1317,6 +1415,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             let options = args.options(&link)?;
             commands::sim::run(&global(link.choice()?), &options)
         }
+        Command::Report(args) => commands::report::run(&global(link.choice()?), &args.options()),
         Command::Dashboard(args) => {
             let options = args.options()?;
             link.refuse_overwriting("--record", options.record.as_deref())?;

@@ -11,6 +11,7 @@ pub mod lights;
 pub mod live;
 pub mod mode;
 pub mod monitor;
+pub mod report;
 pub mod same_file;
 pub mod send_raw;
 pub mod sim;
