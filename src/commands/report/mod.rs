@@ -61,12 +61,7 @@ pub fn run(global: &Global, options: &Options) -> Result<u8> {
     let now = SystemTime::now().duration_since(UNIX_EPOCH).unwrap_or(Duration::ZERO).as_secs();
     let now = i64::try_from(now).unwrap_or(i64::MAX);
     let host = host::host_name();
-    let default_name = format!("tracerctl-report-{host}-{}.tar.gz", recorded::compact_utc(now));
-    let output = match &options.output {
-        Some(path) if path.is_dir() => path.join(&default_name),
-        Some(path) => path.clone(),
-        None => PathBuf::from(&default_name),
-    };
+    let output = output_path(options, &host, now);
     let dir = recorder_dir(options)?;
     refuse_output(global, options, &output, dir.as_deref())?;
 
@@ -95,68 +90,13 @@ pub fn run(global: &Global, options: &Options) -> Result<u8> {
         crate::say!("tracerctl: {}", redact.text(note));
     }
 
-    let mut essentials = vec![
-        Member::made("host.txt", redact.bytes(host::facts(&global.link).as_bytes()), "host facts: tracerctl, OS release, kernel, CAN driver and modules, ip link, serial port"),
-        Member::made("doctor.txt", redact.bytes(&findings.doctor_text), "`tracerctl doctor` on the link, as it prints it"),
-        Member::made("doctor.json", redact.bytes(&findings.doctor_json), "the same, `doctor --format json` (docs/json.md)"),
-        Member::made("robot.txt", redact.bytes(findings.robot_text.as_bytes()), "the firmware version (or why there is none), the protocol, frames per identifier against their periods"),
-        Member::made("robot.json", redact.bytes(format!("{}\n", findings.robot_json).as_bytes()), "the same in JSON"),
-    ];
-    let mut notes = Vec::new();
-    if let Some(listen) = &findings.listen {
-        let about = format!(
-            "the {} listen's {} frames, candump -L (received and sent), recorded by the report as no recorder \
-             was running",
-            humantime::format_duration(options.listen),
-            listen.frames
-        );
-        essentials.push(Member::made("listen.log", listen.bytes.clone(), about));
-        if listen.dropped > 0 {
-            notes.push(format!(
-                "listen.log: the last {} frames of the listen (over a quarter of --max-size)",
-                listen.dropped
-            ));
-        }
-    }
-    if let Some(recorded) = &recorded {
-        essentials.push(Member::made(
-            "recorder/timeline.txt",
-            timeline(recorded, options.incidents).into_bytes(),
-            "the fault timeline: every incident in the recorder's directory, newest first",
-        ));
-        for problem in &recorded.problems {
-            notes.push(redact.text(problem));
-        }
-        let older = recorded.incidents.len().saturating_sub(options.incidents);
-        if older > 0 {
-            notes.push(format!(
-                "{older} older incident(s): only the newest {} are taken (--incidents)",
-                options.incidents
-            ));
-        }
-    }
+    let (essentials, notes) = essentials(global, options, &findings, recorded.as_ref(), &redact);
     let used = essentials.iter().map(|m| bundle::tar_bytes(m.size)).sum::<u64>() + 2 * INDEX_RESERVE;
     let candidates = recorded.as_ref().map(|r| candidates(r, options)).unwrap_or_default();
-    let sizes: Vec<u64> = candidates.iter().map(|m| m.size).collect();
-    let taken = bundle::fit(used, &sizes, budget);
-    let mut left_out = Vec::new();
-    let mut chosen = Vec::new();
-    for (member, fits) in candidates.into_iter().zip(taken) {
-        if fits {
-            chosen.push(member);
-        } else {
-            left_out.push(Omitted {
-                name: member.name,
-                size: member.size,
-                why: format!("over the size cap (--max-size {})", readme::size_text(options.max_size)),
-            });
-        }
-    }
-    chosen.sort_by(|a, b| a.name.cmp(&b.name));
+    let (chosen, mut left_out) = choose(candidates, used, budget, options.max_size);
 
-    let folder = folder_name(&output);
     let mut writer =
-        bundle::Writer::create(&output, options.force, &folder, u64::try_from(now).unwrap_or(0))?;
+        bundle::Writer::create(&output, options.force, &folder_name(&output), now.unsigned_abs())?;
     let mut files = Vec::new();
     for member in essentials.iter().chain(&chosen) {
         match writer.add(member)? {
@@ -166,10 +106,6 @@ pub fn run(global: &Global, options: &Options) -> Result<u8> {
     }
     let created = recorded::readable_utc(now);
     let dir_text = dir.as_ref().map(|dir| redact.text(&dir.display().to_string()));
-    let no_dir = match &options.dir {
-        Some(_) => "",
-        None => "no --dir given and no recorder in /var/lib/tracerctl/record",
-    };
     let link_text = redact.text(&describe_link(&global.link));
     let about = readme::About {
         version: env!("CARGO_PKG_VERSION"),
@@ -177,7 +113,7 @@ pub fn run(global: &Global, options: &Options) -> Result<u8> {
         host: &host,
         link: &link_text,
         max_size: options.max_size,
-        recorder: dir_text.as_deref().ok_or(no_dir),
+        recorder: dir_text.as_deref().ok_or("no --dir given and none in /var/lib/tracerctl/record"),
         files: &files,
         left_out: &left_out,
         notes: &notes,
@@ -204,6 +140,92 @@ pub fn run(global: &Global, options: &Options) -> Result<u8> {
     use std::io::Write as _;
     let _ = writeln!(std::io::stdout(), "{}", output.display());
     Ok(SUCCESS)
+}
+
+/// `-o FILE`, the default name in `-o DIR`, or the default name here: `tracerctl-report-HOST-TIME.tar.gz`.
+fn output_path(options: &Options, host: &str, now: i64) -> PathBuf {
+    let default_name = format!("tracerctl-report-{host}-{}.tar.gz", recorded::compact_utc(now));
+    match &options.output {
+        Some(path) if path.is_dir() => path.join(&default_name),
+        Some(path) => path.clone(),
+        None => PathBuf::from(&default_name),
+    }
+}
+
+/// What every bundle holds (host facts, doctor, robot, the listen, the timeline), and what to say about
+/// what it could not hold.
+fn essentials(
+    global: &Global,
+    options: &Options,
+    findings: &robot::Findings,
+    recorded: Option<&Recorded>,
+    redact: &Redactor,
+) -> (Vec<Member>, Vec<String>) {
+    let mut essentials = vec![
+        Member::made(
+            "host.txt",
+            redact.bytes(host::facts(&global.link).as_bytes()),
+            "host facts: tracerctl, OS release, kernel, CAN driver and modules, ip link, serial port",
+        ),
+        Member::made("doctor.txt", redact.bytes(&findings.doctor_text), "`tracerctl doctor` on the link, as it prints it"),
+        Member::made("doctor.json", redact.bytes(&findings.doctor_json), "the same, `doctor --format json` (docs/json.md)"),
+        Member::made(
+            "robot.txt",
+            redact.bytes(findings.robot_text.as_bytes()),
+            "the firmware version (or why there is none), the protocol, frames per identifier against their periods",
+        ),
+        Member::made("robot.json", redact.bytes(format!("{}\n", findings.robot_json).as_bytes()), "the same in JSON"),
+    ];
+    let mut notes = Vec::new();
+    if let Some(listen) = &findings.listen {
+        let about = format!(
+            "the {} listen's {} frames, candump -L (received and sent), recorded by the report as no recorder \
+             was running",
+            humantime::format_duration(options.listen),
+            listen.frames
+        );
+        essentials.push(Member::made("listen.log", listen.bytes.clone(), about));
+        if listen.dropped > 0 {
+            notes.push(format!(
+                "listen.log: the last {} frames of the listen (over a quarter of --max-size)",
+                listen.dropped
+            ));
+        }
+    }
+    if let Some(recorded) = recorded {
+        essentials.push(Member::made(
+            "recorder/timeline.txt",
+            timeline(recorded, options.incidents).into_bytes(),
+            "the fault timeline: every incident in the recorder's directory, newest first",
+        ));
+        notes.extend(recorded.problems.iter().map(|problem| redact.text(problem)));
+        let older = recorded.incidents.len().saturating_sub(options.incidents);
+        if older > 0 {
+            notes.push(format!(
+                "{older} older incident(s): only the newest {} are taken (--incidents)",
+                options.incidents
+            ));
+        }
+    }
+    (essentials, notes)
+}
+
+/// The candidates that fit under the cap (sorted by name, as they go into the bundle) and those left out.
+fn choose(candidates: Vec<Member>, used: u64, budget: u64, max_size: u64) -> (Vec<Member>, Vec<Omitted>) {
+    let sizes: Vec<u64> = candidates.iter().map(|m| m.size).collect();
+    let taken = bundle::fit(used, &sizes, budget);
+    let mut left_out = Vec::new();
+    let mut chosen = Vec::new();
+    for (member, fits) in candidates.into_iter().zip(taken) {
+        if fits {
+            chosen.push(member);
+        } else {
+            let why = format!("over the size cap (--max-size {})", readme::size_text(max_size));
+            left_out.push(Omitted { name: member.name, size: member.size, why });
+        }
+    }
+    chosen.sort_by(|a, b| a.name.cmp(&b.name));
+    (chosen, left_out)
 }
 
 /// The recorder's directory: `--dir` (which must exist), else the default one if it exists.

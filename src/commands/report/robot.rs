@@ -155,6 +155,7 @@ pub fn examine(global: &Global, live: &Live) -> Result<Findings> {
         None => Version::NotAsked("the link could not be used (doctor.txt says why)".to_string()),
     };
     let mut notes = Vec::new();
+    let opened = session.is_some();
     if let Some(session) = session {
         let finished = session.finish();
         notes.extend(finished.notes);
@@ -162,7 +163,8 @@ pub fn examine(global: &Global, live: &Live) -> Result<Findings> {
     }
     drop(simulator);
     let tapped = std::mem::take(&mut *tap.lock());
-    let listen = tapped.log.map(|bytes| ListenLog {
+    // A link that could not be opened carried nothing: no empty log to mistake for a silent robot.
+    let listen = tapped.log.filter(|_| opened).map(|bytes| ListenLog {
         bytes,
         frames: tapped.frames - tapped.dropped,
         dropped: tapped.dropped,
