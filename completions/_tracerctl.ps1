@@ -45,7 +45,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)')
             [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
             [CompletionResult]::new('dash', 'dash', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
-            [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle: doctor, firmware version, rates, incidents, the ring''s last minutes, host facts')
+            [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -312,7 +312,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         'tracerctl;report' {
             [CompletionResult]::new('-o', '-o', [CompletionResultType]::ParameterName, 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]')
             [CompletionResult]::new('--output', '--output', [CompletionResultType]::ParameterName, 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]')
-            [CompletionResult]::new('--dir', '--dir', [CompletionResultType]::ParameterName, 'The recorder''s directory [default: /var/lib/tracerctl/record when it exists]')
+            [CompletionResult]::new('--dir', '--dir', [CompletionResultType]::ParameterName, 'The recorder''s directory [default: /var/lib/tracerctl/record, if there is one]')
             [CompletionResult]::new('--listen', '--listen', [CompletionResultType]::ParameterName, 'How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs')
             [CompletionResult]::new('--max-size', '--max-size', [CompletionResultType]::ParameterName, 'The cap on the bundle''s size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)')
             [CompletionResult]::new('--incidents', '--incidents', [CompletionResultType]::ParameterName, 'How many incidents to take, newest first')
@@ -326,7 +326,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play back a candump log as a read-only source (for monitor, dashboard)')
             [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
             [CompletionResult]::new('--force', '--force', [CompletionResultType]::ParameterName, 'Replace an existing file of that name')
-            [CompletionResult]::new('--probe', '--probe', [CompletionResultType]::ParameterName, 'Also run doctor''s probe (it sends a mode command and zero-velocity motion; the robot does not move)')
+            [CompletionResult]::new('--probe', '--probe', [CompletionResultType]::ParameterName, 'Also run the doctor''s probe: it sends a mode command and zero-velocity motion, never moving the robot')
             [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Drive an in-process virtual TRACER, not a robot')
             [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
@@ -361,7 +361,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('send-raw', 'send-raw', [CompletionResultType]::ParameterValue, 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)')
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)')
             [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
-            [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle: doctor, firmware version, rates, incidents, the ring''s last minutes, host facts')
+            [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break

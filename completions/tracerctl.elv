@@ -42,7 +42,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand sim 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand dash 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-            cand report 'Make the support bundle: doctor, firmware version, rates, incidents, the ring''s last minutes, host facts'
+            cand report 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -297,7 +297,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;report'= {
             cand -o 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]'
             cand --output 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]'
-            cand --dir 'The recorder''s directory [default: /var/lib/tracerctl/record when it exists]'
+            cand --dir 'The recorder''s directory [default: /var/lib/tracerctl/record, if there is one]'
             cand --listen 'How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs'
             cand --max-size 'The cap on the bundle''s size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)'
             cand --incidents 'How many incidents to take, newest first'
@@ -311,7 +311,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
             cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
             cand --force 'Replace an existing file of that name'
-            cand --probe 'Also run doctor''s probe (it sends a mode command and zero-velocity motion; the robot does not move)'
+            cand --probe 'Also run the doctor''s probe: it sends a mode command and zero-velocity motion, never moving the robot'
             cand --sim 'Drive an in-process virtual TRACER, not a robot'
             cand -h 'Print help (see more with ''--help'')'
             cand --help 'Print help (see more with ''--help'')'
@@ -344,7 +344,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand send-raw 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
             cand sim 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-            cand report 'Make the support bundle: doctor, firmware version, rates, incidents, the ring''s last minutes, host facts'
+            cand report 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }

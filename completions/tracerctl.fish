@@ -66,7 +66,7 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "send-raw" -d 'S
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "report" -d 'Make the support bundle: doctor, firmware version, rates, incidents, the ring\'s last minutes, host facts'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread' -r -f -a "text\t'One readable line per frame'
@@ -535,7 +535,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Dri
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -s o -l output -d 'The bundle\'s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]' -r -F
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l dir -d 'The recorder\'s directory [default: /var/lib/tracerctl/record when it exists]' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l dir -d 'The recorder\'s directory [default: /var/lib/tracerctl/record, if there is one]' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l listen -d 'How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l max-size -d 'The cap on the bundle\'s size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l incidents -d 'How many incidents to take, newest first' -r
@@ -569,7 +569,7 @@ swb-top\t'RC switch SWB to the top: command mode allowed'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l force -d 'Replace an existing file of that name'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l probe -d 'Also run doctor\'s probe (it sends a mode command and zero-velocity motion; the robot does not move)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l probe -d 'Also run the doctor\'s probe: it sends a mode command and zero-velocity motion, never moving the robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -s V -l version -d 'Print version'
@@ -614,6 +614,6 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "report" -d 'Make the support bundle: doctor, firmware version, rates, incidents, the ring\'s last minutes, host facts'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard report completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -108,7 +108,7 @@ pub enum Command {
     /// Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive
     #[command(visible_alias = "dash", after_help = reflow(&crate::dashboard::keys::help_text()))]
     Dashboard(DashboardArgs),
-    /// Make the support bundle: doctor, firmware version, rates, incidents, the ring's last minutes, host facts
+    /// Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts
     #[command(after_help = reflow(REPORT_AFTER_HELP))]
     Report(ReportArgs),
     /// Print a shell completion script to standard output
@@ -145,11 +145,11 @@ pub struct ReportArgs {
     #[arg(long)]
     pub force: bool,
 
-    /// The recorder's directory [default: /var/lib/tracerctl/record when it exists]
+    /// The recorder's directory [default: /var/lib/tracerctl/record, if there is one]
     #[arg(long, value_name = "DIR")]
     pub dir: Option<PathBuf>,
 
-    /// Also run doctor's probe (it sends a mode command and zero-velocity motion; the robot does not move)
+    /// Also run the doctor's probe: it sends a mode command and zero-velocity motion, never moving the robot
     #[arg(long)]
     pub probe: bool,
 
