@@ -178,9 +178,13 @@ fn essentials(
     ];
     let mut notes = Vec::new();
     if let Some(listen) = &findings.listen {
+        let form = match global.link {
+            LinkChoice::Serial { .. } => "RS232 frames in hex as `decode --serial` reads them",
+            _ => "candump -L",
+        };
         let about = format!(
-            "the {} listen's {} frames, candump -L (received and sent), recorded by the report as no recorder \
-             was running",
+            "the {} listen's {} frames, {form} (received and sent), recorded by the report as no recorder was \
+             running",
             humantime::format_duration(options.listen),
             listen.frames
         );

@@ -146,9 +146,9 @@ pub fn examine(global: &Global, live: &Live) -> Result<Findings> {
     let doctor_text = diagnosis.render(ReportFormat::Text)?;
     let doctor_json = diagnosis.render(ReportFormat::Json)?;
     let Diagnosis { session, .. } = diagnosis;
-    let (status, listened) = match &session {
-        Some(session) => (Some(session.status()), opened_at.elapsed()),
-        None => (None, Duration::ZERO),
+    let (status, listened, wire) = match &session {
+        Some(session) => (Some(session.status()), opened_at.elapsed(), session.wire()),
+        None => (None, Duration::ZERO, Wire::CanV2),
     };
     let version = match &session {
         Some(session) => ask_version(session, status.as_ref(), &tap),
@@ -169,7 +169,7 @@ pub fn examine(global: &Global, live: &Live) -> Result<Findings> {
         frames: tapped.frames - tapped.dropped,
         dropped: tapped.dropped,
     });
-    let rates = status.as_ref().map(|status| Rates::of(status, listened));
+    let rates = status.as_ref().map(|status| Rates::of(status, listened, wire));
     let name = link_text(&global.link);
     Ok(Findings {
         doctor_text,
@@ -185,9 +185,7 @@ pub fn examine(global: &Global, live: &Live) -> Result<Findings> {
 fn log_iface(choice: &LinkChoice) -> String {
     match choice {
         LinkChoice::SocketCan { iface } => iface.clone(),
-        LinkChoice::Serial { path, .. } => {
-            path.file_name().map_or_else(|| "serial".to_string(), |name| name.to_string_lossy().into_owned())
-        }
+        LinkChoice::Serial { path, .. } => path.display().to_string(),
         LinkChoice::Sim => "sim".to_string(),
         LinkChoice::Replay { .. } => "replay".to_string(),
     }
@@ -268,7 +266,7 @@ struct Rates {
 }
 
 impl Rates {
-    fn of(status: &RobotStatus, listened: Duration) -> Self {
+    fn of(status: &RobotStatus, listened: Duration, wire: Wire) -> Self {
         let identifiers = status
             .id_counts
             .iter()
@@ -283,7 +281,11 @@ impl Rates {
         Self {
             listened,
             frames: status.frames,
-            protocol: status.detector.describe(),
+            // The detector tells CAN versions apart; RS232 is its own protocol.
+            protocol: match wire {
+                Wire::Serial => "RS232".to_string(),
+                _ => status.detector.describe(),
+            },
             identifiers,
             error_frames: status.error_tally.frames,
             errors: status.error_tally.describe(),
