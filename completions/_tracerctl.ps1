@@ -46,6 +46,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
             [CompletionResult]::new('dash', 'dash', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
             [CompletionResult]::new('record', 'record', [CompletionResultType]::ParameterValue, 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends')
+            [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -341,6 +342,31 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
             break
         }
+        'tracerctl;report' {
+            [CompletionResult]::new('-o', '-o', [CompletionResultType]::ParameterName, 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]')
+            [CompletionResult]::new('--output', '--output', [CompletionResultType]::ParameterName, 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]')
+            [CompletionResult]::new('--dir', '--dir', [CompletionResultType]::ParameterName, 'The recorder''s directory [default: /var/lib/tracerctl/record, if there is one]')
+            [CompletionResult]::new('--listen', '--listen', [CompletionResultType]::ParameterName, 'How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs')
+            [CompletionResult]::new('--max-size', '--max-size', [CompletionResultType]::ParameterName, 'The cap on the bundle''s size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)')
+            [CompletionResult]::new('--incidents', '--incidents', [CompletionResultType]::ParameterName, 'How many incidents to take, newest first')
+            [CompletionResult]::new('--ring-minutes', '--ring-minutes', [CompletionResultType]::ParameterName, 'How many minutes of the recorder''s ring to take (its last ones)')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play back a candump log as a read-only source (for monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
+            [CompletionResult]::new('--force', '--force', [CompletionResultType]::ParameterName, 'Replace an existing file of that name')
+            [CompletionResult]::new('--probe', '--probe', [CompletionResultType]::ParameterName, 'Also run the doctor''s probe: it sends a mode command and zero-velocity motion, never moving the robot')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Drive an in-process virtual TRACER, not a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
         'tracerctl;completions' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
@@ -369,6 +395,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('sim', 'sim', [CompletionResultType]::ParameterValue, 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)')
             [CompletionResult]::new('dashboard', 'dashboard', [CompletionResultType]::ParameterValue, 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive')
             [CompletionResult]::new('record', 'record', [CompletionResultType]::ParameterValue, 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends')
+            [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
@@ -404,6 +431,9 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;help;record' {
+            break
+        }
+        'tracerctl;help;report' {
             break
         }
         'tracerctl;help;completions' {

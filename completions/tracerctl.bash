@@ -52,6 +52,9 @@ _tracerctl() {
             tracerctl,record)
                 cmd="tracerctl__subcmd__record"
                 ;;
+            tracerctl,report)
+                cmd="tracerctl__subcmd__report"
+                ;;
             tracerctl,send-raw)
                 cmd="tracerctl__subcmd__send__subcmd__raw"
                 ;;
@@ -91,6 +94,9 @@ _tracerctl() {
             tracerctl__subcmd__help,record)
                 cmd="tracerctl__subcmd__help__subcmd__record"
                 ;;
+            tracerctl__subcmd__help,report)
+                cmd="tracerctl__subcmd__help__subcmd__report"
+                ;;
             tracerctl__subcmd__help,send-raw)
                 cmd="tracerctl__subcmd__help__subcmd__send__subcmd__raw"
                 ;;
@@ -104,7 +110,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash record completions help"
+            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash record report completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -593,7 +599,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help)
-            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help"
+            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -747,6 +753,20 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help__subcmd__record)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__report)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
@@ -1049,6 +1069,80 @@ _tracerctl() {
                     ;;
                 -f)
                     COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__report)
+            opts="-o -h -V --output --force --dir --probe --listen --max-size --incidents --ring-minutes --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --output)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                -o)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --dir)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --listen)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --max-size)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --incidents)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --ring-minutes)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --protocol)

@@ -43,6 +43,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand dash 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand record 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
+            cand report 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -325,6 +326,30 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand -V 'Print version'
             cand --version 'Print version'
         }
+        &'tracerctl;report'= {
+            cand -o 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]'
+            cand --output 'The bundle''s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]'
+            cand --dir 'The recorder''s directory [default: /var/lib/tracerctl/record, if there is one]'
+            cand --listen 'How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs'
+            cand --max-size 'The cap on the bundle''s size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)'
+            cand --incidents 'How many incidents to take, newest first'
+            cand --ring-minutes 'How many minutes of the recorder''s ring to take (its last ones)'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --force 'Replace an existing file of that name'
+            cand --probe 'Also run the doctor''s probe: it sends a mode command and zero-velocity motion, never moving the robot'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
         &'tracerctl;completions'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
@@ -352,6 +377,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand sim 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand record 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
+            cand report 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
             cand completions 'Print a shell completion script to standard output'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
@@ -376,6 +402,8 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help;dashboard'= {
         }
         &'tracerctl;help;record'= {
+        }
+        &'tracerctl;help;report'= {
         }
         &'tracerctl;help;completions'= {
         }

@@ -67,6 +67,7 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "sim" -d 'Run a 
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread' -r -f -a "text\t'One readable line per frame'
@@ -581,6 +582,45 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l mark -d '
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -s o -l output -d 'The bundle\'s file, or a directory to write the default name in [default: tracerctl-report-HOST-TIME.tar.gz here]' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l dir -d 'The recorder\'s directory [default: /var/lib/tracerctl/record, if there is one]' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l listen -d 'How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l max-size -d 'The cap on the bundle\'s size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l incidents -d 'How many incidents to take, newest first' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l ring-minutes -d 'How many minutes of the recorder\'s ring to take (its last ones)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: standby until command mode again'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l force -d 'Replace an existing file of that name'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l probe -d 'Also run the doctor\'s probe: it sends a mode command and zero-velocity motion, never moving the robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -612,16 +652,17 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l spee
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'

@@ -111,6 +111,9 @@ pub enum Command {
     /// Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends
     #[command(after_help = reflow(RECORD_AFTER_HELP))]
     Record(RecordArgs),
+    /// Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts
+    #[command(after_help = reflow(REPORT_AFTER_HELP))]
+    Report(ReportArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
 }
@@ -156,7 +159,7 @@ pub struct RecordArgs {
     pub segment: Duration,
 
     /// The ring's size, e.g. 1GiB, 500MB (at least 1 MiB)
-    #[arg(long, value_name = "SIZE", default_value = "1GiB", value_parser = parse_size)]
+    #[arg(long, value_name = "SIZE", default_value = "1GiB", value_parser = parse_ring_size)]
     pub max_total: u64,
 
     /// Segments older than this are removed (1m to 366d)
@@ -217,32 +220,109 @@ fn parse_trigger(text: &str) -> Result<crate::blackbox::triggers::Expression, St
         .map_err(|error: <crate::blackbox::triggers::Expression as std::str::FromStr>::Err| error.to_string())
 }
 
-/// A size such as `1GiB`, `500MB`, `64M` or plain bytes, within [`RING_SIZE`]; K, M, G, T are powers of
-/// 1024 (with or without `iB`), KB, MB, GB, TB powers of 1000.
+const REPORT_AFTER_HELP: &str = "\
+Writes tracerctl-report-HOST-TIME.tar.gz (UTC time) for the vendor: doctor's report (text and JSON), the
+firmware version when the robot answers the version query (sent only on a live CAN link where the robot
+is heard; nothing else is sent unless --probe), the protocol and frames per identifier, host facts (OS
+release, kernel, CAN driver and modules, ip -details -statistics link, serial port owner and mode), and
+from the recorder's directory: its fault timeline, the newest incidents and the ring's last minutes, under
+--max-size (what is left out is said, in README.txt and here). When no recorder runs, the frames of the
+listen are kept instead. README.txt inside says what each file is. Never in a bundle: environment
+variables, files from outside the recorder's directory, anything about other processes.
+
+Examples:
+  On the robot's computer, with the recorder's service running:
+    tracerctl --iface can0 report
+  Offline, to a USB stick, at most 20 MB:
+    tracerctl --iface can0 report -o /media/usb/ --max-size 20MB
+
+Exit status: 0 the bundle was written (whatever the doctor found), 1 it could not be, 2 usage error (an
+existing file without --force, the output an input or in the recorder's directory).";
+
+#[derive(Debug, Args)]
+pub struct ReportArgs {
+    /// The bundle's file, or a directory to write the default name in [default:
+    /// tracerctl-report-HOST-TIME.tar.gz here]
+    #[arg(short = 'o', long = "output", value_name = "FILE")]
+    pub output: Option<PathBuf>,
+
+    /// Replace an existing file of that name
+    #[arg(long)]
+    pub force: bool,
+
+    /// The recorder's directory [default: /var/lib/tracerctl/record, if there is one]
+    #[arg(long, value_name = "DIR")]
+    pub dir: Option<PathBuf>,
+
+    /// Also run the doctor's probe: it sends a mode command and zero-velocity motion, never moving the robot
+    #[arg(long)]
+    pub probe: bool,
+
+    /// How long to listen to the robot (100ms to 10m); its frames are kept when no recorder runs
+    #[arg(long, value_name = "DURATION", default_value = "10s", allow_hyphen_values = true, value_parser = duration_in(LISTEN))]
+    pub listen: std::time::Duration,
+
+    /// The cap on the bundle's size: 50MB, 500kB, 1GiB (kB, MB, GB are powers of 1000; KiB, MiB, GiB of 1024)
+    #[arg(long, value_name = "SIZE", default_value = "50MB", value_parser = parse_size)]
+    pub max_size: u64,
+
+    /// How many incidents to take, newest first
+    #[arg(long, value_name = "N", default_value_t = 5)]
+    pub incidents: usize,
+
+    /// How many minutes of the recorder's ring to take (its last ones)
+    #[arg(long, value_name = "MINUTES", default_value_t = 10, value_parser = clap::value_parser!(u64).range(0..=10_080))]
+    pub ring_minutes: u64,
+}
+
+impl ReportArgs {
+    fn options(self) -> commands::report::Options {
+        commands::report::Options {
+            output: self.output,
+            force: self.force,
+            dir: self.dir,
+            probe: self.probe,
+            listen: self.listen,
+            max_size: self.max_size,
+            incidents: self.incidents,
+            ring_minutes: self.ring_minutes,
+        }
+    }
+}
+
+/// `record --max-total`: a size such as `1GiB` or `500MB`, from 1 MiB.
+fn parse_ring_size(text: &str) -> Result<u64, String> {
+    parse_size_in(text, RING_SIZE, "from 1MiB to 1024TiB")
+}
+
+/// `report --max-size`: a size such as `50MB` or `500kB`, from 1 kB.
 pub fn parse_size(text: &str) -> Result<u64, String> {
+    parse_size_in(text, (1_000, 1_000_000_000_000_000), "from 1kB to 1000TB")
+}
+
+/// A size such as `50MB`, `500kB`, `1GiB` or plain bytes within `range`: k, M, G, T (and kB, MB, GB, TB)
+/// are powers of 1000, KiB, MiB, GiB, TiB of 1024.
+fn parse_size_in(text: &str, range: (u64, u64), range_text: &str) -> Result<u64, String> {
     let trimmed = text.trim();
     let split = trimmed.find(|c: char| !(c.is_ascii_digit() || c == '.')).unwrap_or(trimmed.len());
     let (number, unit) = trimmed.split_at(split);
-    let factor: u64 = match unit.trim().to_ascii_lowercase().as_str() {
+    let scale: u64 = match unit.trim().to_ascii_lowercase().as_str() {
         "" | "b" => 1,
-        "k" | "kib" => 1 << 10,
-        "m" | "mib" => 1 << 20,
-        "g" | "gib" => 1 << 30,
-        "t" | "tib" => 1 << 40,
-        "kb" => 1_000,
-        "mb" => 1_000_000,
-        "gb" => 1_000_000_000,
-        "tb" => 1_000_000_000_000,
-        _ => {
-            return Err(format!(
-                "'{text}' is not a size such as 1GiB or 500MB (units: B, KiB, MiB, GiB, TiB, KB, MB, GB, TB)"
-            ))
-        }
+        "k" | "kb" => 1_000,
+        "m" | "mb" => 1_000_000,
+        "g" | "gb" => 1_000_000_000,
+        "t" | "tb" => 1_000_000_000_000,
+        "kib" => 1 << 10,
+        "mib" => 1 << 20,
+        "gib" => 1 << 30,
+        "tib" => 1 << 40,
+        _ => return Err(format!("'{text}' is not a size such as 50MB, 500kB or 1GiB")),
     };
-    let value = number.parse::<f64>().map_err(|_| format!("'{text}' is not a size such as 1GiB or 500MB"))?;
-    let bytes = value * factor as f64;
-    if !(bytes >= RING_SIZE.0 as f64 && bytes <= RING_SIZE.1 as f64) {
-        return Err(format!("'{text}' is out of range: give a size from 1MiB to 1024TiB"));
+    let value: f64 =
+        number.parse().map_err(|_| format!("'{text}' is not a size such as 50MB, 500kB or 1GiB"))?;
+    let bytes = value * scale as f64;
+    if !(bytes >= range.0 as f64 && bytes <= range.1 as f64) {
+        return Err(format!("'{text}' is out of range: give a size {range_text}"));
     }
     Ok(bytes as u64)
 }
@@ -1551,6 +1631,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             let options = args.options(&link)?;
             commands::sim::run(&global(link.choice()?), &options)
         }
+        Command::Report(args) => commands::report::run(&global(link.choice()?), &args.options()),
         Command::Dashboard(args) => {
             let options = args.options()?;
             link.refuse_overwriting("--record", options.record.as_deref())?;

@@ -76,5 +76,6 @@ pub use reason::{FrameSyntaxError, LineError, Reason};
 pub use record::{Direction, Line, LogRecord, Record, Timestamp, TimestampKind, RELATIVE_LIMIT_SECS};
 pub use shrink::{shrank, Shrank, WatchedFile};
 pub use tally::{line_too_long, RejectTally, Rejected, Rejection, MAX_SHOWN_REJECTS};
+pub(crate) use timestamp::days_from_civil;
 pub use timestamp::DeltaSum;
 pub use writer::{write_frame, write_log_line, write_log_record};

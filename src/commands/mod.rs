@@ -12,6 +12,7 @@ pub mod live;
 pub mod mode;
 pub mod monitor;
 pub mod record;
+pub mod report;
 pub mod same_file;
 pub mod send_raw;
 pub mod sim;

@@ -20,6 +20,9 @@ pub const ID_MOTOR2_LOW_SPEED: u32 = 0x262;
 pub const ID_ODOMETRY: u32 = 0x311;
 pub const ID_VERSION_REQUEST: u32 = 0x411;
 pub const ID_VERSION_RESPONSE: u32 = 0x41A;
+/// The AgileX SDK's version query since 2023 (protocol-notes 2.13): the request `01` (DLC 1), answered by
+/// frames of eight ASCII characters each on the same identifier. Not in the TRACER manuals.
+pub const ID_VERSION_TEXT: u32 = 0x4A1;
 pub const ID_CONTROL_MODE: u32 = 0x421;
 pub const ID_FAULT_CLEAR: u32 = 0x441;
 /// The system-state ID printed in the TRACER V2 manual; also V1's system state.

@@ -17,6 +17,7 @@ pub mod payload;
 pub mod pose;
 pub mod serial;
 pub mod transitions;
+pub mod version;
 pub mod wire;
 
 pub use can::{decode, DecodeError, ProtocolHint};

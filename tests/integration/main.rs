@@ -39,6 +39,7 @@ mod plot;
 mod pty_robot;
 mod pure_files;
 mod recording;
+mod report;
 mod robot_commands;
 mod send_raw;
 mod serial_peer;

@@ -51,16 +51,11 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let color = global.color.enabled(stdout.is_terminal());
     let mut out = stdout.lock();
     let mut report = Report::new(&mut out, args.format, color, link_name(&choice));
-    report.heading(&format!(
-        "tracerctl doctor: {}, protocol {}, listening {}{}",
-        describe_link(&choice),
-        format!("{:?}", global.protocol).to_ascii_lowercase(),
-        humantime::format_duration(args.listen),
-        if args.probe { ", then probing" } else { "" }
-    ))?;
+    report.heading(&heading(global, args))?;
 
     let opened = check_link(&choice, &mut report)?;
-    let session = if opened { open_session(global, &mut report)? } else { None };
+    let open = || Session::open(&choice, global.protocol, global.sim_config());
+    let session = if opened { open_session(&choice, open, &mut report)? } else { None };
     let signal = match &session {
         Some(session) => examine(session, args, &mut report)?,
         None => {
@@ -109,10 +104,88 @@ fn check_link<W: Write>(choice: &LinkChoice, report: &mut Report<W>) -> Result<b
     })
 }
 
-/// Opens the session, reporting the serial port open (or the link that could not be opened).
-fn open_session<W: Write>(global: &Global, report: &mut Report<W>) -> Result<Option<Session>> {
+/// The first line of the text report: the link, the protocol, how long it listens.
+fn heading(global: &Global, args: &Options) -> String {
+    format!(
+        "tracerctl doctor: {}, protocol {}, listening {}{}",
+        describe_link(&global.link),
+        format!("{:?}", global.protocol).to_ascii_lowercase(),
+        humantime::format_duration(args.listen),
+        if args.probe { ", then probing" } else { "" }
+    )
+}
+
+/// What the doctor found, kept rather than printed (`tracerctl report` writes it in both formats).
+pub struct Diagnosis {
+    pub heading: String,
+    pub link: String,
+    pub checks: Vec<Check>,
+    /// The session the checks ran on, still open for the caller; `None` when the link could not be used.
+    pub session: Option<Session>,
+    pub probed: bool,
+    /// The signal that cut the probe short.
+    pub interrupted: Option<Caught>,
+}
+
+impl Diagnosis {
+    /// The report as `doctor --format FORMAT` prints it (without colour).
+    pub fn render(&self, format: report::ReportFormat) -> std::io::Result<Vec<u8>> {
+        let mut out = Vec::new();
+        let mut report = Report::new(&mut out, format, false, self.link.clone());
+        report.heading(&self.heading)?;
+        add_all(&mut report, self.checks.clone())?;
+        if let Some(caught) = self.interrupted {
+            report.interrupt(caught);
+        }
+        report.finish(self.probed)?;
+        Ok(out)
+    }
+
+    /// True when no check failed.
+    pub fn drivable(&self) -> bool {
+        self.checks.iter().all(|check| check.outcome != report::Outcome::Fail)
+    }
+}
+
+/// Runs the doctor's checks on `global`'s link without printing them: the link checks, then, on the session
+/// `open` gives, the listen and the robot checks (and the probe when asked). For `tracerctl report`, which
+/// opens the session its own way and uses it afterwards.
+pub fn diagnose(
+    global: &Global,
+    args: &Options,
+    open: impl FnOnce() -> Result<Session>,
+) -> Result<Diagnosis> {
     let choice = &global.link;
-    match Session::open(choice, global.protocol, global.sim_config()) {
+    let mut sink = std::io::sink();
+    // JSON prints nothing until `finish`, which is never called: the checks are only collected.
+    let mut report = Report::new(&mut sink, report::ReportFormat::Json, false, link_name(choice));
+    let opened = check_link(choice, &mut report)?;
+    let session = if opened { open_session(choice, open, &mut report)? } else { None };
+    let signal = match &session {
+        Some(session) => examine_caught(session, args, &mut report)?,
+        None => {
+            let can = matches!(choice, LinkChoice::SocketCan { .. });
+            add_all(&mut report, robot::skipped("frames", "motors", "the link is not usable", can))?;
+            None
+        }
+    };
+    Ok(Diagnosis {
+        heading: heading(global, args),
+        link: link_name(choice),
+        checks: report.checks().to_vec(),
+        probed: args.probe && session.is_some(),
+        session,
+        interrupted: signal,
+    })
+}
+
+/// Opens the session, reporting the serial port open (or the link that could not be opened).
+fn open_session<W: Write>(
+    choice: &LinkChoice,
+    open: impl FnOnce() -> Result<Session>,
+    report: &mut Report<W>,
+) -> Result<Option<Session>> {
+    match open() {
         Ok(session) => {
             if let LinkChoice::Serial { path, baud } = choice {
                 report.add(Check::pass(
@@ -154,6 +227,15 @@ pub fn execute(session: &Session, args: &Options, out: &mut impl Write) -> Resul
 /// Listens for `--listen`, checks what arrived, then probes if asked. The exit status of a termination
 /// signal that interrupted the probe, if one did.
 fn examine<W: Write>(session: &Session, args: &Options, report: &mut Report<W>) -> Result<Option<u8>> {
+    Ok(examine_caught(session, args, report)?.map(Caught::exit_status))
+}
+
+/// As [`examine`], giving the signal itself.
+fn examine_caught<W: Write>(
+    session: &Session,
+    args: &Options,
+    report: &mut Report<W>,
+) -> Result<Option<Caught>> {
     let started = Instant::now();
     // A link that fails ends the listening early; everything else is heard out.
     session.wait_for(args.listen, |status| status.link_error.as_ref().map(|_| ()));
@@ -187,7 +269,7 @@ fn examine<W: Write>(session: &Session, args: &Options, report: &mut Report<W>) 
             if let (true, Some(caught)) = (cut_short, caught) {
                 report.interrupt(caught);
             }
-            return Ok(caught.map(Caught::exit_status));
+            return Ok(caught);
         }
     }
     Ok(None)
