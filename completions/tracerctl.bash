@@ -22,6 +22,9 @@ _tracerctl() {
             tracerctl,completions)
                 cmd="tracerctl__subcmd__completions"
                 ;;
+            tracerctl,config)
+                cmd="tracerctl__subcmd__config"
+                ;;
             tracerctl,dash)
                 cmd="tracerctl__subcmd__dashboard"
                 ;;
@@ -55,11 +58,32 @@ _tracerctl() {
             tracerctl,sim)
                 cmd="tracerctl__subcmd__sim"
                 ;;
+            tracerctl__subcmd__config,help)
+                cmd="tracerctl__subcmd__config__subcmd__help"
+                ;;
+            tracerctl__subcmd__config,path)
+                cmd="tracerctl__subcmd__config__subcmd__path"
+                ;;
+            tracerctl__subcmd__config,show)
+                cmd="tracerctl__subcmd__config__subcmd__show"
+                ;;
+            tracerctl__subcmd__config__subcmd__help,help)
+                cmd="tracerctl__subcmd__config__subcmd__help__subcmd__help"
+                ;;
+            tracerctl__subcmd__config__subcmd__help,path)
+                cmd="tracerctl__subcmd__config__subcmd__help__subcmd__path"
+                ;;
+            tracerctl__subcmd__config__subcmd__help,show)
+                cmd="tracerctl__subcmd__config__subcmd__help__subcmd__show"
+                ;;
             tracerctl__subcmd__help,clear-errors)
                 cmd="tracerctl__subcmd__help__subcmd__clear__subcmd__errors"
                 ;;
             tracerctl__subcmd__help,completions)
                 cmd="tracerctl__subcmd__help__subcmd__completions"
+                ;;
+            tracerctl__subcmd__help,config)
+                cmd="tracerctl__subcmd__help__subcmd__config"
                 ;;
             tracerctl__subcmd__help,dashboard)
                 cmd="tracerctl__subcmd__help__subcmd__dashboard"
@@ -91,6 +115,12 @@ _tracerctl() {
             tracerctl__subcmd__help,sim)
                 cmd="tracerctl__subcmd__help__subcmd__sim"
                 ;;
+            tracerctl__subcmd__help__subcmd__config,path)
+                cmd="tracerctl__subcmd__help__subcmd__config__subcmd__path"
+                ;;
+            tracerctl__subcmd__help__subcmd__config,show)
+                cmd="tracerctl__subcmd__help__subcmd__config__subcmd__show"
+                ;;
             *)
                 ;;
         esac
@@ -98,7 +128,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash completions help"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash completions config help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -110,6 +140,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -144,7 +178,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__clear__subcmd__errors)
-            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version all motor1 motor2"
+            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version all motor1 motor2"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -160,6 +194,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -194,7 +232,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__completions)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version bash elvish fish powershell zsh"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version bash elvish fish powershell zsh"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -206,6 +244,224 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config)
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version show path help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help)
+            opts="show path help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help__subcmd__help)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help__subcmd__path)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help__subcmd__show)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__path)
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__show)
+            opts="-f -h -V --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -240,7 +496,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__dashboard)
-            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -286,6 +542,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -318,7 +578,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -o -s -j -h -V --format --output --mcap-compression --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --no-mmap --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -o -s -j -h -V --format --output --mcap-compression --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --no-mmap --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -403,6 +663,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -435,7 +699,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__doctor)
-            opts="-f -h -V --probe --listen --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --probe --listen --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -459,6 +723,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -493,7 +761,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -555,6 +823,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -587,7 +859,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help)
-            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions help"
+            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard completions config help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -617,6 +889,48 @@ _tracerctl() {
         tracerctl__subcmd__help__subcmd__completions)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__config)
+            opts="show path"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__config__subcmd__path)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__config__subcmd__show)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -769,7 +1083,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__lights)
-            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -801,6 +1115,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -835,7 +1153,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__mode)
-            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version can serial standby"
+            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version can serial standby"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -851,6 +1169,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -885,7 +1207,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__monitor)
-            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -946,6 +1268,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -978,7 +1304,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__send__subcmd__raw)
-            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1006,6 +1332,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -1040,7 +1370,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__sim)
-            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1068,6 +1398,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)

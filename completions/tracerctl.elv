@@ -20,6 +20,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -43,6 +44,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand dash 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand completions 'Print a shell completion script to standard output'
+            cand config 'The configuration files: every effective setting with its source (show), the files read (path)'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'tracerctl;decode'= {
@@ -58,6 +60,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --threads 'Threads for text logs (candump, Vector ASC, PEAK trc): files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -90,6 +93,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --count 'Exit after COUNT frames shown (as candump -n), with the summary; exit status 0'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -119,6 +123,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'Status lines and final report on stdout: text, or JSON (docs/json.md)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -138,6 +143,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'Format of the report'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -155,6 +161,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --timeout 'How long to wait for the robot to confirm (0 to 10m)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -171,6 +178,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --timeout 'How long to watch the status afterwards (0 to 10m)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -191,6 +199,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --timeout 'How long to wait for the light state to confirm (0 to 10m)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -211,6 +220,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'What was sent, on stdout, as text or JSON (docs/json.md); diagnostics go to stderr'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -232,6 +242,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --duration 'Stop after this long (at most 30 days); default: until Ctrl-C'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -256,6 +267,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --key-timeout 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -280,6 +292,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --key-timeout 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -296,6 +309,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;completions'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -307,6 +321,70 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --help 'Print help (see more with ''--help'')'
             cand -V 'Print version'
             cand --version 'Print version'
+        }
+        &'tracerctl;config'= {
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+            cand show 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+            cand path 'The configuration files looked for, in order, and which exist (reads none of them)'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'tracerctl;config;show'= {
+            cand -f 'Text, or JSON (docs/json.md)'
+            cand --format 'Text, or JSON (docs/json.md)'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'tracerctl;config;path'= {
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'tracerctl;config;help'= {
+            cand show 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+            cand path 'The configuration files looked for, in order, and which exist (reads none of them)'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'tracerctl;config;help;show'= {
+        }
+        &'tracerctl;config;help;path'= {
+        }
+        &'tracerctl;config;help;help'= {
         }
         &'tracerctl;help'= {
             cand decode 'Decode candump logs, single frames or RS232 captures'
@@ -320,6 +398,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand sim 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
             cand dashboard 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
             cand completions 'Print a shell completion script to standard output'
+            cand config 'The configuration files: every effective setting with its source (show), the files read (path)'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'tracerctl;help;decode'= {
@@ -343,6 +422,14 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help;dashboard'= {
         }
         &'tracerctl;help;completions'= {
+        }
+        &'tracerctl;help;config'= {
+            cand show 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+            cand path 'The configuration files looked for, in order, and which exist (reads none of them)'
+        }
+        &'tracerctl;help;config;show'= {
+        }
+        &'tracerctl;help;config;path'= {
         }
         &'tracerctl;help;help'= {
         }

@@ -25,8 +25,8 @@ macro_rules! say_raw {
 pub mod blackbox;
 pub mod candump;
 pub mod cli;
-pub mod config;
 pub mod commands;
+pub mod config;
 pub mod control;
 pub mod exit;
 #[doc(hidden)]

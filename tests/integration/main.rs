@@ -3,6 +3,7 @@
 #![allow(clippy::disallowed_macros)]
 
 mod compressed_input;
+mod config;
 mod dashboard;
 mod dashboard_driver;
 mod dashboard_keys;
