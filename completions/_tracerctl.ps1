@@ -23,6 +23,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         'tracerctl' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -48,6 +49,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('record', 'record', [CompletionResultType]::ParameterValue, 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends')
             [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
+            [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'The configuration files: every effective setting with its source (show), the files read (path)')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
         }
@@ -64,6 +66,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--threads', '--threads', [CompletionResultType]::ParameterName, 'Threads for text logs (candump, Vector ASC, PEAK trc): files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -97,6 +100,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--count', '--count', [CompletionResultType]::ParameterName, 'Exit after COUNT frames shown (as candump -n), with the summary; exit status 0')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -127,6 +131,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Status lines and final report on stdout: text, or JSON (docs/json.md)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -147,6 +152,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Format of the report')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -165,6 +171,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for the robot to confirm (0 to 10m)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -182,6 +189,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to watch the status afterwards (0 to 10m)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -203,6 +211,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--timeout', '--timeout', [CompletionResultType]::ParameterName, 'How long to wait for the light state to confirm (0 to 10m)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -224,6 +233,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'What was sent, on stdout, as text or JSON (docs/json.md); diagnostics go to stderr')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -246,6 +256,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--duration', '--duration', [CompletionResultType]::ParameterName, 'Stop after this long (at most 30 days); default: until Ctrl-C')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -271,6 +282,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--key-timeout', '--key-timeout', [CompletionResultType]::ParameterName, 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -296,6 +308,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--key-timeout', '--key-timeout', [CompletionResultType]::ParameterName, 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -324,6 +337,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format of --status and --list')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -352,6 +366,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--ring-minutes', '--ring-minutes', [CompletionResultType]::ParameterName, 'How many minutes of the recorder''s ring to take (its last ones)')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -370,6 +385,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
         'tracerctl;completions' {
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
             [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
             [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
             [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
             [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
@@ -381,6 +397,77 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
             [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
             [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;config' {
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play back a candump log as a read-only source (for monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Drive an in-process virtual TRACER, not a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('show', 'show', [CompletionResultType]::ParameterValue, 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default')
+            [CompletionResult]::new('path', 'path', [CompletionResultType]::ParameterValue, 'The configuration files looked for, in order, and which exist (reads none of them)')
+            [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
+            break
+        }
+        'tracerctl;config;show' {
+            [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Text, or JSON (docs/json.md)')
+            [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Text, or JSON (docs/json.md)')
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play back a candump log as a read-only source (for monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Drive an in-process virtual TRACER, not a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;config;path' {
+            [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')
+            [CompletionResult]::new('--color', '--color', [CompletionResultType]::ParameterName, 'When to colour output (an explicit always or never overrides NO_COLOR)')
+            [CompletionResult]::new('--profile', '--profile', [CompletionResultType]::ParameterName, 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)')
+            [CompletionResult]::new('--iface', '--iface', [CompletionResultType]::ParameterName, 'CAN interface [default: $TRACERCTL_IFACE or can0]')
+            [CompletionResult]::new('--serial', '--serial', [CompletionResultType]::ParameterName, 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)')
+            [CompletionResult]::new('--baud', '--baud', [CompletionResultType]::ParameterName, 'Serial baud rate (with --serial) [default: 115200]')
+            [CompletionResult]::new('--fault', '--fault', [CompletionResultType]::ParameterName, 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)')
+            [CompletionResult]::new('--replay', '--replay', [CompletionResultType]::ParameterName, 'Play back a candump log as a read-only source (for monitor, dashboard)')
+            [CompletionResult]::new('--speed', '--speed', [CompletionResultType]::ParameterName, 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]')
+            [CompletionResult]::new('--sim', '--sim', [CompletionResultType]::ParameterName, 'Drive an in-process virtual TRACER, not a robot')
+            [CompletionResult]::new('-h', '-h', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('--help', '--help', [CompletionResultType]::ParameterName, 'Print help (see more with ''--help'')')
+            [CompletionResult]::new('-V', '-V ', [CompletionResultType]::ParameterName, 'Print version')
+            [CompletionResult]::new('--version', '--version', [CompletionResultType]::ParameterName, 'Print version')
+            break
+        }
+        'tracerctl;config;help' {
+            [CompletionResult]::new('show', 'show', [CompletionResultType]::ParameterValue, 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default')
+            [CompletionResult]::new('path', 'path', [CompletionResultType]::ParameterValue, 'The configuration files looked for, in order, and which exist (reads none of them)')
+            [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
+            break
+        }
+        'tracerctl;config;help;show' {
+            break
+        }
+        'tracerctl;config;help;path' {
+            break
+        }
+        'tracerctl;config;help;help' {
             break
         }
         'tracerctl;help' {
@@ -397,6 +484,7 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             [CompletionResult]::new('record', 'record', [CompletionResultType]::ParameterValue, 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends')
             [CompletionResult]::new('report', 'report', [CompletionResultType]::ParameterValue, 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts')
             [CompletionResult]::new('completions', 'completions', [CompletionResultType]::ParameterValue, 'Print a shell completion script to standard output')
+            [CompletionResult]::new('config', 'config', [CompletionResultType]::ParameterValue, 'The configuration files: every effective setting with its source (show), the files read (path)')
             [CompletionResult]::new('help', 'help', [CompletionResultType]::ParameterValue, 'Print this message or the help of the given subcommand(s)')
             break
         }
@@ -437,6 +525,17 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;help;completions' {
+            break
+        }
+        'tracerctl;help;config' {
+            [CompletionResult]::new('show', 'show', [CompletionResultType]::ParameterValue, 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default')
+            [CompletionResult]::new('path', 'path', [CompletionResultType]::ParameterValue, 'The configuration files looked for, in order, and which exist (reads none of them)')
+            break
+        }
+        'tracerctl;help;config;show' {
+            break
+        }
+        'tracerctl;help;config;path' {
             break
         }
         'tracerctl;help;help' {

@@ -22,6 +22,9 @@ _tracerctl() {
             tracerctl,completions)
                 cmd="tracerctl__subcmd__completions"
                 ;;
+            tracerctl,config)
+                cmd="tracerctl__subcmd__config"
+                ;;
             tracerctl,dash)
                 cmd="tracerctl__subcmd__dashboard"
                 ;;
@@ -61,11 +64,32 @@ _tracerctl() {
             tracerctl,sim)
                 cmd="tracerctl__subcmd__sim"
                 ;;
+            tracerctl__subcmd__config,help)
+                cmd="tracerctl__subcmd__config__subcmd__help"
+                ;;
+            tracerctl__subcmd__config,path)
+                cmd="tracerctl__subcmd__config__subcmd__path"
+                ;;
+            tracerctl__subcmd__config,show)
+                cmd="tracerctl__subcmd__config__subcmd__show"
+                ;;
+            tracerctl__subcmd__config__subcmd__help,help)
+                cmd="tracerctl__subcmd__config__subcmd__help__subcmd__help"
+                ;;
+            tracerctl__subcmd__config__subcmd__help,path)
+                cmd="tracerctl__subcmd__config__subcmd__help__subcmd__path"
+                ;;
+            tracerctl__subcmd__config__subcmd__help,show)
+                cmd="tracerctl__subcmd__config__subcmd__help__subcmd__show"
+                ;;
             tracerctl__subcmd__help,clear-errors)
                 cmd="tracerctl__subcmd__help__subcmd__clear__subcmd__errors"
                 ;;
             tracerctl__subcmd__help,completions)
                 cmd="tracerctl__subcmd__help__subcmd__completions"
+                ;;
+            tracerctl__subcmd__help,config)
+                cmd="tracerctl__subcmd__help__subcmd__config"
                 ;;
             tracerctl__subcmd__help,dashboard)
                 cmd="tracerctl__subcmd__help__subcmd__dashboard"
@@ -103,6 +127,12 @@ _tracerctl() {
             tracerctl__subcmd__help,sim)
                 cmd="tracerctl__subcmd__help__subcmd__sim"
                 ;;
+            tracerctl__subcmd__help__subcmd__config,path)
+                cmd="tracerctl__subcmd__help__subcmd__config__subcmd__path"
+                ;;
+            tracerctl__subcmd__help__subcmd__config,show)
+                cmd="tracerctl__subcmd__help__subcmd__config__subcmd__show"
+                ;;
             *)
                 ;;
         esac
@@ -110,7 +140,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash record report completions help"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash record report completions config help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -122,6 +152,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -156,7 +190,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__clear__subcmd__errors)
-            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version all motor1 motor2"
+            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version all motor1 motor2"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -172,6 +206,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -206,7 +244,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__completions)
-            opts="-h -V --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version bash elvish fish powershell zsh"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version bash elvish fish powershell zsh"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -218,6 +256,224 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config)
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version show path help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help)
+            opts="show path help"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help__subcmd__help)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help__subcmd__path)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__help__subcmd__show)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__path)
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__config__subcmd__show)
+            opts="-f -h -V --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -252,7 +508,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__dashboard)
-            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -298,6 +554,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -330,7 +590,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -o -s -j -h -V --format --output --mcap-compression --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --no-mmap --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -o -s -j -h -V --format --output --mcap-compression --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --no-mmap --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -415,6 +675,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -447,7 +711,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__doctor)
-            opts="-f -h -V --probe --listen --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --probe --listen --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -471,6 +735,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -505,7 +773,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -567,6 +835,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -599,7 +871,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help)
-            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help"
+            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -629,6 +901,48 @@ _tracerctl() {
         tracerctl__subcmd__help__subcmd__completions)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__config)
+            opts="show path"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__config__subcmd__path)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__config__subcmd__show)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 4 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
             fi
@@ -809,7 +1123,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__lights)
-            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -841,6 +1155,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -875,7 +1193,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__mode)
-            opts="-h -V --timeout --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version can serial standby"
+            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version can serial standby"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -891,6 +1209,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -925,7 +1247,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__monitor)
-            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -986,6 +1308,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -1018,7 +1344,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__record)
-            opts="-f -h -V --dir --segment --max-total --max-age --before --after --max-incidents --trigger --no-default-triggers --instance --dry-run --status --list --mark --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --dir --segment --max-total --max-age --before --after --max-incidents --trigger --no-default-triggers --instance --dry-run --status --list --mark --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1079,6 +1405,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -1111,7 +1441,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__report)
-            opts="-o -h -V --output --force --dir --probe --listen --max-size --incidents --ring-minutes --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-o -h -V --output --force --dir --probe --listen --max-size --incidents --ring-minutes --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1153,6 +1483,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
                     return 0
                     ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --iface)
                     COMPREPLY=($(compgen -f "${cur}"))
                     return 0
@@ -1185,7 +1519,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__send__subcmd__raw)
-            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1213,6 +1547,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)
@@ -1247,7 +1585,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__sim)
-            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1275,6 +1613,10 @@ _tracerctl() {
                     ;;
                 --color)
                     COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
                     return 0
                     ;;
                 --iface)

@@ -20,6 +20,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -45,6 +46,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand record 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
             cand report 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
             cand completions 'Print a shell completion script to standard output'
+            cand config 'The configuration files: every effective setting with its source (show), the files read (path)'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'tracerctl;decode'= {
@@ -60,6 +62,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --threads 'Threads for text logs (candump, Vector ASC, PEAK trc): files and standard input, plain or compressed, in every mode (--summary, --plot, --delta-stamps too; default: all cores; 1: one)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -92,6 +95,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --count 'Exit after COUNT frames shown (as candump -n), with the summary; exit status 0'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -121,6 +125,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'Status lines and final report on stdout: text, or JSON (docs/json.md)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -140,6 +145,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'Format of the report'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -157,6 +163,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --timeout 'How long to wait for the robot to confirm (0 to 10m)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -173,6 +180,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --timeout 'How long to watch the status afterwards (0 to 10m)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -193,6 +201,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --timeout 'How long to wait for the light state to confirm (0 to 10m)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -213,6 +222,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'What was sent, on stdout, as text or JSON (docs/json.md); diagnostics go to stderr'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -234,6 +244,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --duration 'Stop after this long (at most 30 days); default: until Ctrl-C'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -258,6 +269,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --key-timeout 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -282,6 +294,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --key-timeout 'Without key-release events (tmux, most terminals over SSH): a held key counts as released when no auto-repeat came for DURATION (20ms to 1.25s), instead of the deadline learned from the key stream. Longer rides out a jittery link, shorter stops sooner'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -309,6 +322,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --format 'Output format of --status and --list'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -336,6 +350,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --ring-minutes 'How many minutes of the recorder''s ring to take (its last ones)'
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -353,6 +368,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;completions'= {
             cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
             cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
             cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
             cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
             cand --baud 'Serial baud rate (with --serial) [default: 115200]'
@@ -364,6 +380,70 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand --help 'Print help (see more with ''--help'')'
             cand -V 'Print version'
             cand --version 'Print version'
+        }
+        &'tracerctl;config'= {
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+            cand show 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+            cand path 'The configuration files looked for, in order, and which exist (reads none of them)'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'tracerctl;config;show'= {
+            cand -f 'Text, or JSON (docs/json.md)'
+            cand --format 'Text, or JSON (docs/json.md)'
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'tracerctl;config;path'= {
+            cand --protocol 'Protocol version: auto detects from the identifiers on the bus'
+            cand --color 'When to colour output (an explicit always or never overrides NO_COLOR)'
+            cand --profile 'Settings of this robot''s profile in the configuration files ([profiles.NAME]; tracerctl config show)'
+            cand --iface 'CAN interface [default: $TRACERCTL_IFACE or can0]'
+            cand --serial 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)'
+            cand --baud 'Serial baud rate (with --serial) [default: 115200]'
+            cand --fault 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)'
+            cand --replay 'Play back a candump log as a read-only source (for monitor, dashboard)'
+            cand --speed 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]'
+            cand --sim 'Drive an in-process virtual TRACER, not a robot'
+            cand -h 'Print help (see more with ''--help'')'
+            cand --help 'Print help (see more with ''--help'')'
+            cand -V 'Print version'
+            cand --version 'Print version'
+        }
+        &'tracerctl;config;help'= {
+            cand show 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+            cand path 'The configuration files looked for, in order, and which exist (reads none of them)'
+            cand help 'Print this message or the help of the given subcommand(s)'
+        }
+        &'tracerctl;config;help;show'= {
+        }
+        &'tracerctl;config;help;path'= {
+        }
+        &'tracerctl;config;help;help'= {
         }
         &'tracerctl;help'= {
             cand decode 'Decode candump logs, single frames or RS232 captures'
@@ -379,6 +459,7 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
             cand record 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
             cand report 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
             cand completions 'Print a shell completion script to standard output'
+            cand config 'The configuration files: every effective setting with its source (show), the files read (path)'
             cand help 'Print this message or the help of the given subcommand(s)'
         }
         &'tracerctl;help;decode'= {
@@ -406,6 +487,14 @@ set edit:completion:arg-completer[tracerctl] = {|@words|
         &'tracerctl;help;report'= {
         }
         &'tracerctl;help;completions'= {
+        }
+        &'tracerctl;help;config'= {
+            cand show 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+            cand path 'The configuration files looked for, in order, and which exist (reads none of them)'
+        }
+        &'tracerctl;help;config;show'= {
+        }
+        &'tracerctl;help;config;path'= {
         }
         &'tracerctl;help;help'= {
         }

@@ -1,6 +1,6 @@
 # Print an optspec for argparse to handle cmd's options that are independent of any subcommand.
 function __fish_tracerctl_global_optspecs
-    string join \n protocol= color= iface= serial= baud= sim fault= replay= speed= h/help V/version
+    string join \n protocol= color= profile= iface= serial= baud= sim fault= replay= speed= h/help V/version
 end
 
 function __fish_tracerctl_needs_command
@@ -30,6 +30,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -69,6 +70,7 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "dash" -d 'Live 
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "config" -d 'The configuration files: every effective setting with its source (show), the files read (path)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s f -l format -d 'Output format [default: text, or mcap for -o FILE.mcap]. MCAP (Foxglove, PlotJuggler) needs -o FILE and is written by one thread' -r -f -a "text\t'One readable line per frame'
 json\t'One JSON object per line (schema in docs/json.md)'
@@ -104,6 +106,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -169,6 +172,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -213,6 +217,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -248,6 +253,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -281,6 +287,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -313,6 +320,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -355,6 +363,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -391,6 +400,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -429,6 +439,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -469,6 +480,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -509,6 +521,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -552,6 +565,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -594,6 +608,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -627,6 +642,7 @@ v2\t'CAN protocol V2 (current firmware)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
 always\t'Colour even into a pipe or a file, even with NO_COLOR set'
 never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
@@ -652,17 +668,124 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l spee
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "completions" -d 'Print a shell completion script to standard output'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: standby until command mode again'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -f -a "show" -d 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -f -a "path" -d 'The configuration files looked for, in order, and which exist (reads none of them)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -s f -l format -d 'Text, or JSON (docs/json.md)' -r -f -a "text\t'Lines for people'
+json\t'JSON (docs/json.md)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: standby until command mode again'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: standby until command mode again'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "show" -d 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "path" -d 'The configuration files looked for, in order, and which exist (reads none of them)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "config" -d 'The configuration files: every effective setting with its source (show), the files read (path)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "show" -d 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "path" -d 'The configuration files looked for, in order, and which exist (reads none of them)'

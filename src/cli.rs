@@ -76,11 +76,19 @@ pub struct Cli {
     #[arg(long, global = true, help_heading = GLOBAL_HEADING, value_enum, default_value_t = ColorArg::Auto, value_name = "WHEN")]
     pub color: ColorArg,
 
+    /// Settings of this robot's profile in the configuration files ([profiles.NAME]; tracerctl config show)
+    #[arg(long, global = true, help_heading = GLOBAL_HEADING, value_name = "NAME", env = crate::config::PROFILE_ENV, hide_env_values = true)]
+    pub profile: Option<String>,
+
     #[command(flatten)]
     pub link: LinkArgs,
 
     #[command(subcommand)]
     pub command: Command,
+
+    /// The configuration files as applied to this command line (not an option).
+    #[arg(skip)]
+    pub config: Configured,
 }
 
 #[derive(Debug, Subcommand)]
@@ -116,6 +124,9 @@ pub enum Command {
     Report(ReportArgs),
     /// Print a shell completion script to standard output
     Completions(CompletionsArgs),
+    /// The configuration files: every effective setting with its source (show), the files read (path)
+    #[command(after_help = reflow(CONFIG_AFTER_HELP))]
+    Config(ConfigArgs),
 }
 
 const RECORD_AFTER_HELP: &str = "\
@@ -378,7 +389,11 @@ pub fn instance_link(name: &str) -> anyhow::Result<LinkChoice> {
 
 impl RecordArgs {
     /// The options, and the link `--instance` chose (refused beside the link options).
-    fn options(self, link: &LinkArgs) -> anyhow::Result<(commands::record::Options, Option<LinkChoice>)> {
+    fn options(
+        self,
+        link: &LinkArgs,
+        profiled: bool,
+    ) -> anyhow::Result<(commands::record::Options, Option<LinkChoice>)> {
         use commands::record::{Action, Options, Settings};
         let format = match self.format {
             ReportFormatArg::Text => commands::decode::ReportFormat::Text,
@@ -387,6 +402,7 @@ impl RecordArgs {
         let looking = self.status || self.list || self.mark;
         let dir = self.dir.clone().unwrap_or_else(|| default_record_dir(looking));
         let instance_link = match &self.instance {
+            Some(_) if profiled => None,
             Some(name) => {
                 if link.sim || link.replay.is_some() || link.iface.is_some() || !link.serial.is_empty() {
                     return Err(usage(
@@ -783,6 +799,10 @@ pub struct MotionLimitArgs {
     /// Angular braking, rad/s²; at least --angular-accel
     #[arg(long, default_value_t = 3.0, value_name = "RAD/S2", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
     pub angular_decel: f64,
+
+    /// The limits that came from the configuration files, to name them in an error (not an option).
+    #[arg(skip)]
+    pub from_config: Vec<ConfigOrigin>,
 }
 
 impl MotionLimitArgs {
@@ -798,33 +818,51 @@ impl MotionLimitArgs {
             angular_decel: self.angular_decel,
         }
         .validated()
-        .map_err(|error| usage(limit_error_text(error)))
+        .map_err(|error| usage(limit_error_text_from(error, &self.from_config)))
     }
 }
 
 /// A [`LimitError`] in the words of the command line.
+#[cfg(test)]
 fn limit_error_text(error: LimitError) -> String {
-    let option = |name| match name {
-        LimitName::MaxLinear => "--max-linear",
-        LimitName::MaxAngular => "--max-angular",
-        LimitName::LinearAccel => "--accel",
-        LimitName::AngularAccel => "--angular-accel",
-        LimitName::LinearDecel => "--decel",
-        LimitName::AngularDecel => "--angular-decel",
+    limit_error_text_from(error, &[])
+}
+
+/// A [`LimitError`] naming each limit by its option, or by its key when it came from a configuration file
+/// (then the error starts with that value's `FILE:LINE:COLUMN`).
+fn limit_error_text_from(error: LimitError, from_config: &[ConfigOrigin]) -> String {
+    let arg = |name| match name {
+        LimitName::MaxLinear => "max_linear",
+        LimitName::MaxAngular => "max_angular",
+        LimitName::LinearAccel => "accel",
+        LimitName::AngularAccel => "angular_accel",
+        LimitName::LinearDecel => "decel",
+        LimitName::AngularDecel => "angular_decel",
+    };
+    let origin = |name| from_config.iter().find(|origin| origin.arg == arg(name));
+    let option =
+        |name| origin(name).map_or_else(|| format!("--{}", arg(name).replace('_', "-")), |o| o.key.clone());
+    let place = |names: &[LimitName]| {
+        names
+            .iter()
+            .find_map(|name| origin(*name))
+            .map_or_else(String::new, |origin| format!("{}: ", origin.at))
     };
     match error {
         LimitError::NotPositive { name, value } => {
-            format!("{} must be a positive number, not {value}", option(name))
+            format!("{}{} must be a positive number, not {value}", place(&[name]), option(name))
         }
         LimitError::BrakingWeaker { angular, decel, accel } => {
-            let (decel_option, accel_option, unit) = if angular {
-                ("--angular-decel", "--angular-accel", "rad/s²")
+            let (decel_name, accel_name, unit) = if angular {
+                (LimitName::AngularDecel, LimitName::AngularAccel, "rad/s²")
             } else {
-                ("--decel", "--accel", "m/s²")
+                (LimitName::LinearDecel, LimitName::LinearAccel, "m/s²")
             };
             format!(
-                "{decel_option} ({decel} {unit}) must be at least {accel_option} ({accel} {unit}): braking is never \
-                 weaker than speeding up"
+                "{}{} ({decel} {unit}) must be at least {} ({accel} {unit}): braking is never weaker than speeding up",
+                place(&[decel_name, accel_name]),
+                option(decel_name),
+                option(accel_name),
             )
         }
     }
@@ -1306,10 +1344,19 @@ pub struct LinkArgs {
     /// Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]
     #[arg(long, global = true, value_name = "N", conflicts_with_all = ["sim", "serial", "iface"], allow_negative_numbers = true, value_parser = number_in(REPLAY_SPEED))]
     pub speed: Option<f64>,
+
+    /// The link the configuration files name, below the link options and TRACERCTL_IFACE (not an option).
+    #[arg(skip)]
+    pub configured: ConfiguredLink,
 }
 
 /// The environment variable that names the default SocketCAN interface.
 pub const IFACE_ENV: &str = "TRACERCTL_IFACE";
+
+/// `$TRACERCTL_IFACE`, when set and not empty.
+fn iface_from_env() -> Option<String> {
+    std::env::var(IFACE_ENV).ok().filter(|name| !name.is_empty())
+}
 /// The RS232 rate of the TRACER.
 pub const DEFAULT_BAUD: u32 = 115_200;
 
@@ -1319,12 +1366,13 @@ impl LinkArgs {
     pub fn iface(&self) -> String {
         self.iface
             .clone()
-            .or_else(|| std::env::var(IFACE_ENV).ok().filter(|name| !name.is_empty()))
+            .or_else(iface_from_env)
+            .or_else(|| self.configured.iface.clone())
             .unwrap_or_else(|| "can0".to_string())
     }
 
     pub fn baud(&self) -> u32 {
-        self.baud.unwrap_or(DEFAULT_BAUD)
+        self.baud.or(self.configured.baud).unwrap_or(DEFAULT_BAUD)
     }
 
     pub fn speed(&self) -> f64 {
@@ -1341,7 +1389,13 @@ impl LinkArgs {
             return Ok(LinkChoice::Replay { path: path.clone(), speed: self.speed() });
         }
         match self.serial.as_slice() {
-            [] => Ok(LinkChoice::SocketCan { iface: self.iface() }),
+            // The files' serial port, unless `--iface` or TRACERCTL_IFACE chose CAN.
+            [] => match &self.configured.serial {
+                Some(path) if self.iface.is_none() && iface_from_env().is_none() => {
+                    Ok(LinkChoice::Serial { path: path.clone(), baud: self.baud() })
+                }
+                _ => Ok(LinkChoice::SocketCan { iface: self.iface() }),
+            },
             [path] => Ok(LinkChoice::Serial { path: path.clone(), baud: self.baud() }),
             _ => anyhow::bail!("give one --serial port for a live link"),
         }
@@ -1392,7 +1446,7 @@ pub fn parse() -> Cli {
 
 /// The command line parsed and checked as [`parse`] does it, with the same tips in its usage errors.
 pub fn try_parse_from(args: &[std::ffi::OsString]) -> Result<Cli, clap::Error> {
-    <Cli as clap::Parser>::try_parse_from(args)
+    parse_with_config(args)
         .and_then(|cli| match cli.link.misuse().or_else(|| interface_as_frame(&cli.command)) {
             Some(error) => Err(error),
             None => Ok(cli),
@@ -1431,8 +1485,9 @@ impl LinkArgs {
         };
         let needs = [("--speed", "--replay", "--replay <FILE>"), ("--baud", "--serial", "--serial <PATH>")];
         // What an option needs first: `--sim drive --speed 0.3` meant a drive speed, which the tip says.
-        if let Some((_, _, needed)) = needs.iter().find(|(option, needed, _)| given(option) && !given(needed))
-        {
+        // The files' serial port is the `--serial` that `--baud` needs.
+        let has = |needed: &str| given(needed) || (needed == "--serial" && self.configured.serial.is_some());
+        if let Some((_, _, needed)) = needs.iter().find(|(option, needed, _)| given(option) && !has(needed)) {
             return Some(usage_error_with(
                 ErrorKind::MissingRequiredArgument,
                 None,
@@ -1582,10 +1637,367 @@ pub fn completion_script(shell: clap_complete::Shell) -> Vec<u8> {
     out
 }
 
+const CONFIG_AFTER_HELP: &str = "\
+Files, lowest precedence first: /etc/tracerctl/config.toml, then $XDG_CONFIG_HOME/tracerctl/config.toml
+(~/.config/tracerctl/config.toml; on Windows %APPDATA%\\tracerctl\\config.toml only). TRACERCTL_CONFIG=FILE
+reads that file only; TRACERCTL_CONFIG= (empty) reads none.
+
+Top-level tables ([link], [drive], [battery], [record]) hold defaults; [profiles.NAME] tables override them
+for one robot, chosen with --profile NAME or TRACERCTL_PROFILE. Keys are the long options' names with _ for -:
+  [link]                  # the robot's link
+  iface = \"can0\"          # or serial = \"/dev/ttyUSB0\", baud = 115200
+  protocol = \"v2\"
+  [drive]                 # drive's and the dashboard's caps and ramps
+  max_linear = 0.5        # m/s; also max_angular, accel, decel (drive --help)
+  key_timeout = \"300ms\"
+  [battery]               # the low-battery threshold, volts
+  warning_volts = 23.0
+  [record]                # tracerctl record's options
+  dir = \"/var/lib/tracerctl/can0\"
+  triggers = [\"battery_voltage<23.0\"]
+  [profiles.tracer-07]    # one robot's values over the tables above
+  link.iface = \"can1\"
+  drive.max_linear = 0.8
+
+Precedence: command-line option > environment variable > profile > file > built-in default. A value from a
+file is checked as its option is (errors name FILE:LINE:COLUMN); caps are clamped as the options' are.";
+
+#[derive(Debug, Args)]
+pub struct ConfigArgs {
+    #[command(subcommand)]
+    pub action: ConfigAction,
+}
+
+#[derive(Debug, Subcommand)]
+pub enum ConfigAction {
+    /// Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default
+    Show {
+        /// Text, or JSON (docs/json.md)
+        #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+        format: ReportFormatArg,
+    },
+    /// The configuration files looked for, in order, and which exist (reads none of them)
+    Path,
+}
+
+impl ConfigArgs {
+    fn options(self, config: Configured) -> commands::config::Options {
+        match self.action {
+            ConfigAction::Show { format } => commands::config::Options::Show {
+                report: config.report(),
+                json: format == ReportFormatArg::Json,
+            },
+            ConfigAction::Path => commands::config::Options::Path {
+                files: crate::config::file_states(&config.lookup),
+                note: crate::config::lookup_note(&config.lookup),
+            },
+        }
+    }
+}
+
+/// The configuration files as applied to a command line: what was read, the error that stops the command
+/// (reported by [`run`], so that `config path` still works), and each key's effective value and source.
+#[derive(Clone, Debug, Default)]
+pub struct Configured {
+    pub lookup: crate::config::Lookup,
+    pub loaded: crate::config::Loaded,
+    pub error: Option<crate::config::ConfigError>,
+    /// Where the profile was chosen: `--profile` or `env TRACERCTL_PROFILE`.
+    pub profile_from: Option<String>,
+    pub rows: Vec<crate::config::Row>,
+}
+
+impl Configured {
+    /// `battery.warning_volts`, else the manual's alarm voltage.
+    fn battery_warning_volts(&self) -> f64 {
+        let key = crate::config::Key::find("battery.warning_volts");
+        match key.and_then(|key| self.loaded.effective(key)).map(|effective| &effective.setting.value) {
+            Some(crate::config::Value::Number(volts)) => *volts,
+            _ => crate::protocol::constants::volts(crate::protocol::constants::BATTERY_WARNING_DV),
+        }
+    }
+
+    fn report(&self) -> crate::config::Report {
+        let profile = self.loaded.profile.clone().zip(self.profile_from.clone());
+        crate::config::Report {
+            files: self.loaded.files.clone(),
+            note: self.loaded.note.clone(),
+            profile,
+            rows: self.rows.clone(),
+        }
+    }
+}
+
+/// The link the configuration files name (one of `iface` and `serial`, and the rate).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ConfiguredLink {
+    pub iface: Option<String>,
+    pub serial: Option<PathBuf>,
+    pub baud: Option<u32>,
+}
+
+/// An argument whose value came from a configuration file: its id, its key and where it was written.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConfigOrigin {
+    pub arg: &'static str,
+    pub key: String,
+    pub at: crate::config::Location,
+}
+
+/// Parses `args` with the configuration files' values as the defaults of the arguments they set: parsed
+/// once to learn the profile, the files read and checked by the options' own parsers, then parsed again
+/// with those defaults, so that an option given (or its environment variable) still wins.
+fn parse_with_config(args: &[std::ffi::OsString]) -> Result<Cli, clap::Error> {
+    use clap::FromArgMatches;
+    let first = command().try_get_matches_from(args)?;
+    let lookup = crate::config::lookup();
+    // An empty name is no profile (`TRACERCTL_PROFILE=` clears one set for the session).
+    let mut profile = first.get_one::<String>("profile").cloned().filter(|name| !name.is_empty());
+    let mut configured = Configured { lookup: lookup.clone(), ..Configured::default() };
+    configured.profile_from = match first.value_source("profile").filter(|_| profile.is_some()) {
+        Some(clap::parser::ValueSource::CommandLine) => Some("--profile".to_string()),
+        Some(clap::parser::ValueSource::EnvVariable) => Some(format!("env {}", crate::config::PROFILE_ENV)),
+        _ => None,
+    };
+    // The systemd unit's `record --instance NAME`: a profile of that name, when a file has one.
+    if let Some(name) = instance_profile(&first, &lookup).filter(|_| profile.is_none()) {
+        configured.profile_from = Some("record --instance".to_string());
+        profile = Some(name);
+    }
+    let loaded = crate::config::load(&lookup, profile.as_deref()).and_then(|loaded| {
+        check_config_values(&command(), &loaded)?;
+        Ok(loaded)
+    });
+    let matches = match loaded {
+        Ok(loaded) => {
+            let matches = with_config_defaults(command(), &loaded).try_get_matches_from(args)?;
+            configured.loaded = loaded;
+            matches
+        }
+        Err(error) => {
+            configured.error = Some(error);
+            first
+        }
+    };
+    let mut cli = Cli::from_arg_matches(&matches)?;
+    configured.rows = config_rows(&matches, &configured.loaded);
+    cli.link.configured = configured_link(&configured.loaded);
+    let origins = |subcommand| config_origins(&matches, &configured.loaded, subcommand);
+    match &mut cli.command {
+        Command::Drive(args) => args.limits.from_config = origins("drive"),
+        Command::Dashboard(args) => args.limits.from_config = origins("dashboard"),
+        _ => {}
+    }
+    cli.config = configured;
+    Ok(cli)
+}
+
+/// `record --instance NAME` when NAME is a profile of the configuration files.
+fn instance_profile(matches: &clap::ArgMatches, lookup: &crate::config::Lookup) -> Option<String> {
+    let name = matches.subcommand_matches("record")?.get_one::<String>("instance")?;
+    let loaded = crate::config::load(lookup, None).ok()?;
+    crate::config::profile::profile_names(&loaded.parsed).contains(name).then(|| name.clone())
+}
+
+/// The argument a key's target names, and the command that owns it.
+fn config_target<'a>(
+    top: &'a clap::Command,
+    target: &crate::config::Target,
+) -> Option<(&'a clap::Command, &'a clap::Arg)> {
+    let owner = if target.subcommand.is_empty() { top } else { top.find_subcommand(target.subcommand)? };
+    Some((owner, owner.get_arguments().find(|arg| arg.get_id() == target.arg)?))
+}
+
+/// Every value of every file (each profile's too) through the parser of each argument it goes to: the same
+/// ranges and words as the option, at the value's `FILE:LINE:COLUMN`.
+fn check_config_values(
+    top: &clap::Command,
+    loaded: &crate::config::Loaded,
+) -> Result<(), crate::config::ConfigError> {
+    for setting in loaded.all_settings() {
+        for target in setting.key.targets {
+            let Some((_, arg)) = config_target(top, target) else { continue };
+            for text in setting.value.arg_texts(target.inverted) {
+                // The option's parser on a positional argument of its own: nothing else of the command
+                // (conflicts, requirements) is involved.
+                let alone = clap::Arg::new("value")
+                    .value_parser(arg.get_value_parser().clone())
+                    .allow_hyphen_values(true);
+                let check = clap::Command::new("config").no_binary_name(true).arg(alone);
+                if let Err(error) = check.try_get_matches_from(["--", text.as_str()]) {
+                    return Err(crate::config::ConfigError::content(format!(
+                        "{}: {}: {}",
+                        setting.at,
+                        setting.key.dotted(),
+                        parser_reason(&error, &text)
+                    )));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What a value parser said, without clap's framing (which names the stand-in argument).
+fn parser_reason(error: &clap::Error, value: &str) -> String {
+    use clap::error::{ContextKind, ContextValue};
+    if let Some(source) = std::error::Error::source(error) {
+        return source.to_string();
+    }
+    match (error.get(ContextKind::ValidValue), error.get(ContextKind::SuggestedValue)) {
+        (Some(ContextValue::Strings(valid)), Some(ContextValue::String(suggested))) => {
+            format!("'{value}' is not one of {} (did you mean {suggested}?)", valid.join(", "))
+        }
+        (Some(ContextValue::Strings(valid)), _) => format!("'{value}' is not one of {}", valid.join(", ")),
+        _ => format!("'{value}' is not accepted"),
+    }
+}
+
+/// The command with each effective value that is an argument's default (`Use::Default`) set as that
+/// argument's default.
+fn with_config_defaults(mut top: clap::Command, loaded: &crate::config::Loaded) -> clap::Command {
+    for effective in &loaded.effective {
+        let key = effective.setting.key;
+        if key.usage != crate::config::Use::Default {
+            continue;
+        }
+        for target in key.targets {
+            if config_target(&top, target).is_none() {
+                continue;
+            }
+            let texts = effective.setting.value.arg_texts(target.inverted);
+            // A required option (`record --dir`) is satisfied by the file's value.
+            let set = |arg: clap::Arg| arg.required(false).default_values(texts.clone());
+            top = if target.subcommand.is_empty() {
+                top.mut_arg(target.arg, set)
+            } else {
+                top.mut_subcommand(target.subcommand, |sub| sub.mut_arg(target.arg, set))
+            };
+        }
+    }
+    top
+}
+
+/// The link the effective settings name.
+fn configured_link(loaded: &crate::config::Loaded) -> ConfiguredLink {
+    use crate::config::{Key, Value};
+    let value =
+        |dotted| loaded.effective(Key::find(dotted)?).map(|effective| effective.setting.value.clone());
+    ConfiguredLink {
+        iface: match value("link.iface") {
+            Some(Value::Text(iface)) => Some(iface),
+            _ => None,
+        },
+        serial: match value("link.serial") {
+            Some(Value::Text(path)) => Some(PathBuf::from(path)),
+            _ => None,
+        },
+        baud: match value("link.baud") {
+            Some(Value::Count(baud)) => u32::try_from(baud).ok(),
+            _ => None,
+        },
+    }
+}
+
+/// The arguments of `subcommand` whose value is a configuration file's (their default, which the file set).
+fn config_origins(
+    matches: &clap::ArgMatches,
+    loaded: &crate::config::Loaded,
+    subcommand: &str,
+) -> Vec<ConfigOrigin> {
+    let Some(sub) = matches.subcommand_matches(subcommand) else { return Vec::new() };
+    let mut origins = Vec::new();
+    for effective in &loaded.effective {
+        let key = effective.setting.key;
+        for target in key.targets.iter().filter(|target| target.subcommand == subcommand) {
+            let known = sub.ids().any(|id| id.as_str() == target.arg);
+            if known && sub.value_source(target.arg) == Some(clap::parser::ValueSource::DefaultValue) {
+                origins.push(ConfigOrigin {
+                    arg: target.arg,
+                    key: key.dotted(),
+                    at: effective.setting.at.clone(),
+                });
+            }
+        }
+    }
+    origins
+}
+
+/// Each key's effective value and its source, for `config show`: a global option given (or its `env`),
+/// the key's own environment variable, the files, then the argument's built-in default.
+fn config_rows(matches: &clap::ArgMatches, loaded: &crate::config::Loaded) -> Vec<crate::config::Row> {
+    use crate::config::{Row, Source, KEYS};
+    use clap::parser::ValueSource;
+    let top = command();
+    KEYS.iter()
+        .map(|key| {
+            let row = |values: Vec<String>, source| Row { key, values, source };
+            let global = key.targets.iter().filter(|target| target.subcommand.is_empty());
+            for target in global {
+                let Some((_, arg)) = config_target(&top, target) else { continue };
+                let known = matches.ids().any(|id| id.as_str() == target.arg);
+                let raw = || -> Vec<String> {
+                    let values = matches.get_raw(target.arg).into_iter().flatten();
+                    values.map(|value| value.to_string_lossy().into_owned()).collect()
+                };
+                match known.then(|| matches.value_source(target.arg)).flatten() {
+                    Some(ValueSource::CommandLine) => {
+                        let flag = format!("--{}", arg.get_long().unwrap_or(target.arg));
+                        return row(raw(), Source::Flag(flag));
+                    }
+                    Some(ValueSource::EnvVariable) => {
+                        let variable = arg.get_env().map(|name| name.to_string_lossy().into_owned());
+                        return row(raw(), Source::Env(variable.unwrap_or_default()));
+                    }
+                    _ => {}
+                }
+            }
+            if let Some(variable) = key.env {
+                if let Some(value) = std::env::var(variable).ok().filter(|value| !value.is_empty()) {
+                    return row(vec![value], Source::Env(variable.to_string()));
+                }
+            }
+            if let Some(effective) = loaded.effective(key) {
+                let at = effective.setting.at.clone();
+                let source = match &effective.profile {
+                    Some(name) => Source::Profile { name: name.clone(), at },
+                    None => Source::File { at },
+                };
+                return row(effective.setting.value.arg_texts(false), source);
+            }
+            row(built_in_default(&top, key), Source::Default)
+        })
+        .collect()
+}
+
+/// A key's default: its first argument's (a `--no-...` flag's inverted), else the key's fallback.
+fn built_in_default(top: &clap::Command, key: &crate::config::Key) -> Vec<String> {
+    for target in key.targets {
+        let Some((_, arg)) = config_target(top, target) else { continue };
+        let defaults: Vec<String> =
+            arg.get_default_values().iter().map(|value| value.to_string_lossy().into_owned()).collect();
+        match defaults.as_slice() {
+            [] => {}
+            [flag] if target.inverted => return vec![(flag != "true").to_string()],
+            _ => return defaults,
+        }
+    }
+    key.fallback.value().into_iter().collect()
+}
+
 /// Runs the parsed command line: each command's settings (usage errors first), the global ones, then the
 /// command. Returns the exit status.
 pub fn run(cli: Cli) -> anyhow::Result<u8> {
-    let Cli { protocol, color, link, command } = cli;
+    let Cli { protocol, color, link, command, profile: _, config } = cli;
+    // A mistake in a configuration file stops every command but the one that says where the files are.
+    if let Some(error) = config
+        .error
+        .clone()
+        .filter(|_| !matches!(command, Command::Config(ConfigArgs { action: ConfigAction::Path })))
+    {
+        let code = if error.is_usage() { crate::exit::USAGE } else { crate::exit::FAILURE };
+        return Err(crate::exit::Failure { code, message: error.message }.into());
+    }
     // `--fault` goes to a simulator: `sim` itself or `--sim`'s (decode refuses it with the live options).
     let simulator = link.sim || matches!(command, Command::Sim(_));
     if !link.faults.is_empty() && !simulator && !matches!(command, Command::Decode(_)) {
@@ -1595,11 +2007,13 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         ));
     }
     let sim_faults = link.faults.clone();
+    let battery_warning_volts = config.battery_warning_volts();
     let global = |link: LinkChoice| Global {
         link,
         color: color.into(),
         protocol: protocol.into(),
         sim_faults: sim_faults.clone(),
+        battery_warning_volts,
     };
     // What `decode` and `completions` get: they open no link.
     let offline = || global(LinkChoice::SocketCan { iface: link.iface() });
@@ -1613,6 +2027,7 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             &offline(),
             &commands::completions::Options { script: completion_script(args.shell) },
         ),
+        Command::Config(args) => commands::config::run(&offline(), &args.options(config)),
         Command::Monitor(args) => {
             let options = args.options()?;
             link.refuse_overwriting("--log", options.log.as_deref())?;
@@ -1638,12 +2053,20 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             commands::dashboard::run(&global(link.choice()?), &options)
         }
         Command::Record(args) => {
-            let (options, instance) = args.options(&link)?;
+            // An instance that names a profile takes the profile's link (and settings), not its name.
+            let profiled = args.instance.is_some() && config.loaded.profile == args.instance;
+            let (mut options, instance) = args.options(&link, profiled)?;
             let choice = match instance {
                 Some(choice) => choice,
                 None => link.choice()?,
             };
-            commands::record::run(&global(choice), &options)
+            let global = global(choice);
+            if let commands::record::Action::Record(settings) | commands::record::Action::DryRun(settings) =
+                &mut options.action
+            {
+                settings.triggers.battery_warning_volts = global.battery_warning_volts;
+            }
+            commands::record::run(&global, &options)
         }
     }
 }
@@ -1917,6 +2340,125 @@ mod tests {
         );
         let clamped = limits(&["tracerctl", "drive", "--max-linear", "9"]).unwrap();
         assert_eq!(clamped.max_linear, crate::protocol::message::LINEAR_LIMIT);
+    }
+
+    #[test]
+    fn every_config_key_targets_an_argument_of_its_command() {
+        let top = command();
+        for key in crate::config::KEYS {
+            for target in key.targets {
+                let owner = target.subcommand.is_empty() || top.find_subcommand(target.subcommand).is_some();
+                if owner {
+                    assert!(
+                        config_target(&top, target).is_some(),
+                        "{}: no argument {target:?}",
+                        key.dotted()
+                    );
+                } else {
+                    // `record` is being written beside this (issue 31); its arguments pick the keys up when
+                    // they exist, with these ids.
+                    assert_eq!(target.subcommand, "record", "{}", key.dotted());
+                }
+            }
+        }
+    }
+
+    fn loaded(text: &str, profile: Option<&str>) -> crate::config::Loaded {
+        let file = crate::config::file::parse("c.toml", text).unwrap();
+        let effective = crate::config::profile::resolve(std::slice::from_ref(&file), profile).unwrap();
+        crate::config::Loaded { parsed: vec![file], effective, ..Default::default() }
+    }
+
+    #[test]
+    fn config_values_become_defaults_that_options_beat() {
+        use clap::FromArgMatches;
+        let config =
+            loaded("[drive]\nmax_linear = 0.8\nkey_timeout = \"300ms\"\n[link]\nprotocol = \"v1\"\n", None);
+        check_config_values(&command(), &config).unwrap();
+        let parse = |args: &[&str]| {
+            let matches = with_config_defaults(command(), &config).try_get_matches_from(args).unwrap();
+            (Cli::from_arg_matches(&matches).unwrap(), matches)
+        };
+        let (cli, matches) = parse(&["tracerctl", "drive", "--linear", "0.1"]);
+        let Command::Drive(args) = cli.command else { panic!() };
+        assert_eq!((args.limits.max_linear, args.limits.max_angular), (0.8, 0.5));
+        assert_eq!(cli.protocol, ProtocolArg::V1);
+        let origins = config_origins(&matches, &config, "drive");
+        assert_eq!(origins.iter().map(|origin| origin.arg).collect::<Vec<_>>(), ["max_linear"]);
+        assert_eq!(origins[0].at.to_string(), "c.toml:2:14");
+        let (cli, _) = parse(&["tracerctl", "--protocol", "v2", "dashboard", "--max-linear", "0.2"]);
+        let Command::Dashboard(args) = cli.command else { panic!() };
+        assert_eq!(args.limits.max_linear, 0.2);
+        assert_eq!(args.key_timeout, Some(Duration::from_millis(300)));
+        assert_eq!(cli.protocol, ProtocolArg::V2);
+        // The rows of `config show`: the option given, the file, the built-in default.
+        let (_, matches) = parse(&["tracerctl", "--protocol", "v2", "config", "show"]);
+        let rows = config_rows(&matches, &config);
+        let source = |dotted: &str| {
+            let row = rows.iter().find(|row| row.key.dotted() == dotted).unwrap();
+            (row.values.join(" "), row.source.to_string())
+        };
+        assert_eq!(source("link.protocol"), ("v2".into(), "flag --protocol".into()));
+        assert_eq!(source("drive.max_linear"), ("0.8".into(), "file c.toml:2".into()));
+        assert_eq!(source("drive.decel"), ("1.5".into(), "default".into()));
+        assert_eq!(source("record.default_triggers"), ("true".into(), "default".into()));
+    }
+
+    #[test]
+    fn config_values_are_checked_by_the_options_parsers_in_every_profile() {
+        let error = |text: &str| check_config_values(&command(), &loaded(text, None)).unwrap_err().message;
+        assert_eq!(
+            error("[profiles.unused]\ndrive.max_angular = 200"),
+            "c.toml:2:21: drive.max_angular: '200' is not a number from 0.001 to 100"
+        );
+        assert_eq!(
+            error("[link]\nprotocol = \"V2\""),
+            "c.toml:2:12: link.protocol: 'V2' is not one of auto, v1, v2"
+        );
+        assert_eq!(
+            error("[drive]\nmax_linear = nan"),
+            "c.toml:2:14: drive.max_linear: 'NaN' is not a number from 0.001 to 100"
+        );
+        check_config_values(
+            &command(),
+            &loaded("[record]\nmax_incidents = 5\ndefault_triggers = false", None),
+        )
+        .unwrap();
+    }
+
+    #[test]
+    fn limits_from_a_file_are_named_by_key_and_place() {
+        let at = crate::config::Location { file: "c.toml".into(), line: 4, column: 9 };
+        let origin = |arg, key: &str| ConfigOrigin { arg, key: key.into(), at: at.clone() };
+        let braking = LimitError::BrakingWeaker { angular: false, decel: 0.3, accel: 0.5 };
+        assert_eq!(
+            limit_error_text_from(braking, &[origin("decel", "drive.decel")]),
+            "c.toml:4:9: drive.decel (0.3 m/s²) must be at least --accel (0.5 m/s²): braking is never weaker than \
+             speeding up"
+        );
+        let link = ConfiguredLink { serial: Some("/dev/ttyUSB9".into()), baud: Some(9600), iface: None };
+        let mut args = LinkArgs {
+            iface: None,
+            serial: vec![],
+            baud: None,
+            sim: false,
+            faults: vec![],
+            replay: None,
+            speed: None,
+            configured: link,
+        };
+        if std::env::var_os(IFACE_ENV).is_none() {
+            assert!(matches!(args.choice().unwrap(), LinkChoice::Serial { baud: 9600, .. }));
+        }
+        args.iface = Some("can2".into());
+        assert!(matches!(args.choice().unwrap(), LinkChoice::SocketCan { iface } if iface == "can2"));
+        args.iface = None;
+        args.sim = true;
+        assert!(matches!(args.choice().unwrap(), LinkChoice::Sim));
+        assert!(
+            args.misuse().is_none(),
+            "the file's serial port is not a --serial that conflicts with --sim"
+        );
     }
 
     #[test]

@@ -3,6 +3,7 @@
 
 pub mod clear_errors;
 pub mod completions;
+pub mod config;
 pub mod dashboard;
 pub mod decode;
 pub mod doctor;
@@ -30,6 +31,9 @@ pub struct Global {
     pub protocol: ProtocolHint,
     /// Faults the `--sim` robot is given (`--fault NAME@TIME`); the command line allows them only with `--sim`.
     pub sim_faults: Vec<crate::sim::ScheduledFault>,
+    /// The low-battery threshold, volts: `battery.warning_volts` of the configuration files, else the
+    /// manual's alarm voltage (`protocol::constants::BATTERY_WARNING_DV`).
+    pub battery_warning_volts: f64,
 }
 
 impl Global {

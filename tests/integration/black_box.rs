@@ -414,3 +414,32 @@ fn max_incidents_removes_the_oldest_and_says_so() {
         "{end}"
     );
 }
+
+#[test]
+fn an_instance_that_names_a_profile_takes_its_link_and_recorder_settings() {
+    let dir = tempfile::tempdir().unwrap();
+    let config = dir.path().join("config.toml");
+    std::fs::write(
+        &config,
+        "[record]\nsegment = \"2m\"\n\n[profiles.corridor]\nlink.iface = \"vcan7\"\nrecord.before = \"10s\"\nrecord.triggers = [\"battery_voltage<23.5\"]\n",
+    )
+    .unwrap();
+    let run = |instance: &str| {
+        let output = tracerctl()
+            .env("TRACERCTL_CONFIG", &config)
+            .args(["record", "--dry-run", "--instance", instance, "--dir"])
+            .arg(dir.path().join("rec"))
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{}", stderr(&output));
+        stdout(&output)
+    };
+    let profiled = run("corridor");
+    assert!(profiled.starts_with("link: SocketCAN vcan7\ninstance: corridor\n"), "{profiled}");
+    assert!(profiled.contains("segment: 2m\n") && profiled.contains("before: 10s\n"), "{profiled}");
+    assert!(profiled.contains("battery_voltage<23.5"), "{profiled}");
+    // Any other name is a link, with the file's settings but not the profile's.
+    let plain = run("can1");
+    assert!(plain.starts_with("link: SocketCAN can1\ninstance: can1\n"), "{plain}");
+    assert!(plain.contains("segment: 2m\n") && plain.contains("before: 1m\n"), "{plain}");
+}

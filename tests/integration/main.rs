@@ -4,6 +4,7 @@
 
 mod black_box;
 mod compressed_input;
+mod config;
 mod dashboard;
 mod dashboard_driver;
 mod dashboard_keys;

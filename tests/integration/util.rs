@@ -11,6 +11,9 @@ use assert_cmd::Command;
 pub fn tracerctl() -> Command {
     let mut command = Command::cargo_bin("tracerctl").expect("binary built");
     command.env_remove("NO_COLOR").env_remove("TRACERCTL_IFACE");
+    // No configuration file, no profile (.cargo/config.toml sets these for every process cargo runs; said
+    // here too for a test binary run by hand). Tests of the files set TRACERCTL_CONFIG=FILE after this.
+    command.env("TRACERCTL_CONFIG", "").env("TRACERCTL_PROFILE", "");
     command
 }
 
