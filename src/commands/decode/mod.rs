@@ -2,6 +2,7 @@
 //!
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
+mod damaged;
 mod interrupt;
 mod lines;
 #[cfg(unix)]
@@ -142,6 +143,8 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         // Decided once, here: the workers map plain files only with the fault handler installed.
         mapping: if args.mmap { mapped::install_fault_handler() } else { None },
         frameless: Vec::new(),
+        damaged: Vec::new(),
+        input_bytes: None,
     };
 
     let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
@@ -159,6 +162,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     if let Some(caught) = decoder.signals.caught() {
         // Interrupted (Ctrl-C, kill): what was decoded is written, with the totals, before exiting 128+n.
         decoder.write_out_or_say(args);
+        decoder.say_damage();
         crate::say!("tracerctl: {}: {}", caught.name(), totals_line(&decoder.stats));
         return Ok(caught.exit_status());
     }
@@ -269,6 +273,10 @@ pub struct Decoder {
     mapping: Option<mapped::FaultHandler>,
     /// Why each input that gave no frame gave none (`no frames in NAME: empty`).
     frameless: Vec<String>,
+    /// The compressed inputs that ended early or were corrupt, said last (see damaged.rs).
+    damaged: Vec<String>,
+    /// The size of the file being read (compressed or not), for messages.
+    input_bytes: Option<u64>,
 }
 
 impl Decoder {
@@ -306,6 +314,7 @@ impl Decoder {
     fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
             let (reader, format) = candump::open_log(io::stdin(), "<stdin>").map_err(Failure::from)?;
+            self.input_bytes = None;
             if self.parallel_fits() {
                 return parallel::decode(self, "<stdin>", (reader, format), None, (true, None));
             }
@@ -316,6 +325,7 @@ impl Decoder {
             let file = File::open(path).with_context(|| format!("cannot open {input}"))?;
             let metadata = file.metadata().ok();
             let size = metadata.as_ref().map(|m| m.len());
+            self.input_bytes = size;
             let regular = metadata.is_some_and(|m| m.is_file());
             // The workers read a plain file's ranges themselves, through a handle of their own.
             let plain = file.try_clone().ok();
@@ -349,6 +359,7 @@ impl Decoder {
             decoded_lines: stats.decoded_lines,
             rejected_lines: stats.rejected_lines,
             skipped: stats.skipped,
+            damaged: self.damaged.len(),
         }
     }
 
@@ -361,7 +372,8 @@ impl Decoder {
         let skipped = self.stats.skipped.total() - before.skipped.total();
         let skipped_blank = self.stats.skipped.blank - before.skipped.blank;
         let skipped_comment = self.stats.skipped.comment - before.skipped.comment;
-        if decoded > 0 {
+        // A damaged input says so itself, with the lines it reached.
+        if decoded > 0 || self.damaged.len() > before.damaged {
             return;
         }
         let why = if lines == 0 {
@@ -512,12 +524,18 @@ impl Decoder {
                     crate::say!("tracerctl: {reason}");
                 }
                 self.report_totals();
-                Ok(SUCCESS)
+                self.damage_error().map_or(Ok(SUCCESS), Err)
             }
             Ok(()) => {
                 self.write_out_before_error(args);
                 self.report_totals();
                 let reasons = std::mem::take(&mut self.frameless);
+                if let Some(damage) = self.damage_error() {
+                    for reason in &reasons {
+                        crate::say!("tracerctl: {reason}");
+                    }
+                    return Err(damage);
+                }
                 let message = if reasons.is_empty() {
                     "no frames in the input".to_string()
                 } else {
@@ -527,6 +545,7 @@ impl Decoder {
             }
             Err(error) => {
                 self.write_out_before_error(args);
+                self.say_damage();
                 Err(error)
             }
         }
