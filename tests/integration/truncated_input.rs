@@ -1,7 +1,8 @@
-//! Compressed logs cut short or corrupt (issue 31: the black box's open segment after a crash). Logs are
-//! compressed by the real `gzip`, `zstd`, `xz` and `bzip2` tools (the crates when a tool is missing);
-//! every whole line before the damage is decoded exactly as in the whole file's output, the message names
-//! the byte and the line reached, exit 3, and `-j1`, `-j2` and `--summary` agree.
+//! Compressed logs cut short or corrupt (issue 31: the black box's open segment after a crash), and
+//! directories of the recorder given to `decode`. Logs are compressed by the real `gzip`, `zstd`, `xz` and
+//! `bzip2` tools (the crates when a tool is missing); every whole line before the damage is decoded exactly
+//! as in the whole file's output, the message names the byte and the line reached, exit 3, and `-j1`,
+//! `-j2` and `--summary` agree.
 
 use std::io::Write;
 use std::path::Path;
@@ -300,6 +301,152 @@ fn a_cut_stream_on_standard_input_names_the_end_of_the_input_and_strict_stops_th
     let strict = run(&["--strict"], &path, None);
     assert_eq!((strict.status.code(), stdout(&strict).lines().count()), (Some(3), 30));
     assert!(stderr(&strict).contains("the zstd data ends early, at byte "), "{}", stderr(&strict));
+}
+
+/// A recorder's directory: `DIR/ring/` with segments, one cut by a crash, and an incident.
+struct Recorder {
+    dir: tempfile::TempDir,
+    /// Each segment's text, in time order.
+    texts: Vec<String>,
+}
+
+impl Recorder {
+    const SEGMENTS: [&'static str; 3] =
+        ["20261128T134500.000Z.log.zst", "20261128T134600.000Z.log.zst", "20261128T134700.000Z.log.zst"];
+
+    /// Three segments of two frames each; `cut` cuts the second one 10 bytes into its second frame.
+    fn new(cut: bool) -> Self {
+        let dir = tempfile::tempdir().unwrap();
+        let ring = dir.path().join("ring");
+        std::fs::create_dir(&ring).unwrap();
+        let mut texts = Vec::new();
+        // Written out of name order: the names decide.
+        for (index, name) in Self::SEGMENTS.iter().enumerate().rev() {
+            let parts = [session(index * 40, 20), session(index * 40 + 20, 20)];
+            let (mut bytes, ends) = in_parts("zstd", &parts);
+            if cut && index == 1 {
+                bytes.truncate(ends[0] + 10);
+            }
+            std::fs::write(ring.join(name), bytes).unwrap();
+            texts.insert(0, parts.concat());
+        }
+        std::fs::write(ring.join(".20261128T134800.000Z.log.zst.tmp"), b"not a segment").unwrap();
+        let incident = dir.path().join("incidents/20261128T134612Z-estop");
+        std::fs::create_dir_all(&incident).unwrap();
+        std::fs::write(incident.join("frames.log"), session(55, 10)).unwrap();
+        std::fs::write(incident.join("summary.txt"), "not decoded\n").unwrap();
+        Self { dir, texts }
+    }
+
+    fn path(&self, under: &str) -> std::path::PathBuf {
+        self.dir.path().join(under)
+    }
+}
+
+#[test]
+fn a_ring_decodes_as_its_segments_given_in_name_order() {
+    let recorder = Recorder::new(false);
+    let ring = recorder.path("ring");
+    let segments: Vec<std::path::PathBuf> = Recorder::SEGMENTS.iter().map(|name| ring.join(name)).collect();
+    let mut given = tracerctl();
+    let expected = given.args(["decode", "-j1"]).args(&segments).output().unwrap();
+    assert!(expected.status.success() && stdout(&expected).lines().count() == 120, "{}", stderr(&expected));
+    for dir in [recorder.path("ring"), recorder.dir.path().to_path_buf()] {
+        for args in [&["-j1"][..], &["-j2"], &["-f", "json"]] {
+            let output = run(args, &dir, None);
+            let reference = if args == ["-f", "json"] {
+                tracerctl().args(["decode", "-f", "json"]).args(&segments).output().unwrap()
+            } else {
+                expected.clone()
+            };
+            assert_eq!(
+                (output.status.code(), stderr(&output)),
+                (Some(0), String::new()),
+                "{args:?}: nothing extra"
+            );
+            assert!(output.stdout == reference.stdout, "{} {args:?}", dir.display());
+        }
+    }
+    // The summary sees the three segments as one run.
+    let summary = run(&["--summary"], &ring, None);
+    assert!(stdout(&summary).contains("  decoded 120 frames from 120 lines\n"), "{}", stdout(&summary));
+}
+
+#[test]
+fn a_segment_cut_by_a_crash_is_said_at_the_end_and_the_segments_after_it_are_decoded() {
+    let recorder = Recorder::new(true);
+    let ring = recorder.path("ring");
+    let cut = ring.join(Recorder::SEGMENTS[1]);
+    let cut_len = std::fs::metadata(&cut).unwrap().len();
+    // The cut segment's first frame (20 lines) is whole; its second is cut 10 bytes in.
+    let expected = [recorder.texts[0].clone(), session(40, 20), recorder.texts[2].clone()].concat();
+    let dir = tempfile::tempdir().unwrap();
+    let whole = whole_output(&expected, dir.path());
+    for args in [&["-j1"][..], &["-j2"]] {
+        let output = run(args, &ring, Some(97));
+        assert_eq!(assert_prefix(&output, &whole, "ring"), 100, "{args:?}: 40 + 20 + 40 lines");
+        assert_eq!(output.status.code(), Some(3), "{args:?}");
+        assert_eq!(
+            stderr(&output),
+            format!(
+                "tracerctl: {}: the zstd data ends early, at byte {cut_len} (the end of the file), inside a frame: \
+                 a recording stopped by a crash or a power cut, or a copy not finished; lines 1-20 read\n",
+                cut.display()
+            ),
+            "{args:?}"
+        );
+    }
+    let summary = run(&["--summary"], &ring, None);
+    assert_eq!(summary.status.code(), Some(3));
+    assert!(stdout(&summary).contains("  decoded 100 frames from 100 lines\n"), "{}", stdout(&summary));
+    // --strict stops at the damaged segment.
+    let strict = run(&["--strict"], &ring, None);
+    assert_eq!((strict.status.code(), stdout(&strict).lines().count()), (Some(3), 60));
+}
+
+#[test]
+fn an_incident_directory_decodes_its_frames_log_and_names_it_in_messages() {
+    let recorder = Recorder::new(false);
+    let incident = recorder.path("incidents/20261128T134612Z-estop");
+    let frames = incident.join("frames.log");
+    let mut log = session(55, 10);
+    log.insert_str(0, "not a candump line\n");
+    std::fs::write(&frames, &log).unwrap();
+    let output = run(&[], &incident, None);
+    let direct = run(&[], &frames, None);
+    assert_eq!(output.status.code(), Some(0));
+    assert_eq!((stdout(&output), stderr(&output)), (stdout(&direct), stderr(&direct)));
+    assert_eq!(stdout(&output).lines().count(), 10);
+    assert!(
+        stderr(&output).starts_with(&format!("tracerctl: {}:1: ", frames.display())),
+        "{}",
+        stderr(&output)
+    );
+}
+
+#[test]
+fn a_directory_with_no_log_is_an_error_like_a_missing_input_and_an_output_in_it_is_not_read() {
+    let recorder = Recorder::new(false);
+    let incidents = recorder.path("incidents");
+    let output = run(&[], &incidents, None);
+    assert_eq!(output.status.code(), Some(1), "as for a missing input");
+    assert_eq!(
+        stderr(&output),
+        format!(
+            "tracerctl: {} is a directory with no frames.log and no *.log.zst segments (it holds incidents: give \
+             one, such as the latest, {}): give a log file, an incident directory (DIR/incidents/TIME-CAUSE) or a \
+             recorder's ring (DIR/ring)\n",
+            incidents.display(),
+            incidents.join("20261128T134612Z-estop").display()
+        )
+    );
+    assert!(output.stdout.is_empty());
+    // An output named like a segment, in the ring: created after the listing, never read back.
+    let ring = recorder.path("ring");
+    let inside = ring.join("20261128T134900.000Z.log.zst");
+    let written = tracerctl().args(["decode", "-o"]).arg(&inside).arg(&ring).output().unwrap();
+    assert_eq!((written.status.code(), stderr(&written)), (Some(0), String::new()));
+    assert_eq!(std::fs::read_to_string(&inside).unwrap().lines().count(), 120);
 }
 
 #[test]

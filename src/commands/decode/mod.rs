@@ -3,6 +3,7 @@
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
 mod damaged;
+mod directory;
 mod interrupt;
 mod lines;
 #[cfg(unix)]
@@ -42,6 +43,7 @@ use crate::protocol::can::EXAMPLE_FRAME;
 use crate::protocol::detect::{ProtocolDetector, Verdict};
 use crate::protocol::{CanFrame, ProtocolHint};
 use crate::signals::SignalFlag;
+use directory::Input;
 use stats::InputStart;
 pub use stats::{totals_line, InputStats, Skipped};
 use summary::Summary;
@@ -114,7 +116,9 @@ impl Output {
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let (serial, protocol, color) = (args.serial.as_slice(), global.protocol, global.color);
-    check_arguments(args)?;
+    // Before any output is created (an output inside a directory given is not read back).
+    let mut inputs = directory::expand(&args.inputs)?;
+    check_arguments(args, &inputs)?;
     let signals = interrupt::listen()?;
     let stdout = io::stdout();
     let stdout_is_terminal = stdout.is_terminal();
@@ -147,7 +151,6 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         input_bytes: None,
     };
 
-    let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
     if inputs.is_empty() && serial.is_empty() {
         if io::stdin().is_terminal() {
             crate::say!(
@@ -156,7 +159,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
             );
             return Ok(USAGE);
         }
-        inputs.push("-");
+        inputs.push(Input { name: "-".to_string(), listed: false });
     }
     let result = decoder.all_inputs(&inputs, serial);
     if let Some(caught) = decoder.signals.caught() {
@@ -190,15 +193,15 @@ fn lines_sink(format: Format, file: Option<&Path>, color: bool) -> Result<Sink> 
     Ok(Sink::Lines { writer, output: Rc::new(RefCell::new(output)) })
 }
 
-/// Usage errors found before any input is read.
-fn check_arguments(args: &Options) -> Result<()> {
+/// Usage errors found before any input is read (`inputs`: with the directories given replaced by their logs).
+fn check_arguments(args: &Options, inputs: &[Input]) -> Result<()> {
     if let Some(path) = &args.plot {
         plot::check_path(path)?;
     }
     // Before any output is created: an output that is an input would be emptied before it is read.
     let input = |path| Named { option: "the input", path };
-    let mut inputs: Vec<Named> = args.inputs.iter().map(|name| input(Path::new(name))).collect();
-    if args.inputs.is_empty() && args.serial.is_empty() {
+    let mut inputs: Vec<Named> = inputs.iter().map(|given| input(Path::new(&given.name))).collect();
+    if inputs.is_empty() && args.serial.is_empty() {
         inputs.push(input(Path::new("-")));
     }
     inputs.extend(args.serial.iter().map(|path| Named { option: "--serial", path }));
@@ -280,9 +283,13 @@ pub struct Decoder {
 }
 
 impl Decoder {
-    fn all_inputs(&mut self, inputs: &[&str], serial: &[PathBuf]) -> Result<()> {
+    fn all_inputs(&mut self, inputs: &[Input], serial: &[PathBuf]) -> Result<()> {
         for input in inputs {
-            self.input(input)?;
+            if input.listed && !directory::still_there(Path::new(&input.name))? {
+                self.note_frameless(directory::vanished(&input.name));
+                continue;
+            }
+            self.input(&input.name)?;
         }
         for path in serial {
             let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
