@@ -445,14 +445,17 @@ impl RecordArgs {
 const DECODE_AFTER_HELP: &str = "\
 Inputs are candump logs in any variant (candump -l/-L files, console output with or without
 timestamps, -x, -a, -e, colour), '-' for standard input, or frames in cansend syntax ({EXAMPLE_FRAME}).
+A directory of `tracerctl record` stands for its logs: an incident's frames.log, or the ring's
+*.log.zst segments in time order (DIR or DIR/ring).
 Bad lines are reported with file:line and the reason, counted, and skipped (--strict stops at the first).
 
 Exit status: 0 success, 1 error, 2 usage error (an output that is an input too), 3 bad input
-(with --strict; a format it does not read; no frames at all).";
+(with --strict; a format it does not read; no frames at all; a compressed log cut short or
+corrupt: every whole line before the damage is decoded first).";
 
 #[derive(Debug, Args)]
 pub struct DecodeArgs {
-    /// candump logs, '-' for standard input, or frames in cansend syntax (e.g. 211#00000103000000B1)
+    /// candump logs, recorder directories, '-' for standard input, or frames in cansend syntax (e.g. 211#00000103000000B1)
     #[arg(value_name = "INPUT")]
     pub inputs: Vec<String>,
 

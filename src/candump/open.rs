@@ -17,6 +17,7 @@ use std::io::{self, Cursor, Read};
 use memchr::memchr;
 
 use super::decompress;
+use super::inflate::{Compression, Damage, Damaged, Inflate};
 
 /// Bytes looked at to recognise a compressed stream.
 const MAGIC_LEN: usize = 10;
@@ -52,43 +53,6 @@ impl TextFormat {
             TextFormat::Candump => "candump",
             TextFormat::VectorAsc => "Vector ASC",
             TextFormat::PeakTrc { .. } => "PEAK trc",
-        }
-    }
-}
-
-/// How a log was compressed (recognised by its magic bytes).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Compression {
-    Gzip,
-    Zstd,
-    Xz,
-    Bzip2,
-}
-
-impl Compression {
-    pub fn name(&self) -> &'static str {
-        match self {
-            Compression::Gzip => "gzip",
-            Compression::Zstd => "zstd",
-            Compression::Xz => "xz",
-            Compression::Bzip2 => "bzip2",
-        }
-    }
-
-    fn detect(head: &[u8]) -> Option<Self> {
-        const BZ_BLOCK: &[u8] = &[0x31, 0x41, 0x59, 0x26, 0x53, 0x59];
-        const BZ_END: &[u8] = &[0x17, 0x72, 0x45, 0x38, 0x50, 0x90];
-        match head {
-            [0x1F, 0x8B, 0x08, ..] => Some(Compression::Gzip),
-            [0x28, 0xB5, 0x2F, 0xFD, ..] => Some(Compression::Zstd),
-            [0xFD, b'7', b'z', b'X', b'Z', 0x00, ..] => Some(Compression::Xz),
-            // "BZh" is also text: require the block size and a block or end-of-stream magic.
-            [b'B', b'Z', b'h', b'1'..=b'9', rest @ ..]
-                if rest.starts_with(BZ_BLOCK) || rest.starts_with(BZ_END) =>
-            {
-                Some(Compression::Bzip2)
-            }
-            _ => None,
         }
     }
 }
@@ -131,7 +95,8 @@ impl From<FormatError> for crate::exit::Failure {
 ///
 /// Decompression streams (memory stays flat) on its own thread ([`super::decompress`]), so the caller
 /// decodes while the next blocks are inflated; a truncated or corrupt compressed stream makes a later
-/// read fail with an error naming the compression, after everything before the damage was returned.
+/// read fail with a [`Damaged`] error (the compression, cut short or corrupt, the compressed byte), after
+/// everything before the damage was returned; even one cut inside its first header opens, and fails so.
 /// The reader is `'static` for that thread. While a compressed stream is quiet (a live pipe), a read
 /// returns `Interrupted` every 50 ms so a caller can look at its signal flag; retry it, as
 /// [`LineReader`](super::LineReader) and `read_to_end` do.
@@ -158,22 +123,36 @@ pub fn open_log(
     let mut reader = reader;
     let mut magic = Vec::with_capacity(MAGIC_LEN);
     fill_to(&mut reader, &mut magic, MAGIC_LEN).map_err(io_error)?;
+    if magic.len() < MAGIC_LEN {
+        if let Some(compression) = Compression::cut_in_magic(&magic) {
+            let detail = "the file ends inside its first header".to_string();
+            let damaged = Damaged { compression, damage: Damage::CutShort, at: magic.len() as u64, detail };
+            let format = LogFormat { text: TextFormat::Candump, compression: Some(compression) };
+            return Ok((Box::new(FailOnce(Some(damaged.into_error()))), format));
+        }
+    }
     let compression = Compression::detect(&magic);
     let raw = Cursor::new(magic).chain(reader);
     let mut text: Box<dyn Read + Send> = match compression {
         None => Box::new(raw),
         Some(compression) => {
-            let inner = decompressor(compression, raw).map_err(io_error)?;
-            Box::new(decompress::spawn(NamedErrors { inner, compression }).map_err(io_error)?)
+            let inner = Inflate::new(compression, raw).map_err(io_error)?;
+            Box::new(decompress::spawn(inner).map_err(io_error)?)
         }
     };
 
     let mut head = Vec::with_capacity(4096);
     let mut decision = None;
+    // A compressed stream damaged this early: decided on what came before it, the damage read after it.
+    let mut damaged = None;
     while decision.is_none() {
         let before = head.len();
-        fill_to(&mut text, &mut head, before + 1).map_err(io_error)?;
-        let at_end = head.len() == before || head.len() >= SNIFF_MAX_BYTES;
+        match fill_to(&mut text, &mut head, before + 1) {
+            Ok(()) => {}
+            Err(error) if Damaged::of(&error).is_some() => damaged = Some(error),
+            Err(error) => return Err(io_error(error)),
+        }
+        let at_end = head.len() == before || head.len() >= SNIFF_MAX_BYTES || damaged.is_some();
         decision = sniff(&head, at_end);
     }
     let bom = if head.starts_with(UTF8_BOM) { UTF8_BOM.len() } else { 0 };
@@ -187,7 +166,20 @@ pub fn open_log(
     };
     let mut head = Cursor::new(head);
     head.set_position(bom as u64);
-    Ok((Box::new(head.chain(text)), LogFormat { text: text_format, compression }))
+    let format = LogFormat { text: text_format, compression };
+    match damaged {
+        Some(error) => Ok((Box::new(head.chain(FailOnce(Some(error)))), format)),
+        None => Ok((Box::new(head.chain(text)), format)),
+    }
+}
+
+/// A reader that fails with its error once, then is at its end.
+struct FailOnce(Option<io::Error>);
+
+impl Read for FailOnce {
+    fn read(&mut self, _: &mut [u8]) -> io::Result<usize> {
+        self.0.take().map_or(Ok(0), Err)
+    }
 }
 
 /// Reads until `buf` holds at least `want` bytes or the input ends. A read returns what is there, so a
@@ -203,42 +195,6 @@ fn fill_to(reader: &mut impl Read, buf: &mut Vec<u8>, want: usize) -> io::Result
         }
     }
     Ok(())
-}
-
-fn decompressor(
-    compression: Compression,
-    raw: impl Read + Send + 'static,
-) -> io::Result<Box<dyn Read + Send>> {
-    Ok(match compression {
-        Compression::Gzip => Box::new(flate2::read::MultiGzDecoder::new(raw)),
-        Compression::Zstd => Box::new(zstd::stream::read::Decoder::new(raw)?),
-        Compression::Xz => Box::new(liblzma::read::XzDecoder::new_multi_decoder(raw)),
-        Compression::Bzip2 => Box::new(bzip2::read::MultiBzDecoder::new(raw)),
-    })
-}
-
-/// Says which compression failed, and turns a silent early end into an error: every decoder must see
-/// its end-of-stream marker, or the file was cut.
-struct NamedErrors {
-    inner: Box<dyn Read + Send>,
-    compression: Compression,
-}
-
-impl Read for NamedErrors {
-    fn read(&mut self, buf: &mut [u8]) -> io::Result<usize> {
-        self.inner.read(buf).map_err(|error| {
-            // The file's own fault, not the compression's.
-            if error.get_ref().is_some_and(|inner| inner.is::<super::Shrank>()) {
-                return error;
-            }
-            let kind = match error.kind() {
-                io::ErrorKind::Interrupted => return error,
-                io::ErrorKind::UnexpectedEof => "truncated",
-                _ => "corrupt or truncated",
-            };
-            io::Error::new(error.kind(), format!("{kind} {} data ({error})", self.compression.name()))
-        })
-    }
 }
 
 /// A format recognised but not read, with what to do about it.

@@ -93,11 +93,13 @@ fn a_truncated_zst_log_reports_the_damage_after_the_lines_before_it() {
     let path = dir.path().join("cut.log.zst");
     std::fs::write(&path, &whole[..whole.len() / 2]).unwrap();
     let (code, output, errors) = decode(&[], &path);
-    assert_eq!(code, 1, "{errors}");
-    assert_eq!(
-        errors.trim_end(),
-        format!("tracerctl: cannot read {}: truncated zstd data (incomplete frame)", path.display())
+    assert_eq!(code, 3, "{errors}");
+    let said = format!(
+        "tracerctl: {}: the zstd data ends early, at byte {} (the end of the file), inside a frame: ",
+        path.display(),
+        whole.len() / 2
     );
+    assert!(errors.trim_end().starts_with(&said) && errors.lines().count() == 1, "{errors}");
     let plain_path = dir.path().join("plain.log");
     std::fs::write(&plain_path, &plain).unwrap();
     let (_, expected, _) = decode(&[], &plain_path);
@@ -113,8 +115,8 @@ fn a_corrupt_gz_log_reports_the_damage_naming_the_compression() {
     let path = dir.path().join("bad.log.gz");
     std::fs::write(&path, &bytes).unwrap();
     let (code, _, errors) = decode(&["--summary"], &path);
-    assert_eq!(code, 1, "{errors}");
-    let prefix = format!("tracerctl: cannot read {}: corrupt or truncated gzip data (", path.display());
+    assert_eq!(code, 3, "{errors}");
+    let prefix = format!("tracerctl: {}: the gzip data is corrupt, found at byte ", path.display());
     // Garbage inflated before the checksum failed is rejected line by line first.
     assert!(errors.lines().last().is_some_and(|last| last.starts_with(&prefix)), "{errors}");
 }

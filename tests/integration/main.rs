@@ -53,6 +53,7 @@ mod sim_training;
 #[allow(dead_code, reason = "the scanners in src use the rest")]
 mod source_scan;
 mod stress;
+mod truncated_input;
 mod usage;
 mod util;
 mod variants;

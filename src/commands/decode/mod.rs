@@ -2,6 +2,8 @@
 //!
 //! Streams every input with flat memory: one line buffer, one output buffer, no allocation per line.
 
+mod damaged;
+mod directory;
 mod interrupt;
 mod lines;
 #[cfg(unix)]
@@ -41,6 +43,7 @@ use crate::protocol::can::EXAMPLE_FRAME;
 use crate::protocol::detect::{ProtocolDetector, Verdict};
 use crate::protocol::{CanFrame, ProtocolHint};
 use crate::signals::SignalFlag;
+use directory::Input;
 use stats::InputStart;
 pub use stats::{totals_line, InputStats, Skipped};
 use summary::Summary;
@@ -113,7 +116,9 @@ impl Output {
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
     let (serial, protocol, color) = (args.serial.as_slice(), global.protocol, global.color);
-    check_arguments(args)?;
+    // Before any output is created (an output inside a directory given is not read back).
+    let mut inputs = directory::expand(&args.inputs)?;
+    check_arguments(args, &inputs)?;
     let signals = interrupt::listen()?;
     let stdout = io::stdout();
     let stdout_is_terminal = stdout.is_terminal();
@@ -142,9 +147,10 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         // Decided once, here: the workers map plain files only with the fault handler installed.
         mapping: if args.mmap { mapped::install_fault_handler() } else { None },
         frameless: Vec::new(),
+        damaged: Vec::new(),
+        input_bytes: None,
     };
 
-    let mut inputs: Vec<&str> = args.inputs.iter().map(String::as_str).collect();
     if inputs.is_empty() && serial.is_empty() {
         if io::stdin().is_terminal() {
             crate::say!(
@@ -153,12 +159,13 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
             );
             return Ok(USAGE);
         }
-        inputs.push("-");
+        inputs.push(Input { name: "-".to_string(), listed: false });
     }
     let result = decoder.all_inputs(&inputs, serial);
     if let Some(caught) = decoder.signals.caught() {
         // Interrupted (Ctrl-C, kill): what was decoded is written, with the totals, before exiting 128+n.
         decoder.write_out_or_say(args);
+        decoder.say_damage();
         crate::say!("tracerctl: {}: {}", caught.name(), totals_line(&decoder.stats));
         return Ok(caught.exit_status());
     }
@@ -186,15 +193,15 @@ fn lines_sink(format: Format, file: Option<&Path>, color: bool) -> Result<Sink> 
     Ok(Sink::Lines { writer, output: Rc::new(RefCell::new(output)) })
 }
 
-/// Usage errors found before any input is read.
-fn check_arguments(args: &Options) -> Result<()> {
+/// Usage errors found before any input is read (`inputs`: with the directories given replaced by their logs).
+fn check_arguments(args: &Options, inputs: &[Input]) -> Result<()> {
     if let Some(path) = &args.plot {
         plot::check_path(path)?;
     }
     // Before any output is created: an output that is an input would be emptied before it is read.
     let input = |path| Named { option: "the input", path };
-    let mut inputs: Vec<Named> = args.inputs.iter().map(|name| input(Path::new(name))).collect();
-    if args.inputs.is_empty() && args.serial.is_empty() {
+    let mut inputs: Vec<Named> = inputs.iter().map(|given| input(Path::new(&given.name))).collect();
+    if inputs.is_empty() && args.serial.is_empty() {
         inputs.push(input(Path::new("-")));
     }
     inputs.extend(args.serial.iter().map(|path| Named { option: "--serial", path }));
@@ -269,12 +276,20 @@ pub struct Decoder {
     mapping: Option<mapped::FaultHandler>,
     /// Why each input that gave no frame gave none (`no frames in NAME: empty`).
     frameless: Vec<String>,
+    /// The compressed inputs that ended early or were corrupt, said last (see damaged.rs).
+    damaged: Vec<String>,
+    /// The size of the file being read (compressed or not), for messages.
+    input_bytes: Option<u64>,
 }
 
 impl Decoder {
-    fn all_inputs(&mut self, inputs: &[&str], serial: &[PathBuf]) -> Result<()> {
+    fn all_inputs(&mut self, inputs: &[Input], serial: &[PathBuf]) -> Result<()> {
         for input in inputs {
-            self.input(input)?;
+            if input.listed && !directory::still_there(Path::new(&input.name))? {
+                self.note_frameless(directory::vanished(&input.name));
+                continue;
+            }
+            self.input(&input.name)?;
         }
         for path in serial {
             let file = File::open(path).with_context(|| format!("cannot open {}", path.display()))?;
@@ -306,6 +321,7 @@ impl Decoder {
     fn input_inner(&mut self, input: &str) -> Result<()> {
         if input == "-" {
             let (reader, format) = candump::open_log(io::stdin(), "<stdin>").map_err(Failure::from)?;
+            self.input_bytes = None;
             if self.parallel_fits() {
                 return parallel::decode(self, "<stdin>", (reader, format), None, (true, None));
             }
@@ -316,6 +332,7 @@ impl Decoder {
             let file = File::open(path).with_context(|| format!("cannot open {input}"))?;
             let metadata = file.metadata().ok();
             let size = metadata.as_ref().map(|m| m.len());
+            self.input_bytes = size;
             let regular = metadata.is_some_and(|m| m.is_file());
             // The workers read a plain file's ranges themselves, through a handle of their own.
             let plain = file.try_clone().ok();
@@ -349,6 +366,7 @@ impl Decoder {
             decoded_lines: stats.decoded_lines,
             rejected_lines: stats.rejected_lines,
             skipped: stats.skipped,
+            damaged: self.damaged.len(),
         }
     }
 
@@ -361,7 +379,8 @@ impl Decoder {
         let skipped = self.stats.skipped.total() - before.skipped.total();
         let skipped_blank = self.stats.skipped.blank - before.skipped.blank;
         let skipped_comment = self.stats.skipped.comment - before.skipped.comment;
-        if decoded > 0 {
+        // A damaged input says so itself, with the lines it reached.
+        if decoded > 0 || self.damaged.len() > before.damaged {
             return;
         }
         let why = if lines == 0 {
@@ -512,12 +531,18 @@ impl Decoder {
                     crate::say!("tracerctl: {reason}");
                 }
                 self.report_totals();
-                Ok(SUCCESS)
+                self.damage_error().map_or(Ok(SUCCESS), Err)
             }
             Ok(()) => {
                 self.write_out_before_error(args);
                 self.report_totals();
                 let reasons = std::mem::take(&mut self.frameless);
+                if let Some(damage) = self.damage_error() {
+                    for reason in &reasons {
+                        crate::say!("tracerctl: {reason}");
+                    }
+                    return Err(damage);
+                }
                 let message = if reasons.is_empty() {
                     "no frames in the input".to_string()
                 } else {
@@ -527,6 +552,7 @@ impl Decoder {
             }
             Err(error) => {
                 self.write_out_before_error(args);
+                self.say_damage();
                 Err(error)
             }
         }

@@ -6,9 +6,10 @@ use std::ops::ControlFlow;
 
 use anyhow::Result;
 
+use super::damaged::Reached;
 use super::lines::{decode_lines, FrameLine, LineSink};
 use super::splitter::{Cut, Splitter, Text};
-use super::written::{in_line, read_error};
+use super::written::in_line;
 use super::{parallel, Decoder, CAN_XL_NOT_SUPPORTED};
 use crate::candump::{self, Line, LineParser, LogFormat, Reason};
 use crate::exit::Failure;
@@ -44,7 +45,9 @@ impl Decoder {
                 bar.set_position(consumed);
             }
             if let Some(error) = text.read_error.take() {
-                return Err(read_error(error, name));
+                let reached = Reached { lines: self.stats.lines - before.lines, unfinished: text.unfinished };
+                self.read_failed(name, error, reached)?;
+                break;
             }
         }
         if let Some(bar) = bar {

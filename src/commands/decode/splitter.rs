@@ -19,6 +19,8 @@ pub(super) struct Text {
     pub bytes: u64,
     /// Reading failed after `input`.
     pub read_error: Option<io::Error>,
+    /// With `read_error`: the bytes of the unfinished line read before it, not in `input`.
+    pub unfinished: u64,
 }
 
 /// A byte buffer whose room after its contents stays initialized once written: reads go straight into it,
@@ -228,11 +230,14 @@ fn read_up_to(reader: &mut impl Read, buffer: &mut Buffer, bytes: usize) -> io::
     Ok(total)
 }
 
-/// As the line reader: the lines read before the error count, the unfinished one does not.
+/// As the line reader: the lines read before the error count, the unfinished one does not (its length is
+/// kept for the message).
 fn read_failed(text: &mut Text, last_newline: Option<usize>, long: &mut Option<LongLine>, error: io::Error) {
-    text.input.truncate(last_newline.map_or(0, |at| at + 1));
+    let open = last_newline.map_or(0, |at| at + 1);
+    let unfinished = long.take().map_or(text.input.len().saturating_sub(open), LongLine::length);
+    text.unfinished = unfinished as u64;
+    text.input.truncate(open);
     text.read_error = Some(error);
-    *long = None;
 }
 
 #[cfg(test)]
@@ -281,6 +286,7 @@ mod tests {
                 assert_eq!(input, b"a 1\nb 2\nc 3\n", "stream {stream}, step {step}");
                 let error = text.read_error.as_ref().map(|error| error.to_string());
                 assert_eq!(error.as_deref(), Some("the disk went away"), "stream {stream}, step {step}");
+                assert_eq!(text.unfinished, 7, "the unfinished line's bytes, stream {stream}, step {step}");
             }
         }
     }

@@ -110,6 +110,8 @@ pub(super) struct InputStart {
     pub decoded_lines: u64,
     pub rejected_lines: u64,
     pub skipped: Skipped,
+    /// Damaged inputs said so far (see damaged.rs).
+    pub damaged: usize,
 }
 
 /// `decoded N frames from M lines; rejected K lines: ...; skipped S lines: ...; serial ...`

@@ -8,7 +8,8 @@ use std::sync::mpsc::{self, RecvTimeoutError};
 use anyhow::{bail, Result};
 use parking_lot::Mutex;
 
-use super::super::written::{read_error, Interrupted};
+use super::super::damaged::Reached;
+use super::super::written::Interrupted;
 use super::super::{Decoder, Sink};
 use super::settings::{Settings, Start};
 use super::worker::{decode_chunk, settle, Chunk, Events, Outcome, Stamp};
@@ -138,7 +139,14 @@ impl Merger<'_> {
             return Err(Failure::data(message).into());
         }
         match chunk.text.read_error.take() {
-            Some(error) => Err(read_error(error, self.name)),
+            Some(error) => {
+                let lines = self.decoder.stats.lines - self.lines_before;
+                self.decoder.read_failed(
+                    self.name,
+                    error,
+                    Reached { lines, unfinished: chunk.text.unfinished },
+                )
+            }
             None => Ok(()),
         }
     }
