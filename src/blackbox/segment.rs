@@ -32,7 +32,9 @@ impl Segment {
         let path = dir.join(names::segment_name(start));
         let file = OpenOptions::new().create(true).append(true).open(&path)?;
         let bytes = file.metadata()?.len();
-        let compressor = zstd::bulk::Compressor::new(LEVEL)?;
+        let mut compressor = zstd::bulk::Compressor::new(LEVEL)?;
+        // As the zstd tool does: a flipped bit is then an error, not wrong lines.
+        compressor.set_parameter(zstd::zstd_safe::CParameter::ChecksumFlag(true))?;
         Ok(Self { file, path, start, bytes, lines: 0, compressor, compressed: Vec::new() })
     }
 
@@ -90,6 +92,20 @@ mod tests {
         let first = zstd::zstd_safe::find_frame_compressed_size(&bytes).unwrap();
         assert!(first < bytes.len());
         assert_eq!(zstd::decode_all(&bytes[..first]).unwrap(), b"(1700000000.000000) can0 211#00\n");
+    }
+
+    #[test]
+    fn a_flipped_bit_is_an_error_not_wrong_lines() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut segment = Segment::create(dir.path(), 5_000_000).unwrap();
+        let text = b"(1700000000.000000) can0 211#0000010300000000\n".repeat(20);
+        segment.append(&text, 20).unwrap();
+        let mut bytes = std::fs::read(segment.path()).unwrap();
+        assert_eq!(zstd::decode_all(&bytes[..]).unwrap(), text);
+        // A literal byte of the block, past the frame header: without a checksum, silently other text.
+        let at = bytes.len() / 2;
+        bytes[at] ^= 0x01;
+        assert!(zstd::decode_all(&bytes[..]).is_err());
     }
 
     #[test]

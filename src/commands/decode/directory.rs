@@ -11,8 +11,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 
-/// How the recorder's segments end (zstd frames of candump -L lines).
-pub(super) const SEGMENT_SUFFIX: &str = ".log.zst";
+pub(super) use crate::blackbox::names::SEGMENT_SUFFIX;
 /// An incident's frames, a candump -L log.
 const INCIDENT_LOG: &str = "frames.log";
 /// The recorder's ring, under its directory.
