@@ -324,15 +324,15 @@ Register-ArgumentCompleter -Native -CommandName 'tracerctl' -ScriptBlock {
             break
         }
         'tracerctl;record' {
-            [CompletionResult]::new('--dir', '--dir', [CompletionResultType]::ParameterName, 'The recorder directory [default: the only one under /var/lib/tracerctl for --status, --list and --mark; else $XDG_STATE_HOME/tracerctl/record]')
+            [CompletionResult]::new('--dir', '--dir', [CompletionResultType]::ParameterName, 'The recorder directory [default: $XDG_STATE_HOME/tracerctl/record, or for --status, --list and --mark the one recorder directory under /var/lib/tracerctl when there is only one]')
             [CompletionResult]::new('--segment', '--segment', [CompletionResultType]::ParameterName, 'A new segment this often (1s to 1d)')
             [CompletionResult]::new('--max-total', '--max-total', [CompletionResultType]::ParameterName, 'The ring''s size, e.g. 1GiB, 500MB (at least 1 MiB)')
             [CompletionResult]::new('--max-age', '--max-age', [CompletionResultType]::ParameterName, 'Segments older than this are removed (1m to 366d)')
-            [CompletionResult]::new('--before', '--before', [CompletionResultType]::ParameterName, 'An incident keeps the frames from this long before its trigger (0 to 1h)')
-            [CompletionResult]::new('--after', '--after', [CompletionResultType]::ParameterName, '... to this long after it; a trigger inside extends the window (0 to 1h)')
+            [CompletionResult]::new('--before', '--before', [CompletionResultType]::ParameterName, 'An incident keeps the frames from this long before its trigger, from 0 to 1h')
+            [CompletionResult]::new('--after', '--after', [CompletionResultType]::ParameterName, '... to this long after it (0 to 1h); a trigger inside the window extends it')
             [CompletionResult]::new('--max-incidents', '--max-incidents', [CompletionResultType]::ParameterName, 'Incidents kept, the oldest removed first')
-            [CompletionResult]::new('--trigger', '--trigger', [CompletionResultType]::ParameterName, 'Also a trigger: a decoded field compared with a value, e.g. ''battery_voltage<23.0'', ''id=0x441'' (repeatable)')
-            [CompletionResult]::new('--instance', '--instance', [CompletionResultType]::ParameterName, 'The link from a systemd instance name: can0 (SocketCAN), ttyUSB0 or dev/ttyUSB0 (serial /dev/ttyUSB0)')
+            [CompletionResult]::new('--trigger', '--trigger', [CompletionResultType]::ParameterName, 'Also a trigger (repeatable): a decoded field and a value, e.g. ''battery_voltage<23.0'' or ''id=0x441''')
+            [CompletionResult]::new('--instance', '--instance', [CompletionResultType]::ParameterName, 'The link from a systemd instance name: a profile, can0 (SocketCAN), or ttyUSB0, dev/ttyUSB0 (serial)')
             [CompletionResult]::new('-f', '-f', [CompletionResultType]::ParameterName, 'Output format of --status and --list')
             [CompletionResult]::new('--format', '--format', [CompletionResultType]::ParameterName, 'Output format of --status and --list')
             [CompletionResult]::new('--protocol', '--protocol', [CompletionResultType]::ParameterName, 'Protocol version: auto detects from the identifiers on the bus')

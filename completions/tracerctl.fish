@@ -548,15 +548,15 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'W
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -s V -l version -d 'Print version'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l dir -d 'The recorder directory [default: the only one under /var/lib/tracerctl for --status, --list and --mark; else $XDG_STATE_HOME/tracerctl/record]' -r -f -a "(__fish_complete_directories)"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l dir -d 'The recorder directory [default: $XDG_STATE_HOME/tracerctl/record, or for --status, --list and --mark the one recorder directory under /var/lib/tracerctl when there is only one]' -r -f -a "(__fish_complete_directories)"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l segment -d 'A new segment this often (1s to 1d)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l max-total -d 'The ring\'s size, e.g. 1GiB, 500MB (at least 1 MiB)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l max-age -d 'Segments older than this are removed (1m to 366d)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l before -d 'An incident keeps the frames from this long before its trigger (0 to 1h)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l after -d '... to this long after it; a trigger inside extends the window (0 to 1h)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l before -d 'An incident keeps the frames from this long before its trigger, from 0 to 1h' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l after -d '... to this long after it (0 to 1h); a trigger inside the window extends it' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l max-incidents -d 'Incidents kept, the oldest removed first' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l trigger -d 'Also a trigger: a decoded field compared with a value, e.g. \'battery_voltage<23.0\', \'id=0x441\' (repeatable)' -r
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l instance -d 'The link from a systemd instance name: can0 (SocketCAN), ttyUSB0 or dev/ttyUSB0 (serial /dev/ttyUSB0)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l trigger -d 'Also a trigger (repeatable): a decoded field and a value, e.g. \'battery_voltage<23.0\' or \'id=0x441\'' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l instance -d 'The link from a systemd instance name: a profile, can0 (SocketCAN), or ttyUSB0, dev/ttyUSB0 (serial)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -s f -l format -d 'Output format of --status and --list' -r -f -a "text\t'Lines for people'
 json\t'JSON (docs/json.md)'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'

@@ -160,8 +160,8 @@ pub const WINDOW_TIME: DurationRange = DurationRange { min: Duration::ZERO, max:
 
 #[derive(Debug, Args)]
 pub struct RecordArgs {
-    /// The recorder directory [default: the only one under /var/lib/tracerctl for --status, --list and
-    /// --mark; else $XDG_STATE_HOME/tracerctl/record]
+    /// The recorder directory [default: $XDG_STATE_HOME/tracerctl/record, or for --status, --list and
+    /// --mark the one recorder directory under /var/lib/tracerctl when there is only one]
     #[arg(long, value_name = "DIR", value_hint = clap::ValueHint::DirPath)]
     pub dir: Option<PathBuf>,
 
@@ -177,11 +177,11 @@ pub struct RecordArgs {
     #[arg(long, value_name = "DURATION", default_value = "7days", value_parser = duration_in(RING_AGE))]
     pub max_age: Duration,
 
-    /// An incident keeps the frames from this long before its trigger (0 to 1h)
+    /// An incident keeps the frames from this long before its trigger, from 0 to 1h
     #[arg(long, value_name = "DURATION", default_value = "60s", value_parser = duration_in(WINDOW_TIME))]
     pub before: Duration,
 
-    /// ... to this long after it; a trigger inside extends the window (0 to 1h)
+    /// ... to this long after it (0 to 1h); a trigger inside the window extends it
     #[arg(long, value_name = "DURATION", default_value = "30s", value_parser = duration_in(WINDOW_TIME))]
     pub after: Duration,
 
@@ -189,7 +189,7 @@ pub struct RecordArgs {
     #[arg(long, value_name = "N", default_value_t = 100, value_parser = clap::value_parser!(u32).range(1..=100_000))]
     pub max_incidents: u32,
 
-    /// Also a trigger: a decoded field compared with a value, e.g. 'battery_voltage<23.0', 'id=0x441' (repeatable)
+    /// Also a trigger (repeatable): a decoded field and a value, e.g. 'battery_voltage<23.0' or 'id=0x441'
     #[arg(long, value_name = "EXPR", value_parser = parse_trigger)]
     pub trigger: Vec<crate::blackbox::triggers::Expression>,
 
@@ -197,7 +197,7 @@ pub struct RecordArgs {
     #[arg(long)]
     pub no_default_triggers: bool,
 
-    /// The link from a systemd instance name: can0 (SocketCAN), ttyUSB0 or dev/ttyUSB0 (serial /dev/ttyUSB0)
+    /// The link from a systemd instance name: a profile, can0 (SocketCAN), or ttyUSB0, dev/ttyUSB0 (serial)
     #[arg(long, value_name = "NAME", conflicts_with_all = ["status", "list", "mark"])]
     pub instance: Option<String>,
 
