@@ -140,7 +140,7 @@ work=$(cd "$work" && pwd)
 need_pkgs=()
 if [ $arch = amd64 ]; then
     host_cmds="qemu-system-x86_64:qemu-system-x86 candump:can-utils cansend:can-utils cangen:can-utils
-        canplayer:can-utils cpio:cpio ip:iproute2 gzip:gzip ldd:libc-bin dpkg-deb:dpkg"
+        canplayer:can-utils cpio:cpio ip:iproute2 gzip:gzip ldd:libc-bin dpkg-deb:dpkg zstd:zstd"
 else
     # the guest's programs come from arm64 packages (downloaded, never installed); readelf lists their libraries
     # (ldd cannot run foreign binaries); python3 runs the host side (arm64-host.py)
@@ -180,7 +180,7 @@ for pair in $host_cmds; do
     command -v "${pair%%:*}" >/dev/null 2>&1 || die "${pair%%:*} is still missing after installing packages"
 done
 if [ $arch = amd64 ]; then
-    log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 busybox-static can-utils iproute2 cpio 2>/dev/null)"
+    log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 busybox-static can-utils iproute2 cpio zstd 2>/dev/null)"
 else
     log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-arm binutils-aarch64-linux-gnu cpio python3-minimal 2>/dev/null)"
 fi
@@ -421,6 +421,8 @@ fi
 if [ $arch = amd64 ]; then
     for p in candump cansend cangen canplayer; do add_prog "$(command -v $p)" "/usr/bin/$p"; done
     add_prog "$(command -v ip)" /usr/sbin/ip
+    # the recorder's ring segments are zstd files: the record_* checks read them with zstd itself
+    add_prog "$(command -v zstd)" /usr/bin/zstd
 fi
 cp "$here/$scenario" "$root/scenario.sh"
 printf 'CHECKS=%s\nFAKE_BUGS=%s\n' "$checks" "$fake_bugs" >"$root/etc/scenario.env"
