@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Real SocketCAN tests for tracerctl in a tiny QEMU VM (the host kernel may have no CAN at all).
-# Three suites: vcan (the default: scenario.sh on vcan0/vcan1), sja1000 (scenario-sja1000.sh on three emulated
+# Four suites: vcan (the default: scenario.sh on vcan0/vcan1), sja1000 (scenario-sja1000.sh on three emulated
 # Kvaser PCI boards, SJA1000 controllers driven by the kernel's real sja1000/kvaser_pci drivers) and arm64
 # (scenario-arm64.sh: the aarch64 build on an emulated ARM computer, qemu-system-aarch64 with Debian's arm64
-# kernel: vcan, RS232 over an emulated 16550 UART to the host's simulator, the dashboard on a virtio console).
+# kernel: vcan, RS232 over an emulated 16550 UART to the host's simulator, the dashboard on a virtio console),
+# powercut (scenario-powercut.sh: the recorder on an ext4 disk, the VM ended mid-recording by QEMU's `quit`).
 #
-# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [--suite sja1000|arm64] [options]
+# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [--suite sja1000|arm64|powercut] [options]
 # See tests/vm/README.md for what it does and what each check proves.
 set -euo pipefail
 
@@ -17,6 +18,8 @@ Usage: tests/vm/run.sh [options]
                     emulated SJA1000 controllers with the kernel's sja1000/kvaser_pci drivers; two CPUs) or
                     arm64 (scenario-arm64.sh: the aarch64 musl build in qemu-system-aarch64, Debian's arm64
                     kernel; vcan, RS232 on an emulated 16550 to the host's simulator, the dashboard on a tty)
+                    or powercut (scenario-powercut.sh: the recorder on an ext4 virtio disk, the VM ended by
+                    the QEMU monitor's quit mid-recording; the disk judged on the host by powercut-judge.sh)
                     (also: TRACERCTL_VM_SUITE)
   --bin PATH        use this tracerctl binary instead of building one (also: TRACERCTL_BIN); arm64: a static
                     aarch64 build (default: cargo build --release --locked --target aarch64-unknown-linux-musl)
@@ -96,6 +99,18 @@ case $suite in
         # two CPUs: a flooding sender on one outruns the receiver on the other (RX FIFO overruns)
         : "${smp:=2}"
         ;;
+    powercut)
+        scenario="scenario-powercut.sh"
+        # vcan, and a virtio disk with ext4 (the modules in the order insmod needs them)
+        modules="can can-raw can-dev vcan virtio_ring virtio virtio_pci_legacy_dev virtio_pci_modern_dev virtio_pci
+            virtio_blk crc16 mbcache jbd2 crc32c_generic ext4"
+        # the disk (made below with mkfs.ext4), the monitor the host sends `quit` to, and ttyS2: the witness
+        # (candump -L vcan0 in the VM) streamed to a host file, outside what the cut can lose
+        qemu_devices=()
+        qemu_serial_extra=()
+        sfx=-powercut
+        : "${smp:=1}"
+        ;;
     arm64)
         arch=arm64
         scenario="scenario-arm64.sh"
@@ -106,7 +121,7 @@ case $suite in
         sfx=-arm64
         : "${smp:=1}"
         ;;
-    *) echo "run.sh: --suite takes vcan, sja1000 or arm64, not '$suite'" >&2; exit 2 ;;
+    *) echo "run.sh: --suite takes vcan, sja1000, arm64 or powercut, not '$suite'" >&2; exit 2 ;;
 esac
 if [ -z "$work" ]; then
     if [ $arch = arm64 ]; then work=$repo/target/vm-arm64; else work=$repo/target/vm; fi
@@ -140,7 +155,10 @@ work=$(cd "$work" && pwd)
 need_pkgs=()
 if [ $arch = amd64 ]; then
     host_cmds="qemu-system-x86_64:qemu-system-x86 candump:can-utils cansend:can-utils cangen:can-utils
-        canplayer:can-utils cpio:cpio ip:iproute2 gzip:gzip ldd:libc-bin dpkg-deb:dpkg"
+        canplayer:can-utils cpio:cpio ip:iproute2 gzip:gzip ldd:libc-bin dpkg-deb:dpkg zstd:zstd"
+    # the power-cut suite makes the VM's disk (mkfs.ext4), reads it after the cut (e2fsck replays the journal as
+    # a mount would, debugfs copies the files out) and sends the monitor's quit (python3)
+    if [ "$suite" = powercut ]; then host_cmds="$host_cmds mkfs.ext4:e2fsprogs debugfs:e2fsprogs python3:python3-minimal"; fi
 else
     # the guest's programs come from arm64 packages (downloaded, never installed); readelf lists their libraries
     # (ldd cannot run foreign binaries); python3 runs the host side (arm64-host.py)
@@ -180,7 +198,7 @@ for pair in $host_cmds; do
     command -v "${pair%%:*}" >/dev/null 2>&1 || die "${pair%%:*} is still missing after installing packages"
 done
 if [ $arch = amd64 ]; then
-    log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 busybox-static can-utils iproute2 cpio 2>/dev/null)"
+    log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-x86 busybox-static can-utils iproute2 cpio zstd 2>/dev/null)"
 else
     log "host tools: $(dpkg-query -W -f='${Package} ${Version}, ' qemu-system-arm binutils-aarch64-linux-gnu cpio python3-minimal 2>/dev/null)"
 fi
@@ -214,7 +232,9 @@ foreign_arch() {
 # ---------------------------------------------------------------- kernel (downloaded, never installed on the host)
 if [ $arch = amd64 ]; then
     kdir=$work/kernel
-    kmods="can can-raw can-dev vcan sja1000 kvaser_pci" # both x86 suites' modules
+    # the x86 suites' modules
+    kmods="can can-raw can-dev vcan sja1000 kvaser_pci virtio_ring virtio virtio_pci_legacy_dev virtio_pci_modern_dev
+        virtio_pci virtio_blk crc16 mbcache jbd2 crc32c_generic ext4"
 else
     kdir=$work/kernel-arm64
     kmods="can can-raw can-dev vcan virtio_mmio virtio_console"
@@ -421,12 +441,14 @@ fi
 if [ $arch = amd64 ]; then
     for p in candump cansend cangen canplayer; do add_prog "$(command -v $p)" "/usr/bin/$p"; done
     add_prog "$(command -v ip)" /usr/sbin/ip
+    # the recorder's ring segments are zstd files: the record_* checks read them with zstd itself
+    add_prog "$(command -v zstd)" /usr/bin/zstd
 fi
 cp "$here/$scenario" "$root/scenario.sh"
 printf 'CHECKS=%s\nFAKE_BUGS=%s\n' "$checks" "$fake_bugs" >"$root/etc/scenario.env"
 echo "$modules" >"$root/etc/modules"
 # the interfaces the scenario starts with
-if [ "$suite" = vcan ]; then
+if [ "$suite" = vcan ] || [ "$suite" = powercut ]; then
     cat >"$root/etc/net-setup" <<'EOF'
 for i in vcan0 vcan1; do
     { ip link add dev $i type vcan && ip link set up $i; } || { echo "VM SETUP FAIL: cannot create $i"; halt_vm; }
@@ -545,6 +567,32 @@ if [ "$suite" = arm64 ]; then
         -chardev "file,id=arts,path=$arts.tar.gz" -device "virtserialport,chardev=arts,name=artifacts"
         -kernel "$kdir/vmlinuz" -initrd "$work/initrd$sfx.gz" -append "console=ttyAMA0 quiet panic=-1")
 else
+    # The power-cut suite: an ext4 disk made here, the monitor the cut is sent to, the witness's port (ttyS2), and
+    # a watcher that sends `quit` once the scenario says "POWERCUT NOW" (0-1 s later, at a random moment)
+    cut_pid=""
+    if [ "$suite" = powercut ]; then
+        disk=$work/disk$sfx.img
+        monitor=$work/monitor$sfx.sock
+        witness=$work/witness$sfx.log
+        cut_log=$work/cut$sfx.log
+        rm -f "$disk" "$monitor" "$witness" "$cut_log"
+        truncate -s 64M "$disk"
+        mkfs.ext4 -q -F -L tracerctl-rec "$disk" || die "mkfs.ext4 $disk failed"
+        qemu_devices+=(-drive "file=$disk,format=raw,if=virtio,cache=writeback" -monitor "unix:$monitor,server=on,wait=off")
+        qemu_serial_extra+=(-serial "file:$witness")
+        (
+            : >"$console"
+            until grep -q '^POWERCUT NOW' "$console" 2>/dev/null; do sleep 0.1; done
+            sleep "0.$((RANDOM % 10))$((RANDOM % 10))"
+            echo "quit sent at $(date -u +%H:%M:%S.%N) (host clock)" >"$cut_log"
+            python3 -c 'import socket, sys, time
+s = socket.socket(socket.AF_UNIX)
+s.connect(sys.argv[1])
+s.sendall(b"quit\n")
+time.sleep(2)' "$monitor" >>"$cut_log" 2>&1
+        ) &
+        cut_pid=$!
+    fi
     qemu=(qemu-system-x86_64 -accel tcg -m 512 -smp "$smp" -nographic -no-reboot -nic none
         ${qemu_devices[@]+"${qemu_devices[@]}"}
         -serial mon:stdio -serial "file:$arts.tar.gz" ${qemu_serial_extra[@]+"${qemu_serial_extra[@]}"}
@@ -553,7 +601,10 @@ fi
 log "booting the VM ($suite suite, ${qemu[0]}, TCG, $smp CPU, timeout ${vm_timeout}s); console: $console"
 t_vm=$(date +%s.%N)
 set +e
-timeout -k 10 "$vm_timeout" "${qemu[@]}" </dev/null 2>&1 | tr -d '\r' | tee "$console"
+# line by line (tr's output to a pipe is block-buffered otherwise): the power-cut watcher reads the console as it comes
+unbuffer=()
+if [ "$suite" = powercut ]; then unbuffer=(stdbuf -oL); fi
+timeout -k 10 "$vm_timeout" "${qemu[@]}" </dev/null 2>&1 | ${unbuffer[@]+"${unbuffer[@]}"} tr -d '\r' | tee "$console"
 qemu_rc=${PIPESTATUS[0]}
 set -e
 vm_secs=$(awk -v a="$t_vm" -v b="$(date +%s.%N)" 'BEGIN {printf "%.1f", b - a}')
@@ -565,6 +616,14 @@ if [ -s "$arts.tar.gz" ] && mkdir -p "$arts" &&
 fi
 # checks judged on the host: the scenario ran them (a HOST-CHECK line) and left its files in the artifacts
 : >"$host_checks"
+if [ "$suite" = powercut ]; then
+    kill "$cut_pid" 2>/dev/null || true
+    wait "$cut_pid" 2>/dev/null || true
+    if grep -q '^POWERCUT NOW' "$console" && [ -s "$cut_log" ]; then
+        log "the power was cut: $(head -n 1 "$cut_log"); judging $disk (a copy, repaired) against $witness"
+        bash "$here/powercut-judge.sh" "$disk" "$witness" "$work/judged$sfx" "$bin" >"$host_checks" 2>&1 || true
+    fi
+fi
 if [ -n "$robot_pid" ]; then
     kill "$robot_pid" 2>/dev/null || true
     wait "$robot_pid" 2>/dev/null || true
@@ -609,6 +668,13 @@ if [ "$n_fail" -gt 0 ]; then
 fi
 if grep -q '^VM SETUP FAIL' "$console"; then
     die "the VM could not set itself up: $(grep '^VM SETUP FAIL' "$console" | head -1)"
+fi
+if [ "$suite" = powercut ] && [ "$n_pass" -gt 0 ] && [ "$n_fail" -eq 0 ]; then
+    echo "VM SUITE PASS"
+    exit 0
+elif [ "$suite" = powercut ] && [ "$n_fail" -gt 0 ]; then
+    echo "VM SUITE FAIL: powercut_fsynced"
+    exit 1
 fi
 if grep -qx 'SCENARIO PASS' "$console" && [ "$n_host_fail" -gt 0 ]; then
     echo "VM SUITE FAIL: judged on the host: $(grep -E '^CHECK [a-z0-9_]+: FAIL' "$host_checks" | cut -d: -f1 | sed 's/^CHECK //' | tr '\n' ' ')"

@@ -792,6 +792,95 @@ ck_overrun_counted() {
     esac
 }
 
+# --- the black box on a controller that overruns: error frames recorded and made incidents
+# `tracerctl --iface can1 record` while the flood of overrun_counted (cangen -i can0 -g 0 on CPU0, can1's interrupt
+# on CPU1) makes can1's SJA1000 overrun: every error frame candump saw (error frames only: its queue does not
+# overflow) is in the ring, byte for byte, or counted as lost by the kernel (never silently); and, by the default
+# triggers (a CAN error frame, a bus-state change), an incident DIR/incidents/<time>-error-frame (or -bus-state)
+# whose incident.json has that cause and whose frames.log holds the error frame. Socket buffers are raised, as in
+# the vcan suite's floods, so the kernel's queue is not what is tested. (Bus-off and the error-passive states
+# cannot be provoked here: QEMU's SJA1000 keeps its error counters at 0.)
+rec_receivers() { grep -cE "^ +$1 " /proc/net/can/rcvlist_all 2>/dev/null | awk -F: '{s += $NF} END {print s + 0}'; }
+ck_record_error_frames() {
+    d=/tmp/rec_err
+    rm -rf $d
+    irq_affinity 1 2 >/dev/null
+    old_def=$(cat /proc/sys/net/core/rmem_default)
+    old_max=$(cat /proc/sys/net/core/rmem_max)
+    echo 67108864 >/proc/sys/net/core/rmem_max
+    echo 67108864 >/proc/sys/net/core/rmem_default
+    before=$(stat_of can1 rx_over_errors)
+    cap_start $W/rece_err.log "can1,7F0:7FF,#FFFFFFFF" # error frames (and the 7F0 markers) only
+    r0=$(rec_receivers can1)
+    $T --iface can1 record --dir $d --segment 2s --before 2s --after 1s >$W/rece.out 2>$W/rece.err &
+    rp=$!
+    i=0
+    while [ "$(rec_receivers can1)" -le "$r0" ] && alive $rp && [ $i -lt 300 ]; do usleep 50000; i=$((i + 1)); done
+    taskset 1 cangen -i can0 -g 0 -n 20000 -I 7A0 -L 8 -D i >$W/rece_cangen.out 2>&1
+    # an incident's window closes 1 s after its last trigger (and 0.5 s of grace): wait for one, at most 6 s
+    i=0
+    while [ -z "$(ls $d/incidents 2>/dev/null | grep -v '^\.')" ] && [ $i -lt 120 ]; do usleep 50000; i=$((i + 1)); done
+    usleep 500000
+    kill -TERM $rp 2>/dev/null
+    if wait_gone $rp 20; then wait $rp; rrc=$?; else kill -KILL $rp; wait $rp 2>/dev/null; rrc=killed; fi
+    cap_stop
+    echo "$old_max" >/proc/sys/net/core/rmem_max
+    echo "$old_def" >/proc/sys/net/core/rmem_default
+    after=$(stat_of can1 rx_over_errors)
+    : >$W/rece_ring.log
+    for s in $(ls $d/ring/*.log.zst 2>/dev/null); do zstd -dcq "$s" >>$W/rece_ring.log || echo "BAD SEGMENT ${s##*/}" >>$W/rece_ring.log; done
+    grep -E ' 2000[0-9A-F]{4}#' $W/rece_err.log >$W/rece_err.ref
+    grep -E ' 2000[0-9A-F]{4}#' $W/rece_ring.log >$W/rece_err.ring
+    nref=$(grep -c . $W/rece_err.ref)
+    nring=$(grep -c . $W/rece_err.ring)
+    # the witness's error frames not in the ring (whole lines: both sockets have the same kernel stamp)
+    grep -vxF -f $W/rece_err.ring $W/rece_err.ref >$W/rece_missing 2>/dev/null
+    nmiss=$(grep -c . $W/rece_missing)
+    # controller problem (class 0x04 in the identifier) with rx overflow (bit 0x01 of data byte 1)
+    novf=$(awk '$3 ~ /^2000[0-9A-F][0-9A-F][0-9A-F][4-7C-F]#/ {b = substr($3, index($3, "#") + 3, 2); if (index("13579BDF", substr(b, 2, 1))) n++} END {print n + 0}' $W/rece_err.ring)
+    $T record --status -f json --dir $d >$W/rece.status 2>&1
+    lost=$(sed -n 's/.*"frames_lost": *\([0-9][0-9]*\).*/\1/p' $W/rece.status | head -n 1)
+    why=$(sed -n 's/.*"reason": *"\([^"]*\)".*/\1/p' $W/rece.status | head -n 1)
+    incs=$(ls $d/incidents 2>/dev/null | grep -v '^\.')
+    einc=$(echo "$incs" | grep -E -- '-(error-frame|bus-state)(-[0-9]+)?$' | head -n 1)
+    causes=""
+    inframes=0
+    if [ -n "$einc" ]; then
+        causes=$(sed -n 's/.*"cause": *"\([^"]*\)".*/\1/p' $d/incidents/$einc/incident.json | sort -u | tr '\n' ' ')
+        inframes=$(grep -cE ' 2000[0-9A-F]{4}#' $d/incidents/$einc/frames.log)
+    fi
+    if [ "$after" -le "$before" ]; then
+        fail "rx_over_errors of can1 did not rise ($before -> $after): no overrun was provoked, nothing to judge"
+    elif [ "$rrc" != 0 ]; then
+        fail "the recorder's exit status after SIGTERM is $rrc, not 0"
+    elif grep -q '^BAD SEGMENT' $W/rece_ring.log; then
+        fail "zstd cannot read a segment: $(grep '^BAD SEGMENT' $W/rece_ring.log | tr '\n' ' ')"
+    elif [ "$nref" = 0 ]; then
+        fail "rx_over_errors $before -> $after but candump -L can1 saw no error frame: cannot judge"
+    elif [ "$nmiss" != 0 ] && { [ "${lost:-0}" -lt "$nmiss" ] || ! echo "$why" | grep -q kernel; }; then
+        fail "$nmiss of the $nref error frames candump saw are not in the ring, and record --status counts ${lost:-?} lost (reason: ${why:-none})"
+    elif [ "$novf" = 0 ]; then
+        fail "the ring holds $nring error frames, none 'controller problem: rx overflow'"
+    elif [ -z "$einc" ]; then
+        fail "the error frames are in the ring ($nring, $novf rx overflow; candump saw $nref) but no incident -error-frame or -bus-state was made (incidents: $(echo ${incs:-none} | head -c 200)); the default triggers include a CAN error frame and a bus-state change"
+    elif ! echo " $causes" | grep -qE ' (error-frame|bus-state) '; then
+        fail "incident $einc lists the causes '$causes', not error-frame or bus-state"
+    elif [ "$inframes" = 0 ]; then
+        fail "incident $einc's frames.log holds no error frame"
+    else
+        pass "can1 rx_over_errors $before -> $after; all $nref error frames candump saw are in the ring${lost:+ (or counted lost: $lost)} ($novf rx overflow); incident $einc (causes: $causes) with $inframes error frames in its frames.log; $(echo "$incs" | grep -c .) incident(s) in all; exit 0 after SIGTERM"
+    fi
+    case $VERDICT in
+        FAIL*)
+            ev "recorder (tracerctl --iface can1 record --dir $d --segment 2s --before 2s --after 1s), exit status $rrc; stderr:"
+            ev_file $W/rece.err 12
+            ev "record --status -f json:"; ev_file $W/rece.status 24
+            ev "error frames in the ring:"; ev_file $W/rece_err.ring 6
+            ev "error frames candump saw but the ring lacks:"; ev_file $W/rece_missing 6 ;;
+    esac
+    rm -rf $d
+}
+
 # --- doctor on an overrunning controller: error frames are error frames, not identifiers
 ck_overrun_doctor() {
     irq_affinity 1 2 >/dev/null
@@ -1036,6 +1125,7 @@ fi
 echo "PHASE B (overruns: flooding sender on CPU0, receivers' interrupt on CPU1): CPUs online $(cat /sys/devices/system/cpu/online); $(irq_affinity 1 2)"
 
 check overrun_counted
+check record_error_frames
 check overrun_doctor
 check enobufs_survived_sim
 check enobufs_survived_drive

@@ -912,6 +912,312 @@ ck_flood_no_loss() {
     esac
 }
 
+# --- record: the black box on real SocketCAN (vcan0)
+# The recorder runs in the background (SIGTERM stops it); its directory is in /tmp (the ring's zstd segments are
+# read with zstd, the initramfs has it); candump -L vcan0 beside it is the witness.
+REC_PID=""
+REC_RC=""
+# rec_start NAME DIR ARGS...: `tracerctl --iface vcan0 record --dir DIR ARGS...` in the background (stdout and
+# stderr in $W/NAME.out, .err); returns once its socket is bound on vcan0 (1 if it never was)
+rec_start() {
+    rname=$1
+    rdir=$2
+    shift 2
+    rm -rf "$rdir"
+    r0=$(receivers vcan0)
+    $T --iface vcan0 record --dir "$rdir" "$@" >$W/$rname.out 2>$W/$rname.err &
+    REC_PID=$!
+    i=0
+    while [ "$(receivers vcan0)" -le "$r0" ] && alive $REC_PID && [ $i -lt 300 ]; do usleep 50000; i=$((i + 1)); done
+    [ "$(receivers vcan0)" -gt "$r0" ]
+}
+# rec_stop: SIGTERM, 20 s to exit (then SIGKILL, REC_RC "killed"); sets REC_RC
+rec_stop() {
+    alive "$REC_PID" || { wait "$REC_PID" 2>/dev/null; REC_RC="$? (had exited before SIGTERM)"; REC_PID=""; return; }
+    kill -TERM "$REC_PID"
+    if wait_gone "$REC_PID" 20; then
+        wait "$REC_PID"
+        REC_RC=$?
+    else
+        kill -KILL "$REC_PID"
+        wait "$REC_PID" 2>/dev/null
+        REC_RC="killed (still running 20 s after SIGTERM)"
+    fi
+    REC_PID=""
+}
+# rec_ring DIR OUT: every line of the ring's segments, oldest first, decompressed with zstd (a segment zstd cannot
+# read adds a line "BAD SEGMENT name")
+rec_ring() {
+    : >"$2"
+    for s in $(ls "$1"/ring/*.log.zst 2>/dev/null); do
+        zstd -dcq "$s" >>"$2" 2>/dev/null || echo "BAD SEGMENT ${s##*/}" >>"$2"
+    done
+}
+# rec_status DIR FIELD: the number FIELD of `record --status -f json` (the recorder's status.json)
+rec_status() { $T record --status -f json --dir "$1" 2>/dev/null | sed -n "s/.*\"$2\": *\([0-9][0-9]*\).*/\1/p" | head -n 1; }
+# rec_compare RING REF: is RING an in-order subsequence of REF (whole lines)? prints "found total missing first last":
+# found of total ring lines matched in order; missing: REF lines skipped between the first and the last match
+rec_compare() {
+    awk 'FNR == NR {r[++n] = $0; next}
+        i < n && $0 == r[i + 1] {i++; if (i == 1) first = FNR; last = FNR; skipped_at_last = skipped; next}
+        i > 0 && i < n {skipped++}
+        END {print i + 0, n + 0, skipped_at_last + 0, first + 0, last + 0}' "$1" "$2"
+}
+# ev_rec NAME DIR: evidence about a recorder run
+ev_rec() {
+    ev "recorder ($T --iface vcan0 record --dir $2 ...) exit status $REC_RC; stderr:"
+    ev_file $W/$1.err 12
+    ev "ring: $(ls -l $2/ring 2>/dev/null | tail -n +2 | awk '{printf "%s (%s B) ", $NF, $5}')"
+    ev "record --status -f json:"
+    $T record --status -f json --dir "$2" >$W/$1.status 2>&1
+    ev_file $W/$1.status 30
+}
+
+# The flood: a saturated 500 kbit/s bus, 4,500 frames/s (one every 222 us) for 10 s, replayed by canplayer from a log
+# generated here (canplayer sends every frame whose time has come at each wake-up, so it keeps the rate where
+# cangen -g 0.22 managed ~1,200 frames/s under TCG): 0x7A0 with a counter, the robot's 0x211 (50/s), extended
+# frames of every length (20/s) and remote frames (10/s). Every frame candump saw between the markers 7F1#01 (before
+# the replay) and 7F1#02 (after) must be in the ring, byte for byte (kernel timestamps included: both sockets get
+# the same receive stamp), in order; or, if the kernel dropped some on the recorder's socket, counted as lost with
+# that reason. Socket buffers are raised as in flood_no_loss, so the witness is whole.
+REC_FLOOD_N=45000
+ck_record_flood_no_loss() {
+    d=/tmp/rec_flood
+    old_def=$(cat /proc/sys/net/core/rmem_default)
+    old_max=$(cat /proc/sys/net/core/rmem_max)
+    echo 67108864 >/proc/sys/net/core/rmem_max
+    echo 67108864 >/proc/sys/net/core/rmem_default
+    cap_start $W/recf_ref.log vcan0
+    if ! rec_start recf $d --segment 2s; then
+        rec_stop
+        cap_stop
+        echo "$old_max" >/proc/sys/net/core/rmem_max
+        echo "$old_def" >/proc/sys/net/core/rmem_default
+        fail "the recorder bound no socket on vcan0 within 15 s"
+        ev_rec recf $d
+        return
+    fi
+    awk -v n=$REC_FLOOD_N 'BEGIN {
+        for (i = 0; i < n; i++) {
+            t = i * 222
+            if (i % 90 == 0) f = "211#00000103000000B1"
+            else if (i % 450 == 5) f = "3A1#R"
+            else if (i % 225 == 7) {f = sprintf("18FF%04X#", i % 65536); for (k = 0; k < int(i / 225) % 9; k++) f = f sprintf("%02X", (i + k) % 256)}
+            else f = sprintf("7A0#%016X", i)
+            printf "(%d.%06d) vcan0 %s\n", 1000 + int(t / 1000000), t % 1000000, f
+        }}' >$W/recf_gen.log
+    cansend vcan0 7F1#01
+    timeout 120 canplayer -I $W/recf_gen.log >$W/recf_cangen.out 2>&1
+    cansend vcan0 7F1#02
+    usleep 500000
+    rec_stop
+    cap_stop
+    echo "$old_max" >/proc/sys/net/core/rmem_max
+    echo "$old_def" >/proc/sys/net/core/rmem_default
+    rec_ring $d $W/recf_ring.log
+    # the witness between the markers, and the rate of the flood by its kernel stamps
+    awk '/ 7F1#01$/ {on = 1} on {print} / 7F1#02$/ {exit}' $W/recf_ref.log >$W/recf_ref.win
+    nref=$(grep -c . $W/recf_ref.win)
+    nflood=$(grep -c ' 7A0#' $W/recf_ref.win)
+    rate=$(frames $W/recf_ref.win | awk 'NR == 1 {a = $1} {b = $1} END {if (b > a) printf "%.0f", (NR - 1) / ((b - a) / 1e6); else print 0}')
+    set -- $(rec_compare $W/recf_ring.log $W/recf_ref.win)
+    found=$1 nring=$2 missing=$3
+    bad=$(grep -c '^BAD SEGMENT' $W/recf_ring.log)
+    inring_from=$(grep -c ' 7F1#01$' $W/recf_ring.log)
+    inring_to=$(grep -c ' 7F1#02$' $W/recf_ring.log)
+    lost=$(rec_status $d frames_lost)
+    recorded=$(rec_status $d frames_recorded)
+    # every closed segment reads with tracerctl decode (0 rejected lines), and the frames add up
+    nseg=0
+    dec_frames=0
+    dec_bad=""
+    for s in $(ls $d/ring/*.log.zst 2>/dev/null); do
+        nseg=$((nseg + 1))
+        $T decode --summary -f json "$s" >$W/recf_dec.json 2>$W/recf_dec.err
+        n=$(sed -n 's/^  "frames": *\([0-9][0-9]*\).*/\1/p' $W/recf_dec.json | head -n 1) # the top level's
+        grep -qE '"rejected_lines": *0[,}]?' $W/recf_dec.json && [ -n "$n" ] || dec_bad="$dec_bad ${s##*/}"
+        dec_frames=$((dec_frames + ${n:-0}))
+    done
+    # can-utils read a closed segment: the second one (a whole 2 s), decompressed, replayed by canplayer onto vcan1
+    seg2=$(ls $d/ring/*.log.zst 2>/dev/null | sed -n 2p)
+    play=""
+    if [ -n "$seg2" ]; then
+        zstd -dcq "$seg2" >$W/recf_seg2.log
+        echo 67108864 >/proc/sys/net/core/rmem_max
+        echo 67108864 >/proc/sys/net/core/rmem_default
+        cap_start $W/recf_play.log vcan1
+        timeout 60 canplayer -t -I $W/recf_seg2.log vcan1=vcan0 >$W/recf_play.out 2>&1
+        prc=$?
+        cap_stop
+        echo "$old_max" >/proc/sys/net/core/rmem_max
+        echo "$old_def" >/proc/sys/net/core/rmem_default
+        awk '/^\(/ {print $3}' $W/recf_seg2.log >$W/recf_seg2.seq
+        awk '/^\(/ {print $3}' $W/recf_play.log | grep -v '^7F0#' >$W/recf_play.seq
+        if [ $prc = 0 ] && [ -s $W/recf_seg2.seq ] && cmp -s $W/recf_seg2.seq $W/recf_play.seq; then
+            play="ok $(grep -c . $W/recf_seg2.seq)"
+        else
+            play="canplayer exit $prc: the replay of ${seg2##*/} gave $(grep -c . $W/recf_play.seq) frames on vcan1, the segment holds $(grep -c . $W/recf_seg2.seq)"
+        fi
+    else
+        play="there is no second segment"
+    fi
+    $T record --status -f json --dir $d >$W/recf.status 2>&1
+    why=$(sed -n 's/.*"reason": *"\([^"]*\)".*/\1/p' $W/recf.status | head -n 1)
+    if [ "$REC_RC" != 0 ]; then
+        fail "the recorder's exit status after SIGTERM is $REC_RC, not 0"
+    elif [ "$nref" -lt 1000 ] || [ "$inring_from" != 1 ] || [ "$inring_to" != 1 ]; then
+        fail "the run is not judged: the witness has $nref frames between the markers; the ring has 7F1#01 x$inring_from, 7F1#02 x$inring_to (want once each)"
+    elif [ "$bad" != 0 ]; then
+        fail "zstd cannot read $bad segment(s): $(grep '^BAD SEGMENT' $W/recf_ring.log | tr '\n' ' ')"
+    elif [ "$found" != "$nring" ]; then
+        fail "only $found of the ring's $nring lines are, in order, lines candump saw (line $((found + 1)) of the ring: $(sed -n "$((found + 1))p" $W/recf_ring.log))"
+    elif [ "$missing" != 0 ] && { [ "${lost:-0}" -lt "$missing" ] || ! echo "$why" | grep -q kernel; }; then
+        fail "$missing frames candump saw are not in the ring, and record --status counts ${lost:-?} lost (reason: ${why:-none})"
+    elif [ "$recorded" != "$nring" ]; then
+        fail "record --status says $recorded frames recorded, the ring holds $nring lines"
+    elif [ -n "$dec_bad" ] || [ "$dec_frames" != "$nring" ]; then
+        fail "tracerctl decode --summary: segments with rejected lines or no count:${dec_bad:- none}; $dec_frames frames decoded of $nring"
+    elif [ "${play%% *}" != ok ]; then
+        fail "$play"
+    else
+        if [ "$missing" = 0 ]; then what="all $nref frames candump saw between the markers are in the ring, byte for byte and in order; 0 lost"
+        else what="$((nref - missing)) of $nref frames candump saw are in the ring in order, the $missing others counted as lost ($lost, reason: $why)"; fi
+        pass "$what (the replay at $rate frames/s by candump's stamps, $nflood of them 0x7A0); $nseg segments, each decoded by tracerctl decode with 0 rejected lines ($dec_frames frames = frames_recorded $recorded); canplayer replayed all ${play#ok } frames of ${seg2##*/}; exit 0 after SIGTERM"
+    fi
+    case $VERDICT in
+        PASS*) : >$W/recf_gen.log; : >$W/recf_ref.log; : >$W/recf_ref.win; : >$W/recf_ring.log; : >$W/recf_seg2.log; : >$W/recf_seg2.seq; : >$W/recf_play.log; : >$W/recf_play.seq ;; # large
+        FAIL*)
+            ev_rec recf $d
+            ev "canplayer (flood): $(cat $W/recf_cangen.out | head -n 3 | tr '\n' ' ')"
+            ev "ring (decompressed):"; ev_file $W/recf_ring.log 6
+            ev "candump -L vcan0 between the markers:"; ev_file $W/recf_ref.win 6 ;;
+    esac
+    rm -rf $d
+}
+
+# The link vanishes: while recording, `ip link del vcan0`; 3 s later vcan0 is created again and frames are sent. The
+# recorder keeps running, says it lost vcan0 and that it is back, records the frames after the return, and
+# record --status counts one outage. (0x7A5 frames: no TRACER traffic, so no default trigger fires.)
+ck_record_link_vanishes() {
+    d=/tmp/rec_link
+    if ! rec_start recl $d --segment 2s; then
+        rec_stop
+        fail "the recorder bound no socket on vcan0 within 15 s"
+        ev_rec recl $d
+        return
+    fi
+    for b in 01 02 03; do cansend vcan0 7A5#A0$b; done
+    usleep 300000
+    ip link del dev vcan0
+    sleep 3
+    during=alive
+    if ! alive $REC_PID; then
+        wait $REC_PID
+        during="exited (status $?)"
+    fi
+    lostmsg=$(grep -m 1 'lost vcan0' $W/recl.err)
+    ip link add dev vcan0 type vcan && ip link set up vcan0
+    wait_grep $W/recl.err 'vcan0 is back' 10 $REC_PID
+    backmsg=$(grep -m 1 'vcan0 is back' $W/recl.err)
+    # wait until its new socket is bound (a CAN_RAW receiver on the new vcan0)
+    i=0
+    while [ "$(receivers vcan0)" -lt 1 ] && [ $i -lt 100 ]; do usleep 50000; i=$((i + 1)); done
+    cap_start $W/recl_ref.log vcan0
+    for b in 01 02 03 04 05 06 07 08 09 0A; do cansend vcan0 7A5#B0$b; done
+    cap_stop
+    usleep 700000
+    rec_stop
+    rec_ring $d $W/recl_ring.log
+    grep ' 7A5#B0' $W/recl_ref.log >$W/recl_after.ref
+    nafter=$(grep -c . $W/recl_after.ref)
+    set -- $(rec_compare $W/recl_after.ref $W/recl_ring.log)
+    after_found=$1
+    nbefore=$(grep -c ' 7A5#A0' $W/recl_ring.log)
+    outages=$(rec_status $d link_outages)
+    if [ "$during" != alive ]; then
+        fail "the recorder did not wait for vcan0: it $during while vcan0 was gone"
+    elif [ -z "$lostmsg" ]; then
+        fail "the recorder did not say it lost vcan0 (no 'lost vcan0' on stderr)"
+    elif [ -z "$backmsg" ]; then
+        fail "the recorder did not say vcan0 is back within 10 s of its return"
+    elif [ "$nafter" != 10 ] || [ "$after_found" != 10 ]; then
+        fail "$after_found of the $nafter frames candump saw after the return are in the ring (want all 10, byte for byte)"
+    elif [ "$nbefore" != 3 ]; then
+        fail "the ring holds $nbefore of the 3 frames sent before vcan0 vanished"
+    elif [ "$outages" != 1 ]; then
+        fail "record --status counts link_outages ${outages:-(none)}, want 1"
+    elif [ "$REC_RC" != 0 ]; then
+        fail "exit status $REC_RC after SIGTERM, not 0"
+    else
+        pass "kept running while vcan0 was gone 3 s; said '$(echo "$lostmsg" | sed 's/^tracerctl: //' | head -c 110)' and '$(echo "$backmsg" | sed 's/^tracerctl: //')'; the 3 frames before and all 10 after the return in the ring; link_outages 1; exit 0 after SIGTERM"
+    fi
+    case $VERDICT in FAIL*) ev_rec recl $d; ev "ring:"; ev_file $W/recl_ring.log 20; ev "candump after the return:"; ev_file $W/recl_ref.log 14 ;; esac
+    ip link show vcan0 >/dev/null 2>&1 || { ip link add dev vcan0 type vcan; ip link set up vcan0; }
+    rm -rf $d
+}
+
+# A mark: `record --mark --dir DIR NOTE` while the recorder runs (2 s before, 1 s after) makes one incident, whose
+# frames.log is exactly the ring's lines in [from_us, to_us] of its incident.json. Traffic: 0x7A5 at 100/s (no
+# TRACER frames, so no default trigger).
+ck_record_mark() {
+    d=/tmp/rec_mark
+    if ! rec_start recm $d --segment 1s --before 2s --after 1s; then
+        rec_stop
+        fail "the recorder bound no socket on vcan0 within 15 s"
+        ev_rec recm $d
+        return
+    fi
+    cangen vcan0 -I 7A5 -L 8 -D i -g 10 >/dev/null 2>&1 & g1=$!
+    sleep 3
+    timeout 30 $T record --mark --dir $d "vm mark" >$W/recm_mark.out 2>$W/recm_mark.err
+    mrc=$?
+    # the window closes 1 s after the mark; the recorder reads marks every second
+    i=0
+    while [ -z "$(ls $d/incidents 2>/dev/null | grep -v '^\.')" ] && [ $i -lt 200 ]; do usleep 50000; i=$((i + 1)); done
+    usleep 500000
+    stop $g1
+    rec_stop
+    rec_ring $d $W/recm_ring.log
+    incs=$(ls $d/incidents 2>/dev/null | grep -v '^\.')
+    ninc=$(echo "$incs" | grep -c .)
+    inc=$d/incidents/$(echo "$incs" | head -n 1)
+    j=$inc/incident.json
+    from=$(sed -n 's/.*"from_us": *\([0-9][0-9]*\).*/\1/p' $j 2>/dev/null)
+    to=$(sed -n 's/.*"to_us": *\([0-9][0-9]*\).*/\1/p' $j 2>/dev/null)
+    cause=$(sed -n 's/.*"cause": *"\([^"]*\)".*/\1/p' $j 2>/dev/null | head -n 1)
+    # the ring's lines in [from, to] (times compared as "seconds.micros" strings split in two: no float rounding)
+    awk -v from="$from" -v to="$to" '
+        function us(l,   ts, b) {ts = substr(l, 2, index(l, ")") - 2); split(ts, b, "."); return b[1] * 1000000 + (("1" b[2]) - 1000000)}
+        /^\(/ {t = us($0); if (t >= from + 0 && t <= to + 0) print}' $W/recm_ring.log >$W/recm_expected.log
+    nexp=$(grep -c . $W/recm_expected.log)
+    nkept=$(grep -c . $inc/frames.log 2>/dev/null)
+    if [ "$mrc" != 0 ]; then
+        fail "record --mark exited $mrc: $(head -n 2 $W/recm_mark.err | tr '\n' ' ')"
+    elif [ "$ninc" != 1 ]; then
+        fail "$ninc incidents (want exactly 1): $(echo $incs)"
+    elif [ "$cause" != mark ] || ! grep -q 'vm mark' $j; then
+        fail "the incident's first cause is '${cause:-none}' (want mark, with the note 'vm mark')"
+    elif [ -z "$from" ] || [ -z "$to" ] || [ "$nexp" -lt 100 ]; then
+        fail "the window [${from:-?}, ${to:-?}] holds $nexp ring lines (want >= 100: 3 s at 100 frames/s)"
+    elif ! cmp -s $W/recm_expected.log $inc/frames.log; then
+        fail "frames.log ($nkept lines) is not the ring's $nexp lines in [$from, $to]"
+    elif [ "$REC_RC" != 0 ]; then
+        fail "exit status $REC_RC after SIGTERM, not 0"
+    else
+        pass "one incident ${inc##*/}, cause mark 'vm mark'; its frames.log is byte for byte the ring's $nexp lines in [$from, $to] ($((to - from)) us); exit 0 after SIGTERM"
+    fi
+    case $VERDICT in
+        FAIL*)
+            ev_rec recm $d
+            ev "record --mark: $(cat $W/recm_mark.err | tr '\n' ' ')"
+            ev "incident.json:"; ev_file $j 30
+            cp $inc/frames.log $W/recm_frames.log 2>/dev/null
+            diff $W/recm_expected.log $W/recm_frames.log >$W/recm.diff 2>&1
+            ev "diff ring-window frames.log:"; ev_file $W/recm.diff 12 ;;
+    esac
+    rm -rf $d
+}
+
 # --- doctor: why isn't it moving?
 # Each check runs `tracerctl doctor` once, with --listen 1s, on its own bus: vcan0 with a simulator it starts and
 # stops itself, or a scratch vcan2 (created and deleted by the check, so nothing else sends on it).
@@ -1228,6 +1534,10 @@ check monitor_log_replay
 check mcap_session
 
 check flood_no_loss
+
+check record_flood_no_loss
+check record_link_vanishes
+check record_mark
 
 check doctor_missing_iface
 check doctor_iface_down

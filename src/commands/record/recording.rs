@@ -260,6 +260,8 @@ impl<'a> Recorder<'a> {
                 self.status.lock().link_outages += 1;
             }
             self.status.lock().state = "recording".to_string();
+            // The kernel's drop counter is the socket's: a link opened again counts from 0.
+            self.socket_drops = 0;
             let mut rx = link.rx;
             let ended = self.receive(rx.as_mut(), signals, marked);
             for note in rx.take_notes() {
