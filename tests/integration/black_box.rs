@@ -443,3 +443,90 @@ fn an_instance_that_names_a_profile_takes_its_link_and_recorder_settings() {
     assert!(plain.starts_with("link: SocketCAN can1\ninstance: can1\n"), "{plain}");
     assert!(plain.contains("segment: 2m\n") && plain.contains("before: 1m\n"), "{plain}");
 }
+
+/// Ten minutes of a robot in command mode at 25.9 V: 0x211 every 20 ms, an E-stop pressed for 2 s at
+/// 100 s, 250 s and 400 s. Returns the log and the onsets (microseconds).
+fn estop_session() -> (String, Vec<u64>) {
+    const T0: u64 = 1_700_000_000_000_000;
+    let onsets: Vec<u64> = [100u64, 250, 400].iter().map(|s| T0 + s * 1_000_000).collect();
+    let mut log = String::new();
+    for tick in 0..30_000u64 {
+        let at = T0 + tick * 20_000;
+        let pressed = onsets.iter().any(|onset| (*onset..onset + 2_000_000).contains(&at));
+        log.push_str(&format!(
+            "({}.{:06}) can0 211#{:02X}01010300000000{:02X}\n",
+            at / 1_000_000,
+            at % 1_000_000,
+            u8::from(pressed),
+            tick % 256
+        ));
+    }
+    (log, onsets)
+}
+
+#[test]
+fn a_replay_at_full_speed_gives_one_incident_per_estop_onset() {
+    let dir = tempfile::tempdir().unwrap();
+    let (log, onsets) = estop_session();
+    let path = dir.path().join("session.log");
+    std::fs::write(&path, log).unwrap();
+    // decode --summary sees the same onsets.
+    let summary = tracerctl().args(["decode", "--summary"]).arg(&path).output().unwrap();
+    assert_eq!(stdout(&summary).matches("normal -> estop").count(), onsets.len(), "{}", stdout(&summary));
+    let rec = dir.path().join("rec");
+    let output = tracerctl()
+        .args(["--replay"])
+        .arg(&path)
+        .args(["--speed", "0", "record", "--dir"])
+        .arg(&rec)
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let made = incidents(&rec);
+    assert_eq!(made.len(), onsets.len(), "{made:?}\n{}", stderr(&output));
+    for (incident, onset) in made.iter().zip(&onsets) {
+        assert!(incident.file_name().unwrap().to_string_lossy().ends_with("-estop"), "{incident:?}");
+        let facts: Value =
+            serde_json::from_str(&std::fs::read_to_string(incident.join("incident.json")).unwrap()).unwrap();
+        let causes = facts["causes"].as_array().unwrap();
+        assert_eq!(causes.len(), 1, "only the E-stop: {facts}");
+        assert_eq!(facts["window"]["from_us"].as_u64(), Some(onset - 60_000_000), "{facts}");
+        assert_eq!(facts["window"]["to_us"].as_u64(), Some(onset + 30_000_000), "{facts}");
+        assert_eq!(facts["frames"], 4501, "90 s at 50 Hz, both ends in: {facts}");
+        let text = std::fs::read_to_string(incident.join("summary.txt")).unwrap();
+        assert_eq!(text.matches("normal -> estop").count(), 1, "{text}");
+    }
+}
+
+#[test]
+fn a_simulated_estop_makes_exactly_one_incident_of_the_rings_frames() {
+    let dir = tempfile::tempdir().unwrap();
+    let child = start(
+        &["--sim", "--fault", "estop@3s"],
+        dir.path(),
+        &["--segment", "2s", "--before", "2s", "--after", "1s"],
+    );
+    wait_until("the incident", || incidents(dir.path()).len() == 1);
+    // A few seconds more: the E-stop stays pressed, which is no new onset.
+    let deadline = Instant::now() + Duration::from_secs(3);
+    while Instant::now() < deadline {
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    let output = stop(child);
+    assert_eq!(output.status.code(), Some(0), "{}", stderr(&output));
+    let made = incidents(dir.path());
+    assert_eq!(made.len(), 1, "{made:?}\n{}", stderr(&output));
+    let facts: Value =
+        serde_json::from_str(&std::fs::read_to_string(made[0].join("incident.json")).unwrap()).unwrap();
+    assert!(facts["causes"].as_array().unwrap().iter().any(|c| c["cause"] == "estop"), "{facts}");
+    let (from, to) =
+        (facts["window"]["from_us"].as_u64().unwrap(), facts["window"]["to_us"].as_u64().unwrap());
+    let expected: Vec<String> =
+        ring_lines(dir.path()).into_iter().filter(|line| (from..=to).contains(&line_us(line))).collect();
+    let kept: Vec<String> =
+        std::fs::read_to_string(made[0].join("frames.log")).unwrap().lines().map(str::to_string).collect();
+    assert_eq!(kept, expected);
+    let text = std::fs::read_to_string(made[0].join("summary.txt")).unwrap();
+    assert!(text.contains("estop"), "{text}");
+    assert!(facts["state_at_trigger"].is_object(), "{facts}");
+}

@@ -276,6 +276,7 @@ impl<'a> Recorder<'a> {
                     return end;
                 }
                 Ended::LinkLost(error) => {
+                    let error = lost_why(&global.link, error);
                     crate::say!("tracerctl: lost {}: {error}; waiting for it to come back", self.link_name);
                     self.status.lock().state = format!("waiting for {}: {error}", self.link_name);
                     outage = Some((Instant::now(), String::new()));
@@ -471,6 +472,17 @@ impl<'a> Recorder<'a> {
         }
         let _ = self.jobs.send(Job::Stop);
     }
+}
+
+/// Why a link went away, in words: an interface that no longer exists is said so (the kernel reports
+/// "network is down" first, whose advice, bringing it up, does not apply to an unplugged adapter).
+fn lost_why(link: &crate::link::LinkChoice, error: String) -> String {
+    if let crate::link::LinkChoice::SocketCan { iface } = link {
+        if cfg!(target_os = "linux") && !Path::new("/sys/class/net").join(iface).exists() {
+            return format!("the interface {iface} is gone (adapter unplugged, or the interface deleted)");
+        }
+    }
+    error
 }
 
 /// How receiving from one opened link ended.
