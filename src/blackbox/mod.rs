@@ -10,3 +10,9 @@
 //! DIR/status.json                             the running recorder's state, rewritten every few seconds
 //! DIR/recorder.lock                           held (flock) by the running recorder: one per directory
 //! ```
+
+mod cause;
+pub mod expr;
+mod onset;
+pub mod state;
+pub mod triggers;
