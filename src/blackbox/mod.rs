@@ -12,11 +12,15 @@
 //! DIR/recorder.lock                           held (flock) by the running recorder: one per directory
 //! ```
 
+mod cause;
+pub mod expr;
 pub mod lock;
 pub mod marks;
 pub mod names;
+mod onset;
 pub mod ring;
 pub mod segment;
+pub mod state;
 pub mod status;
 pub mod triggers;
 pub mod window;

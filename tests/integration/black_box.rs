@@ -101,7 +101,7 @@ fn a_mark_keeps_exactly_the_rings_frames_of_its_window() {
     let facts: Value =
         serde_json::from_str(&std::fs::read_to_string(incident.join("incident.json")).unwrap()).unwrap();
     assert_eq!(facts["causes"][0]["cause"], "mark");
-    assert_eq!(facts["causes"][0]["description"], "marked: the lift door");
+    assert_eq!(facts["causes"][0]["description"], "mark: the lift door");
     let (from, to) =
         (facts["window"]["from_us"].as_u64().unwrap(), facts["window"]["to_us"].as_u64().unwrap());
     assert_eq!(to - from, 3_000_000);
@@ -148,7 +148,7 @@ fn a_mark_keeps_exactly_the_rings_frames_of_its_window() {
         "{}",
         stdout(&list)
     );
-    assert!(stdout(&list).contains("marked: the lift door"), "{}", stdout(&list));
+    assert!(stdout(&list).contains("mark: the lift door"), "{}", stdout(&list));
 }
 
 #[test]
@@ -395,7 +395,7 @@ fn max_incidents_removes_the_oldest_and_says_so() {
                 .iter()
                 .map(|p| std::fs::read_to_string(p.join("incident.json")).unwrap())
                 .collect();
-            listed.iter().any(|text| text.contains(&format!("marked: mark {number}")))
+            listed.iter().any(|text| text.contains(&format!("mark: mark {number}")))
         });
         names.push(incidents(dir.path()).last().unwrap().clone());
     }
@@ -454,7 +454,7 @@ fn estop_session() -> (String, Vec<u64>) {
         let at = T0 + tick * 20_000;
         let pressed = onsets.iter().any(|onset| (*onset..onset + 2_000_000).contains(&at));
         log.push_str(&format!(
-            "({}.{:06}) can0 211#{:02X}01010300000000{:02X}\n",
+            "({}.{:06}) can0 211#{:02X}010103000000{:02X}\n",
             at / 1_000_000,
             at % 1_000_000,
             u8::from(pressed),
