@@ -113,14 +113,12 @@ impl Cause {
             Cause::VehicleException => {
                 "vehicle state exception (a latched fault, battery cut-off or the RC link lost)".to_string()
             }
-            Cause::ModeChange { wire, from, to } => format!(
-                "control mode changed: {} -> {}",
-                ControlMode::describe(*wire, *from),
-                ControlMode::describe(*wire, *to)
-            ),
+            Cause::ModeChange { wire, from, to } => {
+                format!("control mode changed: {} -> {}", mode_name(*wire, *from), mode_name(*wire, *to))
+            }
             Cause::RcOverride { wire, from } => format!(
                 "RC override: the RC transmitter took control from {} mode (switch SWB in the middle)",
-                ControlMode::describe(*wire, *from)
+                mode_name(*wire, *from)
             ),
             Cause::LinkSilence { id, limit } => {
                 format!("link silence: no system status ({id}) for more than {} ms", limit.as_millis())
@@ -144,6 +142,15 @@ impl Cause {
             Cause::Mark { note } if note.trim().is_empty() => "mark".to_string(),
             Cause::Mark { note } => format!("mark: {}", note.trim()),
         }
+    }
+}
+
+/// A reported mode's name: `can`, `0x07`; V1/RS232's 0 is `rc/standby`, as those wires report both as 0.
+fn mode_name(wire: Wire, code: u8) -> String {
+    if wire != Wire::CanV2 && code == 0 {
+        "rc/standby".to_string()
+    } else {
+        ControlMode::describe(wire, code)
     }
 }
 

@@ -17,6 +17,7 @@ use strum::IntoEnumIterator;
 
 use crate::protocol::faults::FlagTable;
 use crate::protocol::fields::{for_each_field, one_of_each_message, FieldName, Value, ALL_FIELD_NAMES};
+use crate::protocol::id::ID_SYSTEM_STATE;
 use crate::protocol::message::{
     control_mode_name, fault_clear_name, fault_clear_v1_name, rc_switch_name, vehicle_state_name,
 };
@@ -332,13 +333,21 @@ fn flag_masks(field: FieldName, wanted: &str) -> [u16; 3] {
 
 type Failure = (usize, String);
 
+/// The identifier examples name: the system state's.
+fn example_id() -> FrameId {
+    FrameId::standard(ID_SYSTEM_STATE)
+}
+
 fn parse(text: &str) -> Result<Expression, Failure> {
     let mut at = skip_spaces(text, 0);
     let field_end = token_end(text, at, |c| c.is_ascii_alphanumeric() || c == '_' || c == '.');
     if field_end == at {
         let reason = match text[at..].chars().next() {
             None => {
-                "empty trigger: write FIELD OP VALUE, such as battery_voltage<23.0 or id=0x441".to_string()
+                format!(
+                    "empty trigger: write FIELD OP VALUE, such as battery_voltage<23.0 or id={}",
+                    example_id()
+                )
             }
             Some(c) => format!("expected a field name, found {c:?}"),
         };
@@ -401,9 +410,10 @@ fn resolve_field(written: &str, at: usize) -> Result<(Target, Shape), Failure> {
     if field == ID {
         return match kind {
             None => Ok((Target::Id, Shape::Number)),
-            Some(_) => {
-                Err((at, "id is the frame's identifier, not a message's field: write id=0x211".into()))
-            }
+            Some(_) => Err((
+                at,
+                format!("id is the frame's identifier, not a message's field: write id={}", example_id()),
+            )),
         };
     }
     let field = ALIASES.iter().find(|(alias, _)| *alias == field).map_or(field, |(_, name)| name);

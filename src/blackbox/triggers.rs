@@ -20,7 +20,8 @@
 //!   3; V1/RS232 code 0) after a command mode (CAN or serial), or, where the robot sends 0x241 (the SDK's RC
 //!   state), switch SWB moves to the middle while the mode is a command mode. (TRACER manual 2.3: SWB at the
 //!   top is command mode, in the middle RC mode; the transmitter has priority.) It lasts until the mode is no
-//!   longer RC and SWB is not in the middle.
+//!   longer RC and SWB is not in the middle. V1/RS232 report standby as 0 too, so there a drop to 0 during an
+//!   E-stop or exception (which fire their own triggers) is not called an RC override.
 //! - Link silence: no system status for longer than its period x 5 (`catalog`: 100 ms on V2 and RS232, 500 ms
 //!   on V1), watched once a status has been seen. Found in `tick` when nothing arrives and in `frame` when
 //!   the next frame comes after the gap; `at` is the last status + the limit. Once per silence.
@@ -398,7 +399,10 @@ impl Watcher {
             if is_reported_change(wire, from, code) && self.mode_pulse.hit(now, self.rearm) {
                 self.push_default(out, at, Cause::ModeChange { wire, from, to: code });
             }
-            if is_rc(wire, code) && is_command_mode(wire, from) && !self.rc.is_active() {
+            // On V1/RS232 an E-stop or exception also drops the mode to 0 (standby reads as RC there): those
+            // have their own triggers, and only a healthy robot at 0 is taken over by the transmitter.
+            let explained = wire != Wire::CanV2 && (self.estop.is_active() || self.exception.is_active());
+            if is_rc(wire, code) && is_command_mode(wire, from) && !explained && !self.rc.is_active() {
                 self.rc_from = from;
                 self.fire_rc(at, now, wire, true, out);
             }
@@ -587,3 +591,7 @@ impl Watcher {
 #[cfg(test)]
 #[path = "triggers_tests.rs"]
 mod tests;
+
+#[cfg(test)]
+#[path = "triggers_sim_tests.rs"]
+mod sim_tests;

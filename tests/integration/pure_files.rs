@@ -14,6 +14,11 @@ const PURE: &[&str] = &[
     "src/dashboard/alert.rs",
     "src/commands/decode/lines.rs",
     "src/candump/line_limit.rs",
+    "src/blackbox/triggers.rs",
+    "src/blackbox/onset.rs",
+    "src/blackbox/expr.rs",
+    "src/blackbox/state.rs",
+    "src/blackbox/cause.rs",
 ];
 
 /// Threads, channels, locks, clocks and terminals.
