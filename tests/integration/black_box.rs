@@ -248,7 +248,8 @@ fn dry_run_shows_the_instance_link_and_settings() {
 
 #[test]
 fn bad_record_options_are_usage_errors() {
-    let unknown = tracerctl().args(["record", "--dry-run", "--trigger", "battery_voltag<23"]).output().unwrap();
+    let unknown =
+        tracerctl().args(["record", "--dry-run", "--trigger", "battery_voltag<23"]).output().unwrap();
     assert_eq!(unknown.status.code(), Some(2));
     assert!(stderr(&unknown).contains("did you mean battery_voltage"), "{}", stderr(&unknown));
     let cases: [&[&str]; 5] = [
