@@ -1047,13 +1047,13 @@ pub struct DoctorArgs {
 }
 
 impl DoctorArgs {
-    fn options(self) -> commands::doctor::Options {
+    fn options(self, battery_warning_volts: f64) -> commands::doctor::Options {
         use commands::doctor::report::ReportFormat;
         let format = match self.format {
             ReportFormatArg::Text => ReportFormat::Text,
             ReportFormatArg::Json => ReportFormat::Json,
         };
-        commands::doctor::Options { probe: self.probe, listen: self.listen, format }
+        commands::doctor::Options { probe: self.probe, listen: self.listen, format, battery_warning_volts }
     }
 }
 
@@ -1101,12 +1101,13 @@ pub const KEY_TIMEOUT: DurationRange = DurationRange {
 };
 
 impl DashboardArgs {
-    fn options(self) -> anyhow::Result<commands::dashboard::Options> {
+    fn options(self, battery_warning_volts: f64) -> anyhow::Result<commands::dashboard::Options> {
         Ok(commands::dashboard::Options {
             limits: self.limits.limits()?,
             watch: self.watch,
             record: self.record,
             key_timeout: self.key_timeout,
+            battery_warning_volts,
         })
     }
 }
@@ -2040,7 +2041,9 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             let options = args.options()?;
             commands::drive::run(&global(link.choice()?), &options)
         }
-        Command::Doctor(args) => commands::doctor::run(&global(link.choice()?), &args.options()),
+        Command::Doctor(args) => {
+            commands::doctor::run(&global(link.choice()?), &args.options(battery_warning_volts))
+        }
         Command::Mode(args) => commands::mode::run(&global(link.choice()?), &args.options()),
         Command::ClearErrors(args) => commands::clear_errors::run(&global(link.choice()?), &args.options()),
         Command::Lights(args) => commands::lights::run(&global(link.choice()?), &args.options()),
@@ -2051,27 +2054,30 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::Report(args) => commands::report::run(&global(link.choice()?), &args.options()),
         Command::Dashboard(args) => {
-            let options = args.options()?;
+            let options = args.options(battery_warning_volts)?;
             link.refuse_overwriting("--record", options.record.as_deref())?;
             commands::dashboard::run(&global(link.choice()?), &options)
         }
         Command::Record(args) => {
             // An instance that names a profile takes the profile's link (and settings), not its name.
             let profiled = args.instance.is_some() && config.loaded.profile == args.instance;
-            let (mut options, instance) = args.options(&link, profiled)?;
-            let choice = match instance {
+            let (options, instance) = args.options(&link, profiled)?;
+            let global = global(match instance {
                 Some(choice) => choice,
                 None => link.choice()?,
-            };
-            let global = global(choice);
-            if let commands::record::Action::Record(settings) | commands::record::Action::DryRun(settings) =
-                &mut options.action
-            {
-                settings.triggers.battery_warning_volts = global.battery_warning_volts;
-            }
-            commands::record::run(&global, &options)
+            });
+            record(&global, options)
         }
     }
+}
+
+/// `record`, its low-battery trigger at the configured warning voltage.
+fn record(global: &Global, mut options: commands::record::Options) -> anyhow::Result<u8> {
+    use commands::record::Action;
+    if let Action::Record(settings) | Action::DryRun(settings) = &mut options.action {
+        settings.triggers.battery_warning_volts = global.battery_warning_volts;
+    }
+    commands::record::run(global, &options)
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]

@@ -79,7 +79,7 @@ impl App {
         if !system.in_command_mode() {
             return Alert::NotInCommandMode { wire: system.wire, mode: system.control_mode };
         }
-        let battery = BatteryZone::of(system.decivolts);
+        let battery = BatteryZone::of(system.decivolts, self.battery_warning_dv);
         if faults.iter().any(|fault| fault.info.severity.is_problem()) || battery != BatteryZone::Ok {
             return Alert::Warnings;
         }

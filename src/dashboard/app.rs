@@ -101,7 +101,7 @@ pub enum Arming {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum BatteryZone {
     Ok,
-    /// At or below [`BATTERY_WARNING_DV`].
+    /// At or below the warning voltage ([`BATTERY_WARNING_DV`] unless configured).
     Warning,
     /// At or below [`BATTERY_FAULT_DV`] (still drives; the robot beeps).
     Fault,
@@ -110,11 +110,11 @@ pub enum BatteryZone {
 }
 
 impl BatteryZone {
-    pub fn of(decivolts: u16) -> Self {
+    pub fn of(decivolts: u16, warning_dv: u16) -> Self {
         match decivolts {
             v if v <= BATTERY_CUTOFF_DV => BatteryZone::CutOff,
             v if v <= BATTERY_FAULT_DV => BatteryZone::Fault,
-            v if v <= BATTERY_WARNING_DV => BatteryZone::Warning,
+            v if v <= warning_dv => BatteryZone::Warning,
             _ => BatteryZone::Ok,
         }
     }
@@ -403,6 +403,8 @@ pub struct App {
     rates: Rates,
     /// When the source was first seen ended: the robot's values are aged up to then, never beyond.
     ended_at: Option<Instant>,
+    /// The warning voltage, decivolts: the manual's, or the configuration's `battery.warning_volts`.
+    pub(super) battery_warning_dv: u16,
 }
 
 impl App {
@@ -421,7 +423,13 @@ impl App {
             odometry: Odometer::default(),
             rates: Rates::default(),
             ended_at: None,
+            battery_warning_dv: BATTERY_WARNING_DV,
         }
+    }
+
+    /// The battery's warning voltage (`battery.warning_volts` of the configuration file).
+    pub fn set_battery_warning(&mut self, volts: f64) {
+        self.battery_warning_dv = crate::protocol::constants::decivolts(volts);
     }
 
     /// Folds in the latest status (called about every 50 ms): battery history (one sample a second of fresh
@@ -969,11 +977,19 @@ mod tests {
 
     #[test]
     fn battery_zones_follow_the_manual() {
-        assert_eq!(BatteryZone::of(259), BatteryZone::Ok);
-        assert_eq!(BatteryZone::of(226), BatteryZone::Ok);
-        assert_eq!(BatteryZone::of(225), BatteryZone::Warning);
-        assert_eq!(BatteryZone::of(221), BatteryZone::Warning);
-        assert_eq!(BatteryZone::of(220), BatteryZone::Fault);
-        assert_eq!(BatteryZone::of(215), BatteryZone::CutOff);
+        let of = |decivolts| BatteryZone::of(decivolts, BATTERY_WARNING_DV);
+        assert_eq!(of(259), BatteryZone::Ok);
+        assert_eq!(of(226), BatteryZone::Ok);
+        assert_eq!(of(225), BatteryZone::Warning);
+        assert_eq!(of(221), BatteryZone::Warning);
+        assert_eq!(of(220), BatteryZone::Fault);
+        assert_eq!(of(215), BatteryZone::CutOff);
+        // A configured warning voltage moves only the warning zone.
+        let mut app = App::new("can0", Limits::default(), false);
+        app.set_battery_warning(26.0);
+        assert_eq!(app.battery_warning_dv, 260);
+        assert_eq!(BatteryZone::of(259, app.battery_warning_dv), BatteryZone::Warning);
+        assert_eq!(BatteryZone::of(261, app.battery_warning_dv), BatteryZone::Ok);
+        assert_eq!(BatteryZone::of(220, app.battery_warning_dv), BatteryZone::Fault);
     }
 }

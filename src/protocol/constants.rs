@@ -32,6 +32,11 @@ pub const fn volts(decivolts: u16) -> f64 {
     decivolts as f64 / 10.0
 }
 
+/// Volts to the status frame's decivolts, rounded (a configured threshold; out of range saturates).
+pub fn decivolts(volts: f64) -> u16 {
+    (volts * 10.0).round().clamp(0.0, f64::from(u16::MAX)) as u16
+}
+
 #[cfg(test)]
 #[path = "constants_tests.rs"]
 mod tests;

@@ -325,3 +325,20 @@ fn the_test_suite_reads_no_configuration_file() {
         .unwrap();
     assert_eq!(stdout(&output), "(TRACERCTL_CONFIG is empty: no file is read)\n");
 }
+
+#[test]
+fn the_configured_warning_voltage_is_the_one_doctor_judges_the_battery_by() {
+    let battery = |text: &str| {
+        let file = config(text);
+        let output = run(&file.path, &[], &["--sim", "doctor", "--listen", "300ms", "-f", "json"]);
+        let report: serde_json::Value =
+            serde_json::from_str(&String::from_utf8(output.stdout).unwrap()).unwrap();
+        let checks = report["checks"].as_array().unwrap();
+        checks.iter().find(|check| check["id"] == "battery").unwrap().clone()
+    };
+    // The simulator's battery: 25.9 V.
+    assert_eq!(battery("")["status"], "pass");
+    let warned = battery("[battery]\nwarning_volts = 26.0\n");
+    assert_eq!(warned["status"], "warn", "{warned}");
+    assert!(warned["finding"].as_str().unwrap().contains("below the 26 V alarm voltage"), "{warned}");
+}

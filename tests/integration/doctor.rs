@@ -24,7 +24,12 @@ use crate::sim_command::Simulator;
 use crate::util::{stderr, stdout, tracerctl};
 
 fn args(probe: bool) -> doctor::Options {
-    doctor::Options { probe, listen: Duration::from_millis(600), format: ReportFormat::Json }
+    doctor::Options {
+        probe,
+        listen: Duration::from_millis(600),
+        format: ReportFormat::Json,
+        battery_warning_volts: 22.5,
+    }
 }
 
 /// Runs the doctor on a session: the exit status and the JSON report.

@@ -42,6 +42,8 @@ pub struct Options {
     /// Without key-release events: a repeating key counts as released after this, instead of the learned
     /// deadline.
     pub key_timeout: Option<Duration>,
+    /// The battery's warning voltage: the manual's, or the configuration's `battery.warning_volts`.
+    pub battery_warning_volts: f64,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -122,6 +124,7 @@ fn drive_loop(mut screen: Screen, session: &Session, args: &Options, color: bool
     let done = Arc::new(AtomicBool::new(false));
     let input = spawn_input(Arc::clone(&done))?;
     let mut app = App::new(&session.name, limits, color);
+    app.set_battery_warning(args.battery_warning_volts);
     app.set_arming(driving.arming());
     let mut state = Loop::new(app, driving, teleop);
     let end = loop {

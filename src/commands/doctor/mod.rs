@@ -36,6 +36,8 @@ pub struct Options {
     /// How long to listen to the robot.
     pub listen: Duration,
     pub format: report::ReportFormat,
+    /// The battery's warning voltage: the manual's, or the configuration's `battery.warning_volts`.
+    pub battery_warning_volts: f64,
 }
 
 pub fn run(global: &Global, args: &Options) -> Result<u8> {
@@ -250,6 +252,7 @@ fn examine_caught<W: Write>(
         wire: session.wire(),
         hint: session.hint(),
         now: Instant::now(),
+        battery_warning_dv: crate::protocol::constants::decivolts(args.battery_warning_volts),
     };
     let checks = robot::checks(&seen);
     add_all(report, checks)?;

@@ -5,7 +5,7 @@ use std::time::{Duration, Instant};
 
 use super::report::{Check, Outcome};
 use crate::link::LinkKind;
-use crate::protocol::constants::{volts, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
+use crate::protocol::constants::{volts, BATTERY_CUTOFF_DV, BATTERY_FAULT_DV};
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{rc_switch_name, SystemState, VEHICLE_ESTOP, VEHICLE_EXCEPTION};
 use crate::protocol::{catalog, ControlMode, MessageKind, ProtocolHint, Severity, Wire};
@@ -29,6 +29,8 @@ pub struct Observation<'a> {
     /// `--protocol` as given.
     pub hint: ProtocolHint,
     pub now: Instant,
+    /// The warning voltage, decivolts: the manual's, or the configuration's `battery.warning_volts`.
+    pub battery_warning_dv: u16,
 }
 
 impl Observation<'_> {
@@ -92,7 +94,7 @@ pub fn checks(seen: &Observation) -> Vec<Check> {
             checks.push(control_mode(seen, &state, wire));
             checks.push(estop(&state));
             checks.push(faults(seen, &state, wire));
-            checks.push(battery(&state));
+            checks.push(battery(&state, seen.battery_warning_dv));
         }
         None => {
             checks.extend(skipped("control_mode", "battery", "no system status received", true));
@@ -438,7 +440,7 @@ pub fn faults(seen: &Observation, state: &SystemState, wire: Wire) -> Check {
     Check::warn(ID, TITLE, finding, actions.join("; "))
 }
 
-pub fn battery(state: &SystemState) -> Check {
+pub fn battery(state: &SystemState, warning_dv: u16) -> Check {
     const ID: &str = "battery";
     const TITLE: &str = "battery";
     let decivolts = state.battery_decivolts;
@@ -454,11 +456,11 @@ pub fn battery(state: &SystemState) -> Check {
                 volts(BATTERY_CUTOFF_DV)
             ),
         )
-    } else if decivolts < BATTERY_WARNING_DV {
+    } else if decivolts < warning_dv {
         Check::warn(
             ID,
             TITLE,
-            format!("{finding}: below the {} V alarm voltage", volts(BATTERY_WARNING_DV)),
+            format!("{finding}: below the {} V alarm voltage", volts(warning_dv)),
             "finish the task and charge soon",
         )
     } else {
@@ -535,6 +537,7 @@ fn outcome_of(severity: Severity) -> Outcome {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::protocol::constants::BATTERY_WARNING_DV;
     use crate::protocol::message::{MotorLowSpeed, RcState, MODE_CAN, MODE_RC, MODE_SERIAL, MODE_STANDBY};
 
     fn state(vehicle_state: u8, control_mode: u8, decivolts: u16, fault_code: u16) -> SystemState {
@@ -550,6 +553,7 @@ mod tests {
             wire,
             hint: ProtocolHint::Auto,
             now: Instant::now(),
+            battery_warning_dv: BATTERY_WARNING_DV,
         }
     }
 
@@ -598,7 +602,7 @@ mod tests {
 
     #[test]
     fn battery_thresholds_follow_the_manual() {
-        let outcome = |decivolts| battery(&state(0, 1, decivolts, 0)).outcome;
+        let outcome = |decivolts| battery(&state(0, 1, decivolts, 0), BATTERY_WARNING_DV).outcome;
         assert_eq!(outcome(259), Outcome::Pass);
         assert_eq!(outcome(225), Outcome::Pass);
         assert_eq!(outcome(224), Outcome::Warn);

@@ -82,6 +82,7 @@ pub fn run(global: &Global, options: &Options) -> Result<u8> {
             probe: options.probe,
             listen: options.listen,
             format: crate::commands::doctor::report::ReportFormat::Text,
+            battery_warning_volts: global.battery_warning_volts,
         },
         record,
     };

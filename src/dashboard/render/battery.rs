@@ -9,7 +9,7 @@ use ratatui::Frame;
 
 use super::theme::{block, Theme};
 use crate::dashboard::app::{App, BatteryZone, BATTERY_GAUGE_TOP_DV};
-use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV, BATTERY_WARNING_DV};
+use crate::protocol::constants::{BATTERY_CUTOFF_DV, BATTERY_FAULT_DV};
 
 pub(super) fn render_battery(frame: &mut Frame, area: Rect, app: &App, theme: Theme, compact: bool) {
     let block = block("Battery", theme);
@@ -20,10 +20,10 @@ pub(super) fn render_battery(frame: &mut Frame, area: Rect, app: &App, theme: Th
         return;
     };
     let decivolts = system.decivolts;
-    let zone = BatteryZone::of(decivolts);
+    let zone = BatteryZone::of(decivolts, app.battery_warning_dv);
     let (zone_text, gauge_label) = match zone {
         BatteryZone::Ok => ("ok".to_string(), "OK"),
-        BatteryZone::Warning => (format!("[warning] <= {}", volts(BATTERY_WARNING_DV)), "WARNING"),
+        BatteryZone::Warning => (format!("[warning] <= {}", volts(app.battery_warning_dv)), "WARNING"),
         BatteryZone::Fault => (format!("[fault] <= {}", volts(BATTERY_FAULT_DV)), "FAULT"),
         BatteryZone::CutOff => (format!("[fault] cut-off <= {}", volts(BATTERY_CUTOFF_DV)), "CUT-OFF"),
     };
@@ -62,7 +62,7 @@ pub(super) fn render_battery(frame: &mut Frame, area: Rect, app: &App, theme: Th
     if !compact {
         let scale = format!(
             "warn {} fault {} cut {}",
-            volts_bare(BATTERY_WARNING_DV),
+            volts_bare(app.battery_warning_dv),
             volts_bare(BATTERY_FAULT_DV),
             volts_bare(BATTERY_CUTOFF_DV)
         );
