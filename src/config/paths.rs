@@ -65,6 +65,8 @@ mod tests {
         move |name| pairs.iter().find(|(key, _)| *key == name).map(|(_, value)| OsString::from(value))
     }
 
+    /// The Linux layout (its paths are Unix paths: `/cfg` is not absolute on Windows).
+    #[cfg(unix)]
     #[test]
     fn the_system_file_then_the_users() {
         let home = [("HOME", "/home/op")];
@@ -87,6 +89,10 @@ mod tests {
             standard(false, env(&[("XDG_CONFIG_HOME", "")])),
             [PathBuf::from("/etc/tracerctl/config.toml")]
         );
+    }
+
+    #[test]
+    fn on_windows_the_users_file_only() {
         let windows = [("APPDATA", r"C:\Users\op\AppData\Roaming"), ("HOME", "/home/op")];
         assert_eq!(
             standard(true, env(&windows)),
