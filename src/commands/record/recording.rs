@@ -478,9 +478,13 @@ impl<'a> Recorder<'a> {
 /// "network is down" first, whose advice, bringing it up, does not apply to an unplugged adapter).
 fn lost_why(link: &crate::link::LinkChoice, error: String) -> String {
     if let crate::link::LinkChoice::SocketCan { iface } = link {
+        // `ip link del` and an unplugged adapter take the interface down first, then away.
+        std::thread::sleep(Duration::from_millis(200));
         if cfg!(target_os = "linux") && !Path::new("/sys/class/net").join(iface).exists() {
             return format!("the interface {iface} is gone (adapter unplugged, or the interface deleted)");
         }
+        // The socket's error knows no name.
+        return error.replace("IFACE", iface);
     }
     error
 }
