@@ -1138,6 +1138,8 @@ ck_record_link_vanishes() {
         fail "the recorder did not wait for vcan0: it $during while vcan0 was gone"
     elif [ -z "$lostmsg" ]; then
         fail "the recorder did not say it lost vcan0 (no 'lost vcan0' on stderr)"
+    elif [ "${lostmsg#*vcan0 is gone}" = "$lostmsg" ]; then
+        fail "the recorder did not say vcan0 is gone: '$lostmsg'"
     elif [ -z "$backmsg" ]; then
         fail "the recorder did not say vcan0 is back within 10 s of its return"
     elif [ "$nafter" != 10 ] || [ "$after_found" != 10 ]; then
