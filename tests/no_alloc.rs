@@ -1,9 +1,6 @@
 //! The decode hot path (and monitor's text line) allocates nothing per line: decoding 20x more lines costs exactly as many heap
 //! allocations (all of them set-up). Allocations are counted on the test's own thread only.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use tracerctl::candump::{Line, LineParser, LineReader, LogFormat, RawLine, TextFormat};
 use tracerctl::commands::decode::summary::Summary;
 use tracerctl::output::stamp::TimeMode;
@@ -11,41 +8,9 @@ use tracerctl::output::text::{self, Columns};
 use tracerctl::output::{Event, EventWriter, Format, FrameRef};
 use tracerctl::protocol::{decode, ProtocolHint};
 
-struct CountingAllocator;
-
-thread_local! {
-    // Counted per thread: the test harness allocates on its own threads at any time.
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn count_one() {
-    let _ = ALLOCATIONS.try_with(|count| count.set(count.get() + 1));
-}
-
-fn allocations_so_far() -> usize {
-    ALLOCATIONS.with(Cell::get)
-}
-
-// SAFETY: every call goes to the system allocator with the caller's arguments, under the same contract.
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count_one();
-        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count_one();
-        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations_so_far;
 
 /// A mix of log and console lines (coloured ones too), TRACER and other frames.
 const SAMPLE: &[&str] = &[

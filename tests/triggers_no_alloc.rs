@@ -1,50 +1,15 @@
 //! The black box's trigger watcher allocates nothing per frame when nothing fires: watching 20x more frames
 //! costs exactly as many heap allocations (all of them set-up). Counted on the test's own thread only.
 
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::cell::Cell;
-
 use tracerctl::blackbox::triggers::{TriggerSettings, Watcher};
 use tracerctl::candump::{Timestamp, TimestampKind};
 use tracerctl::protocol::can::{encode_v1, encode_v2};
 use tracerctl::protocol::message::*;
 use tracerctl::protocol::{serial, LinkFrame};
 
-struct CountingAllocator;
-
-thread_local! {
-    // Counted per thread: the test harness allocates on its own threads at any time.
-    static ALLOCATIONS: Cell<usize> = const { Cell::new(0) };
-}
-
-fn count_one() {
-    let _ = ALLOCATIONS.try_with(|count| count.set(count.get() + 1));
-}
-
-fn allocations_so_far() -> usize {
-    ALLOCATIONS.with(Cell::get)
-}
-
-// SAFETY: every call goes to the system allocator with the caller's arguments, under the same contract.
-unsafe impl GlobalAlloc for CountingAllocator {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        count_one();
-        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
-        unsafe { System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
-        unsafe { System.dealloc(ptr, layout) }
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        count_one();
-        // SAFETY: the caller's arguments, under GlobalAlloc's contract.
-        unsafe { System.realloc(ptr, layout, new_size) }
-    }
-}
-
-#[global_allocator]
-static GLOBAL: CountingAllocator = CountingAllocator;
+#[path = "support/counting_alloc.rs"]
+mod counting_alloc;
+use counting_alloc::allocations_so_far;
 
 /// One 20 ms period of a healthy robot on each wire: V2 with every feedback frame, V1, RS232.
 fn period() -> Vec<LinkFrame> {

@@ -5,6 +5,8 @@
 
 use std::time::{Duration, UNIX_EPOCH};
 
+use crate::candump::{Timestamp, TimestampKind};
+
 /// A segment's file name ends so: candump -L text in zstd frames.
 pub const SEGMENT_SUFFIX: &str = ".log.zst";
 
@@ -44,6 +46,16 @@ pub fn parse_stamp(stamp: &str) -> Option<u64> {
     );
     let time = humantime::parse_rfc3339(&text).ok()?;
     u64::try_from(time.duration_since(UNIX_EPOCH).ok()?.as_micros()).ok()
+}
+
+/// A frame's stamp in the recorder's microseconds.
+pub fn micros(ts: &Timestamp) -> u64 {
+    u64::try_from(ts.as_nanos() / 1000).unwrap_or(u64::MAX)
+}
+
+/// The stamp of a time in microseconds.
+pub fn timestamp(us: u64) -> Timestamp {
+    Timestamp { secs: us / 1_000_000, nanos: (us % 1_000_000) as u32 * 1000, kind: TimestampKind::Absolute }
 }
 
 /// A segment's file name for a segment whose first frame is at `us`.
@@ -113,6 +125,13 @@ mod tests {
         assert_eq!(parse_stamp("2026112"), None);
         assert_eq!(parse_stamp("20261128X134500Z"), None);
         assert_eq!(parse_stamp("2026112éT134500Z"), None);
+    }
+
+    #[test]
+    fn stamps_to_microseconds_and_back() {
+        let ts = Timestamp { secs: 1_700_000_000, nanos: 2_500_999, kind: TimestampKind::Absolute };
+        assert_eq!(micros(&ts), 1_700_000_000_002_500);
+        assert_eq!(timestamp(1_700_000_000_002_500), Timestamp { nanos: 2_500_000, ..ts });
     }
 
     #[test]

@@ -251,11 +251,9 @@ impl<R: Read> Read for Inflate<R> {
 
 #[cfg(test)]
 mod tests {
+    use super::super::open::tests::{compress, ALL};
     use super::super::open_log;
     use super::*;
-    use std::io::Write;
-
-    const ALL: [Compression; 4] = [Compression::Gzip, Compression::Zstd, Compression::Xz, Compression::Bzip2];
 
     fn log(lines: std::ops::Range<usize>) -> Vec<u8> {
         lines
@@ -263,32 +261,6 @@ mod tests {
                 format!("(1700000000.{i:06}) can0 211#00000103000000{:02X}\n", i % 256).into_bytes()
             })
             .collect()
-    }
-
-    fn compress(compression: Compression, data: &[u8]) -> Vec<u8> {
-        match compression {
-            Compression::Gzip => {
-                let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-                encoder.write_all(data).unwrap();
-                encoder.finish().unwrap()
-            }
-            Compression::Zstd => {
-                let mut encoder = zstd::stream::write::Encoder::new(Vec::new(), 3).unwrap();
-                encoder.include_checksum(true).unwrap();
-                encoder.write_all(data).unwrap();
-                encoder.finish().unwrap()
-            }
-            Compression::Xz => {
-                let mut encoder = liblzma::write::XzEncoder::new(Vec::new(), 6);
-                encoder.write_all(data).unwrap();
-                encoder.finish().unwrap()
-            }
-            Compression::Bzip2 => {
-                let mut encoder = bzip2::write::BzEncoder::new(Vec::new(), bzip2::Compression::default());
-                encoder.write_all(data).unwrap();
-                encoder.finish().unwrap()
-            }
-        }
     }
 
     /// Everything `open_log` gives for `bytes`: the text, then the error if any (`None` if refused).

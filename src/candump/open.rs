@@ -446,4 +446,4 @@ impl fmt::Display for LogFormat {
 
 #[cfg(test)]
 #[path = "open_tests.rs"]
-mod tests;
+pub(super) mod tests;

@@ -11,14 +11,20 @@ fn open(bytes: &[u8], name: &str) -> Result<(Vec<u8>, LogFormat), FormatError> {
     Ok((text, format))
 }
 
-fn compress(compression: Compression, data: &[u8]) -> Vec<u8> {
+/// `data` compressed as the command-line tools write it (zstd with its checksum), for open and inflate.
+pub(in crate::candump) fn compress(compression: Compression, data: &[u8]) -> Vec<u8> {
     match compression {
         Compression::Gzip => {
             let mut encoder = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
             encoder.write_all(data).unwrap();
             encoder.finish().unwrap()
         }
-        Compression::Zstd => zstd::encode_all(data, 3).unwrap(),
+        Compression::Zstd => {
+            let mut encoder = zstd::stream::write::Encoder::new(Vec::new(), 3).unwrap();
+            encoder.include_checksum(true).unwrap();
+            encoder.write_all(data).unwrap();
+            encoder.finish().unwrap()
+        }
         Compression::Xz => {
             let mut encoder = liblzma::write::XzEncoder::new(Vec::new(), 6);
             encoder.write_all(data).unwrap();
@@ -32,7 +38,8 @@ fn compress(compression: Compression, data: &[u8]) -> Vec<u8> {
     }
 }
 
-const ALL: [Compression; 4] = [Compression::Gzip, Compression::Zstd, Compression::Xz, Compression::Bzip2];
+pub(in crate::candump) const ALL: [Compression; 4] =
+    [Compression::Gzip, Compression::Zstd, Compression::Xz, Compression::Bzip2];
 
 #[test]
 fn compressed_logs_are_recognised_by_their_bytes_and_decompressed() {

@@ -14,7 +14,7 @@ use crate::blackbox::ring::Ring;
 use crate::blackbox::triggers::Cause;
 use crate::blackbox::window::Window;
 use crate::blackbox::{incidents_dir, names};
-use crate::candump::{Line, LineParser, Timestamp, TimestampKind};
+use crate::candump::{Line, LineParser, Timestamp};
 use crate::commands::decode::summary::Summary;
 use crate::commands::decode::InputStats;
 use crate::output::mcap::{Compression, McapWriter, Provenance};
@@ -213,12 +213,7 @@ fn serial_line(line: &[u8]) -> Option<(SerialFrame, Timestamp, &str)> {
     let us = names::line_time(line)?;
     let close = memchr::memchr(b')', &line[comment..])? + comment;
     let port = std::str::from_utf8(line.get(close + 2..)?).ok()?;
-    let ts = Timestamp {
-        secs: us / 1_000_000,
-        nanos: (us % 1_000_000) as u32 * 1000,
-        kind: TimestampKind::Absolute,
-    };
-    Some((frame, ts, port))
+    Some((frame, names::timestamp(us), port))
 }
 
 fn incident_json(request: &Request, name: &str, frames: u64, damaged: &[String], decoded: &Decoded) -> Value {

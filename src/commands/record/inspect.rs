@@ -258,7 +258,7 @@ pub fn mark(dir: &Path, note: &str) -> Result<u8> {
         }
         .into());
     };
-    let now = u64::try_from(crate::link::now_timestamp().as_nanos() / 1000).unwrap_or(u64::MAX);
+    let now = names::micros(&crate::link::now_timestamp());
     let path = marks::write(dir, now, note)
         .map_err(|error| anyhow::anyhow!("cannot leave a mark in {}: {error}", marks::dir(dir).display()))?;
     crate::say!(

@@ -23,7 +23,6 @@ use crate::blackbox::status::Status;
 use crate::blackbox::triggers::{Cause, Trigger, Watcher};
 use crate::blackbox::window::{Window, Windows};
 use crate::blackbox::{marks, names};
-use crate::candump::{Timestamp, TimestampKind};
 use crate::commands::Global;
 use crate::exit::{Failure, FAILURE, SUCCESS};
 use crate::link::FrameRx;
@@ -119,19 +118,11 @@ fn link_name(global: &Global) -> String {
 }
 
 fn wall_us() -> u64 {
-    micros_of(&crate::link::now_timestamp())
-}
-
-fn micros_of(ts: &Timestamp) -> u64 {
-    u64::try_from(ts.as_nanos() / 1000).unwrap_or(u64::MAX)
+    names::micros(&crate::link::now_timestamp())
 }
 
 fn micros(duration: Duration) -> u64 {
     u64::try_from(duration.as_micros()).unwrap_or(u64::MAX)
-}
-
-fn stamp(us: u64) -> Timestamp {
-    Timestamp { secs: us / 1_000_000, nanos: (us % 1_000_000) as u32 * 1000, kind: TimestampKind::Absolute }
 }
 
 /// Why recording ended.
@@ -318,7 +309,7 @@ impl<'a> Recorder<'a> {
     }
 
     fn frame(&mut self, received: &crate::link::Received) {
-        let time = micros_of(&received.ts);
+        let time = names::micros(&received.ts);
         self.last_frame = time;
         match self.segment_start {
             Some(start) if time.saturating_sub(start) < micros(self.settings.segment) => {}
@@ -343,7 +334,7 @@ impl<'a> Recorder<'a> {
     fn take_triggers(&mut self) {
         let fired = std::mem::take(&mut self.fired);
         for trigger in &fired {
-            self.trigger(micros_of(&trigger.at), trigger.cause.clone());
+            self.trigger(names::micros(&trigger.at), trigger.cause.clone());
         }
         self.fired = fired;
         self.fired.clear();
@@ -374,7 +365,7 @@ impl<'a> Recorder<'a> {
         self.ticked = Instant::now();
         let now = self.now();
         if !self.replay {
-            self.watcher.tick(stamp(now), &mut self.fired);
+            self.watcher.tick(names::timestamp(now), &mut self.fired);
             self.take_triggers();
             self.close_due(now.saturating_sub(LIVE_GRACE_US));
         }

@@ -122,7 +122,7 @@ impl Writer {
 
     fn write_status(&mut self) {
         let mut status = self.status.lock();
-        status.updated = crate::link::now_timestamp().as_nanos() as u64 / 1000;
+        status.updated = names::micros(&crate::link::now_timestamp());
         match status.write(&self.dir) {
             Ok(()) => self.status_failing = false,
             Err(error) if !self.status_failing => {
