@@ -31,9 +31,18 @@ kdir=$work/kernel
 if [ ! -s "$kdir/vmlinuz" ] || [ ! -s "$kdir/modules/vcan.ko" ]; then
     die "no kernel in $kdir: run tests/vm/run.sh first (it downloads it)"
 fi
-for cmd in qemu-system-x86_64 cpio candump cansend ip /usr/lib/systemd/systemd systemd-escape journalctl; do
-    command -v "$cmd" >/dev/null || die "$cmd is missing (packages: qemu-system-x86 cpio can-utils iproute2 systemd)"
+# Installed when missing (a fresh machine: CI installs nothing for this step before it).
+missing=()
+for pair in qemu-system-x86_64:qemu-system-x86 cpio:cpio candump:can-utils cansend:can-utils ip:iproute2 \
+    /usr/lib/systemd/systemd:systemd systemd-escape:systemd journalctl:systemd; do
+    command -v "${pair%%:*}" >/dev/null || missing+=("${pair#*:}")
 done
+if [ ${#missing[@]} -gt 0 ]; then
+    mapfile -t missing < <(printf '%s\n' "${missing[@]}" | sort -u)
+    { DEBIAN_FRONTEND=noninteractive apt-get update -qq &&
+        DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"; } >&2 ||
+        die "apt-get install ${missing[*]} failed"
+fi
 if [ $stand_in = 0 ]; then
     [ -x "$bin" ] || die "no tracerctl at $bin (cargo build --release --locked, or --bin)"
     "$bin" record --help >/dev/null 2>&1 || die "$bin has no 'record' command: use --stand-in"
