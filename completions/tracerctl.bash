@@ -19,6 +19,9 @@ _tracerctl() {
             tracerctl,clear-errors)
                 cmd="tracerctl__subcmd__clear__subcmd__errors"
                 ;;
+            tracerctl,commission)
+                cmd="tracerctl__subcmd__commission"
+                ;;
             tracerctl,completions)
                 cmd="tracerctl__subcmd__completions"
                 ;;
@@ -85,6 +88,9 @@ _tracerctl() {
             tracerctl__subcmd__help,clear-errors)
                 cmd="tracerctl__subcmd__help__subcmd__clear__subcmd__errors"
                 ;;
+            tracerctl__subcmd__help,commission)
+                cmd="tracerctl__subcmd__help__subcmd__commission"
+                ;;
             tracerctl__subcmd__help,completions)
                 cmd="tracerctl__subcmd__help__subcmd__completions"
                 ;;
@@ -140,7 +146,7 @@ _tracerctl() {
 
     case "${cmd}" in
         tracerctl)
-            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version decode monitor drive doctor mode clear-errors lights send-raw sim dashboard dash record report completions config help"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard dash record report completions config help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 1 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -171,7 +177,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -190,7 +200,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__clear__subcmd__errors)
-            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version all motor1 motor2"
+            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version all motor1 motor2"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -225,7 +235,101 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
+                    return 0
+                    ;;
+                --replay)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --speed)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__commission)
+            opts="-f -h -V --max-linear --max-angular --include --yes --dry-run --record --format --plot --save --compare --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                --max-linear)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --max-angular)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --include)
+                    COMPREPLY=($(compgen -W "timeout" -- "${cur}"))
+                    return 0
+                    ;;
+                --record)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --format)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                -f)
+                    COMPREPLY=($(compgen -W "text json" -- "${cur}"))
+                    return 0
+                    ;;
+                --plot)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --save)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --compare)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --protocol)
+                    COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
+                    return 0
+                    ;;
+                --color)
+                    COMPREPLY=($(compgen -W "auto always never" -- "${cur}"))
+                    return 0
+                    ;;
+                --profile)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --iface)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --serial)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --baud)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
+                --fault)
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -244,7 +348,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__completions)
-            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version bash elvish fish powershell zsh"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version bash elvish fish powershell zsh"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -275,7 +379,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -294,7 +402,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__config)
-            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version show path help"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version show path help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -325,7 +433,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -400,7 +512,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__config__subcmd__path)
-            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -431,7 +543,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -450,7 +566,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__config__subcmd__show)
-            opts="-f -h -V --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --format --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -489,7 +605,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -508,7 +628,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__dashboard)
-            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --max-linear --max-angular --accel --angular-accel --decel --angular-decel --watch --record --key-timeout --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -571,7 +691,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -590,7 +714,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__decode)
-            opts="-f -o -s -j -h -V --format --output --mcap-compression --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --no-mmap --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -o -s -j -h -V --format --output --mcap-compression --summary --strict --id --msg --delta-stamps --no-progress --plot --threads --no-mmap --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -692,7 +816,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -711,7 +839,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__doctor)
-            opts="-f -h -V --probe --listen --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --probe --listen --format --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -754,7 +882,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -773,7 +905,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__drive)
-            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --linear --angular --duration --for --max-linear --max-angular --accel --angular-accel --decel --angular-decel --ignore-faults --format --record --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -827,6 +959,10 @@ _tracerctl() {
                     COMPREPLY=($(compgen -W "text json" -- "${cur}"))
                     return 0
                     ;;
+                --record)
+                    COMPREPLY=($(compgen -f "${cur}"))
+                    return 0
+                    ;;
                 --protocol)
                     COMPREPLY=($(compgen -W "auto v1 v2" -- "${cur}"))
                     return 0
@@ -852,7 +988,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -871,7 +1011,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help)
-            opts="decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help"
+            opts="decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -885,6 +1025,20 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__help__subcmd__clear__subcmd__errors)
+            opts=""
+            if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
+                COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+                return 0
+            fi
+            case "${prev}" in
+                *)
+                    COMPREPLY=()
+                    ;;
+            esac
+            COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
+            return 0
+            ;;
+        tracerctl__subcmd__help__subcmd__commission)
             opts=""
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 3 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
@@ -1123,7 +1277,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__lights)
-            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --front --brightness --rear --rear-brightness --release --timeout --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1174,7 +1328,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -1193,7 +1351,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__mode)
-            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version can serial standby"
+            opts="-h -V --timeout --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version can serial standby"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1228,7 +1386,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -1247,7 +1409,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__monitor)
-            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -t -n -h -V --format --raw --id --msg --log --duration --silence --timestamp --count --no-data --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1325,7 +1487,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -1344,7 +1510,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__record)
-            opts="-f -h -V --dir --segment --max-total --max-age --before --after --max-incidents --trigger --no-default-triggers --instance --dry-run --status --list --mark --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --dir --segment --max-total --max-age --before --after --max-incidents --trigger --no-default-triggers --instance --dry-run --status --list --mark --format --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1422,7 +1588,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -1441,7 +1611,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__report)
-            opts="-o -h -V --output --force --dir --probe --listen --max-size --incidents --ring-minutes --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-o -h -V --output --force --dir --probe --listen --max-size --incidents --ring-minutes --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1500,7 +1670,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -1519,7 +1693,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__send__subcmd__raw)
-            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-f -h -V --repeat --period --force --fix-checksum --format --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1566,7 +1740,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)
@@ -1585,7 +1763,7 @@ _tracerctl() {
             return 0
             ;;
         tracerctl__subcmd__sim)
-            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --profile --iface --serial --baud --sim --fault --replay --speed --help --version"
+            opts="-h -V --pty --rc --battery --drain --duration --protocol --color --profile --iface --serial --baud --sim --fault --sim-param --replay --speed --help --version"
             if [[ ${cur} == -* || ${COMP_CWORD} -eq 2 ]] ; then
                 COMPREPLY=( $(compgen -W "${opts}" -- "${cur}") )
                 return 0
@@ -1632,7 +1810,11 @@ _tracerctl() {
                     return 0
                     ;;
                 --fault)
-                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top" -- "${cur}"))
+                    COMPREPLY=($(compgen -W "estop estop-release motor1-overheat motor2-overheat overcurrent motor1-overcurrent motor2-overcurrent motor1-comm motor2-comm battery-warning battery-low battery-empty battery-ok rc-lost rc-restore swb-middle swb-top other-host" -- "${cur}"))
+                    return 0
+                    ;;
+                --sim-param)
+                    COMPREPLY=($(compgen -W "dead-time= lag= max-accel= left-gain= right-gain= track-width= odometer-scale= command-timeout= battery-ocv= battery-r= noise= seed=" -- "${cur}"))
                     return 0
                     ;;
                 --replay)

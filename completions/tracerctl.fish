@@ -1,6 +1,6 @@
 # Print an optspec for argparse to handle cmd's options that are independent of any subcommand.
 function __fish_tracerctl_global_optspecs
-    string join \n protocol= color= profile= iface= serial= baud= sim fault= replay= speed= h/help V/version
+    string join \n protocol= color= profile= iface= serial= baud= sim fault= sim-param= replay= speed= h/help V/version
 end
 
 function __fish_tracerctl_needs_command
@@ -50,7 +50,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -59,6 +72,7 @@ complete -c tracerctl -n "__fish_tracerctl_needs_command" -s V -l version -d 'Pr
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
+complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "commission" -d 'Acceptance test drive: measure how the robot answers, PASS/WARN/FAIL per figure'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
 complete -c tracerctl -n "__fish_tracerctl_needs_command" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
@@ -126,7 +140,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand decode" -s s -l summary -d 'Print a report instead of every frame: rates, gaps, lost frames, modes, faults, battery, distance'
@@ -192,7 +219,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand monitor" -l raw -d 'Print frames as candump -L lines, undecoded (so not with --format)'
@@ -211,6 +251,7 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l decel -d '
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l angular-decel -d 'Angular braking, rad/s²; at least --angular-accel' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s f -l format -d 'Status lines and final report on stdout: text, or JSON (docs/json.md)' -r -f -a "text\t'Lines for people'
 json\t'JSON (docs/json.md)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l record -d 'Record the frames received and sent to FILE (candump log; MCAP for a .mcap name)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
 v1\t'CAN protocol V1 (older firmware, checksummed frames)'
 v2\t'CAN protocol V2 (current firmware)'"
@@ -237,13 +278,82 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l ignore-faults -d 'Start even with the E-stop pressed or a latched fault (the robot may still refuse)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s h -l help -d 'Print help (see more with \'--help\')'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand drive" -s V -l version -d 'Print version'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l max-linear -d 'Cap on the linear speed of the steps, m/s (at most 0.6 is used: the 1 m straight must hold a step)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l max-angular -d 'Cap on the angular speed of the spins, rad/s (at most 0.7853 is used)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l include -d 'Add an opt-in step (repeatable)' -r -f -a "timeout\t'The command-timeout probe: nothing is sent for 1.5 s at 0.1 m/s; the robot must stop by itself'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l record -d 'Write a candump log of the run (frames received and sent) to FILE; a .mcap name writes MCAP' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -s f -l format -d 'The report on stdout: text, or one JSON object (docs/commission.md)' -r -f -a "text\t'Lines for people'
+json\t'JSON (docs/json.md)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l plot -d 'Draw each step (commanded, measured and wheel speeds) into FILE.svg' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l save -d 'Keep the JSON record as DIR/<link>-<UTC time>.json (never overwriting)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l compare -d 'After the run, show each figure\'s old and new value and flag what drifted since OLD.json' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l protocol -d 'Protocol version: auto detects from the identifiers on the bus' -r -f -a "auto\t'Decide from the traffic'
+v1\t'CAN protocol V1 (older firmware, checksummed frames)'
+v2\t'CAN protocol V2 (current firmware)'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l color -d 'When to colour output (an explicit always or never overrides NO_COLOR)' -r -f -a "auto\t'Colour on a terminal, unless the NO_COLOR environment variable is set'
+always\t'Colour even into a pipe or a file, even with NO_COLOR set'
+never\t'Never colour'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l profile -d 'Settings of this robot\'s profile in the configuration files ([profiles.NAME]; tracerctl config show)' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l iface -d 'CAN interface [default: $TRACERCTL_IFACE or can0]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l serial -d 'RS232 port (e.g. /dev/ttyUSB0) instead of CAN; for `decode`, an RS232 capture (raw bytes or hex)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l baud -d 'Serial baud rate (with --serial) [default: 115200]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l fault -d 'Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)' -r -f -a "estop\t'press the E-stop: stops at once, commands ignored'
+estop-release\t'release the E-stop: standby until command mode again'
+motor1-overheat\t'driver 1 at 70 C: over-temperature protection latches'
+motor2-overheat\t'driver 2 at 70 C: over-temperature protection latches'
+overcurrent\t'over-current protection latches on both drivers'
+motor1-overcurrent\t'over-current protection latches on driver 1'
+motor2-overcurrent\t'over-current protection latches on driver 2'
+motor1-comm\t'driver 1 communication lost: latches until cleared'
+motor2-comm\t'driver 2 communication lost: latches until cleared'
+battery-warning\t'battery to 22.4 V: under-voltage warning'
+battery-low\t'battery to 21.9 V: under-voltage; heavy loads cut off'
+battery-empty\t'battery to 21.4 V: cut off until battery-ok'
+battery-ok\t'fresh battery at the start voltage'
+rc-lost\t'RC transmitter link lost: motion stops'
+rc-restore\t'RC transmitter link back'
+swb-middle\t'SWB to the middle: RC mode, host commands ignored'
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l yes -d 'Drive without asking on the terminal (the operator has checked the free space)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l dry-run -d 'Print the steps, the bounds and the duration, and exit: no link opened, nothing sent'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -s h -l help -d 'Print help (see more with \'--help\')'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand commission" -s V -l version -d 'Print version'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l listen -d 'How long to listen to the robot (100ms to 10m)' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -s f -l format -d 'Format of the report' -r -f -a "text\t'Lines for people'
 json\t'JSON (docs/json.md)'"
@@ -273,7 +383,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand doctor" -l probe -d 'Also check that the robot accepts commands: control mode and zero-velocity motion (it does not move)'
@@ -307,7 +430,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand mode" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -340,7 +476,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand clear-errors" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -383,7 +532,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand lights" -l release -d 'Hand the lights back to the firmware'
@@ -420,7 +582,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand send-raw" -l force -d 'Allow frames that can move the robot (0x111, 0x130, 0x421, RS232 motion control), and frames the robot would reject (a TRACER identifier with the wrong length or checksum)'
@@ -459,7 +634,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand sim" -l pty -d 'Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port'
@@ -500,7 +688,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dashboard" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
@@ -541,7 +742,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand dash" -l watch -d 'Watch only: never arm driving, never send anything (for a robot that ROS or an RC transmitter drives)'
@@ -585,7 +799,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand record" -l no-default-triggers -d 'Only the --trigger expressions and marks, not the default triggers'
@@ -628,7 +855,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand report" -l force -d 'Replace an existing file of that name'
@@ -662,7 +902,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand completions" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -694,7 +947,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and not __fish_seen_subcommand_from show path help" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -731,7 +997,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from show" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -763,7 +1042,20 @@ battery-ok\t'fresh battery at the start voltage'
 rc-lost\t'RC transmitter link lost: motion stops'
 rc-restore\t'RC transmitter link back'
 swb-middle\t'SWB to the middle: RC mode, host commands ignored'
-swb-top\t'RC switch SWB to the top: command mode allowed'"
+swb-top\t'RC switch SWB to the top: command mode allowed'
+other-host\t'another host takes the mode (CAN vs RS232) for 200 ms'"
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l sim-param -d 'Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)' -r -f -a "dead-time=\t'delay from a target change to the drive acting on it'
+lag=\t'first-order lag of actual speeds behind the ramp (0: none)'
+max-accel=\t'linear accel. and braking limit; angular: 2 x this, rad/s2'
+left-gain=\t'left wheel\'s actual speed / its command (tyre wear, motor)'
+right-gain=\t'right wheel\'s actual speed / its command'
+track-width=\t'effective track the body turns with (firmware: 0.36 m)'
+odometer-scale=\t'the odometers report this x the true wheel distance'
+command-timeout=\t'target drops to 0 this long after the last command came'
+battery-ocv=\t'open-circuit battery voltage at the start'
+battery-r=\t'battery internal resistance: voltage sag = current x this'
+noise=\t'std dev of noise on reported values, in each field\'s quanta'
+seed=\t'noise generator seed: the same seed gives the same frames'"
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l replay -d 'Play back a candump log as a read-only source (for monitor, dashboard)' -r -F
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l speed -d 'Replay speed factor (with --replay; 2 = twice as fast; 0 = as fast as possible; at most 1000) [default: 1]' -r
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from path" -l sim -d 'Drive an in-process virtual TRACER, not a robot'
@@ -772,20 +1064,21 @@ complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_s
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "show" -d 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "path" -d 'The configuration files looked for, in order, and which exist (reads none of them)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand config; and __fish_seen_subcommand_from help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "completions" -d 'Print a shell completion script to standard output'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "config" -d 'The configuration files: every effective setting with its source (show), the files read (path)'
-complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "decode" -d 'Decode candump logs, single frames or RS232 captures'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "monitor" -d 'Watch the live bus, decoded, with warnings when periodic frames go stale'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "drive" -d 'Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "commission" -d 'Acceptance test drive: measure how the robot answers, PASS/WARN/FAIL per figure'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "doctor" -d 'Why isn\'t it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "mode" -d 'Switch the control mode (0x421) and report it before and after'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "clear-errors" -d 'Clear latched faults (0x441) and report which bits cleared and which remain'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "lights" -d 'Set the lights (0x121), confirmed from the light state (0x231)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "send-raw" -d 'Show what raw frames mean, then send them (cansend syntax, or hex RS232 frames)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "sim" -d 'Run a virtual TRACER on a CAN interface (e.g. --iface vcan0) or a new pseudo-terminal (--pty)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "dashboard" -d 'Live dashboard: battery, faults, motors, odometry, link health; arrow keys drive'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "record" -d 'Black box: record the bus unattended, keep the minutes around each fault as an incident; never sends'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "report" -d 'Make the support bundle for the vendor: doctor, firmware version, rates, incidents, host facts'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "completions" -d 'Print a shell completion script to standard output'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "config" -d 'The configuration files: every effective setting with its source (show), the files read (path)'
+complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and not __fish_seen_subcommand_from decode monitor drive commission doctor mode clear-errors lights send-raw sim dashboard record report completions config help" -f -a "help" -d 'Print this message or the help of the given subcommand(s)'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "show" -d 'Every effective setting with its source: flag, env VAR, profile NAME (FILE:LINE), file FILE:LINE, default'
 complete -c tracerctl -n "__fish_tracerctl_using_subcommand help; and __fish_seen_subcommand_from config" -f -a "path" -d 'The configuration files looked for, in order, and which exist (reads none of them)'

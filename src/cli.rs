@@ -100,6 +100,9 @@ pub enum Command {
     Monitor(MonitorArgs),
     /// Drive at a fixed speed: 50 Hz commands, ramped and capped; Ctrl-C stops it
     Drive(DriveArgs),
+    /// Acceptance test drive: measure how the robot answers, PASS/WARN/FAIL per figure
+    #[command(after_help = reflow(COMMISSION_AFTER_HELP))]
+    Commission(CommissionArgs),
     /// Why isn't it moving? Check the link, bus, protocol, mode, E-stop, faults and battery (PASS/WARN/FAIL)
     #[command(after_help = doctor_after_help())]
     Doctor(DoctorArgs),
@@ -127,6 +130,106 @@ pub enum Command {
     /// The configuration files: every effective setting with its source (show), the files read (path)
     #[command(after_help = reflow(CONFIG_AFTER_HELP))]
     Config(ConfigArgs),
+}
+
+const COMMISSION_AFTER_HELP: &str = "\
+A bounded, guided test drive for delivery, after repairs and every month (docs/commission.md). It
+opens the link and listens (nothing is sent), runs the doctor's checks and drives only if they pass,
+shows the steps, the bounds, the duration and the free space it needs (1.5 m clear ahead and behind;
+it ends near where it started), and asks on the terminal (or --yes). Each step is sent as a step
+(the sender's ramp does not shape it) within --max-linear and --max-angular. Any key, Ctrl-C,
+SIGTERM, SIGHUP, an E-stop, a fault, the vehicle exception, RC override, a mode change, link silence,
+a serial peer that stops reading or a robot that does not follow stops it at once with zero frames;
+the report keeps what was measured before. Thresholds: the [commission] table of the configuration
+file (tracerctl config show).
+
+Examples:
+  What it would do (no link, nothing sent):
+    tracerctl commission --dry-run
+  On the robot, keeping the record in DIR and the recording:
+    tracerctl --iface can0 commission --record run.log --save DIR
+  A month later, what drifted (tyre wear, battery):
+    tracerctl --iface can0 commission --compare DIR/can0-2025-01-02T030405Z.json
+  On the simulator, with the command-timeout probe and a plot:
+    tracerctl --sim commission --yes --include timeout --plot run.svg
+
+Exit status: 0 every figure passed (warnings are said), 5 a figure failed, 4 the robot was not ready
+or the drive was aborted (E-stop, fault, RC, mode, key, not following, or cancelled at the prompt),
+1 an error (the link lost or stalled, the stop frames not sent), 2 usage error (also: no terminal
+and no --yes), 130/143/129 after SIGINT (or Ctrl-C)/SIGTERM/SIGHUP.";
+
+/// `commission --include`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum IncludeArg {
+    /// The command-timeout probe: nothing is sent for 1.5 s at 0.1 m/s; the robot must stop by itself
+    Timeout,
+}
+
+#[derive(Debug, Args)]
+pub struct CommissionArgs {
+    /// Cap on the linear speed of the steps, m/s (at most 0.6 is used: the 1 m straight must hold a step)
+    #[arg(long, default_value_t = 0.3, value_name = "M/S", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
+    pub max_linear: f64,
+
+    /// Cap on the angular speed of the spins, rad/s (at most 0.7853 is used)
+    #[arg(long, default_value_t = 0.5, value_name = "RAD/S", allow_negative_numbers = true, value_parser = number_in(LIMIT))]
+    pub max_angular: f64,
+
+    /// Add an opt-in step (repeatable)
+    #[arg(long, value_enum, value_name = "STEP")]
+    pub include: Vec<IncludeArg>,
+
+    /// Drive without asking on the terminal (the operator has checked the free space)
+    #[arg(long)]
+    pub yes: bool,
+
+    /// Print the steps, the bounds and the duration, and exit: no link opened, nothing sent
+    #[arg(long)]
+    pub dry_run: bool,
+
+    /// Write a candump log of the run (frames received and sent) to FILE; a .mcap name writes MCAP
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
+
+    /// The report on stdout: text, or one JSON object (docs/commission.md)
+    #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
+    pub format: ReportFormatArg,
+
+    /// Draw each step (commanded, measured and wheel speeds) into FILE.svg
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+
+    /// Keep the JSON record as DIR/<link>-<UTC time>.json (never overwriting)
+    #[arg(long, value_name = "DIR")]
+    pub save: Option<PathBuf>,
+
+    /// After the run, show each figure's old and new value and flag what drifted since OLD.json
+    #[arg(long, value_name = "OLD.json")]
+    pub compare: Option<PathBuf>,
+}
+
+impl CommissionArgs {
+    fn options(self, configured: &Configured) -> anyhow::Result<commands::commission::Options> {
+        if self.dry_run && self.compare.is_some() {
+            return Err(usage("--compare needs a run to compare: it does not go with --dry-run"));
+        }
+        Ok(commands::commission::Options {
+            plan: crate::health::plan::PlanOptions {
+                max_linear: self.max_linear,
+                max_angular: self.max_angular,
+                include_timeout: self.include.contains(&IncludeArg::Timeout),
+            },
+            yes: self.yes,
+            dry_run: self.dry_run,
+            record: self.record,
+            format: self.format.into(),
+            plot: self.plot,
+            save: self.save,
+            compare: self.compare,
+            thresholds: configured.commission_thresholds()?,
+            battery_warning_volts: configured.battery_warning_volts(),
+        })
+    }
 }
 
 const RECORD_AFTER_HELP: &str = "\
@@ -751,6 +854,10 @@ pub struct DriveArgs {
     /// Status lines and final report on stdout: text, or JSON (docs/json.md)
     #[arg(long, short = 'f', value_enum, default_value_t = ReportFormatArg::Text)]
     pub format: ReportFormatArg,
+
+    /// Record the frames received and sent to FILE (candump log; MCAP for a .mcap name)
+    #[arg(long, value_name = "FILE")]
+    pub record: Option<PathBuf>,
 }
 
 impl DriveArgs {
@@ -771,6 +878,7 @@ impl DriveArgs {
             limits,
             ignore_faults: self.ignore_faults,
             format: self.format.into(),
+            record: self.record,
         })
     }
 }
@@ -1113,7 +1221,7 @@ impl DashboardArgs {
 }
 
 #[derive(Debug, Args)]
-#[command(after_help = reflow(&crate::sim::fault_help()))]
+#[command(after_help = reflow(&format!("{}\n\n{}", crate::sim::fault_help(), crate::sim::param_help())))]
 pub struct SimArgs {
     /// Serve on a new pseudo-terminal (prints its path) instead of a CAN interface or --serial port
     #[arg(long)]
@@ -1164,6 +1272,7 @@ impl SimArgs {
         Ok(commands::sim::Options {
             pty: self.pty,
             faults: link.faults.clone(),
+            params: link.sim_params.clone(),
             rc,
             battery: self.battery,
             drain: self.drain,
@@ -1285,6 +1394,19 @@ fn fault_values() -> Vec<clap::builder::PossibleValue> {
     faults.map(|fault| clap::builder::PossibleValue::new(fault.name()).help(fault.description())).collect()
 }
 
+/// `--sim-param NAME=VALUE`: a known name, its value within the allowed range.
+fn parse_sim_param(text: &str) -> Result<crate::sim::SimParamSetting, String> {
+    text.parse().map_err(|error| format!("{error}"))
+}
+
+/// The simulator's parameter names (`NAME=`), for `--sim-param`'s completion.
+fn sim_param_values() -> Vec<clap::builder::PossibleValue> {
+    let params = crate::sim::SIM_PARAMS.iter();
+    params
+        .map(|param| clap::builder::PossibleValue::new(format!("{}=", param.name)).help(param.meaning))
+        .collect()
+}
+
 /// A value parser that parses with `parse` (clap shows its error text) and offers `values` to shell
 /// completion, for values a plain enum cannot list (`--fault NAME@TIME`, `--msg` names).
 #[derive(Clone, Copy)]
@@ -1340,6 +1462,10 @@ pub struct LinkArgs {
     /// Simulator fault NAME[@TIME], with --sim or `sim` (e.g. estop@0s, motor1-comm@2s; repeatable; TIME from the start, at most 30 days; `tracerctl sim --help` lists them)
     #[arg(long = "fault", global = true, value_name = "NAME[@TIME]", value_parser = Completing { parse: parse_fault, values: fault_values }, hide_possible_values = true)]
     pub faults: Vec<crate::sim::ScheduledFault>,
+
+    /// Simulator chassis parameter, with --sim or `sim` (e.g. dead-time=100ms, left-gain=0.95, track-width=0.38; repeatable; `tracerctl sim --help` lists them)
+    #[arg(long = "sim-param", global = true, value_name = "NAME=VAL", value_parser = Completing { parse: parse_sim_param, values: sim_param_values }, hide_possible_values = true)]
+    pub sim_params: Vec<crate::sim::SimParamSetting>,
 
     /// Play back a candump log as a read-only source (for monitor, dashboard)
     #[arg(long, global = true, value_name = "FILE")]
@@ -1424,6 +1550,7 @@ impl LinkArgs {
             (self.baud.is_some(), "--baud"),
             (self.speed.is_some(), "--speed"),
             (!self.faults.is_empty(), "--fault"),
+            (!self.sim_params.is_empty(), "--sim-param"),
         ];
         match live.iter().find(|(given, _)| *given) {
             Some((_, option)) => Err(usage(format!(
@@ -1713,6 +1840,38 @@ pub struct Configured {
 
 impl Configured {
     /// `battery.warning_volts`, else the manual's alarm voltage.
+    /// `commission`'s thresholds: the built-in ones, with the `[commission]` keys the files set.
+    fn commission_thresholds(&self) -> anyhow::Result<commands::commission::verdict::Thresholds> {
+        let mut thresholds = commands::commission::verdict::Thresholds::default();
+        for key in crate::config::KEYS.iter().filter(|key| key.table == "commission") {
+            if let Some(crate::config::Value::Number(value)) =
+                self.loaded.effective(key).map(|effective| &effective.setting.value)
+            {
+                thresholds.set(key.name, *value);
+            }
+        }
+        let t = &thresholds;
+        for (name, band) in [
+            ("dead_time", t.dead_time_ms),
+            ("rise_time", t.rise_time_ms),
+            ("overshoot", t.overshoot_percent),
+            ("gain_ratio", t.gain_ratio),
+            ("heading_drift", t.heading_drift_deg_per_m),
+            ("track_width", t.track_width_percent),
+            ("odometer_scale", t.odometer_scale_percent),
+            ("command_timeout", t.command_timeout_ms),
+            ("internal_resistance", t.internal_resistance_ohm),
+        ] {
+            if band.warn > band.fail {
+                return Err(usage(format!(
+                    "commission.{name}: the warning limit ({}) is beyond the failing one ({}) (tracerctl config show)",
+                    band.warn, band.fail
+                )));
+            }
+        }
+        Ok(thresholds)
+    }
+
     fn battery_warning_volts(&self) -> f64 {
         let key = crate::config::Key::find("battery.warning_volts");
         match key.and_then(|key| self.loaded.effective(key)).map(|effective| &effective.setting.value) {
@@ -1989,6 +2148,28 @@ fn built_in_default(top: &clap::Command, key: &crate::config::Key) -> Vec<String
     key.fallback.value().into_iter().collect()
 }
 
+/// `--fault` and `--sim-param` go to a simulator: `sim` itself or `--sim`'s (decode refuses them with the
+/// live options).
+fn refuse_simulator_options_without_one(link: &LinkArgs, command: &Command) -> anyhow::Result<()> {
+    let simulator = link.sim || matches!(command, Command::Sim(_));
+    if simulator || matches!(command, Command::Decode(_)) {
+        return Ok(());
+    }
+    if !link.faults.is_empty() {
+        return Err(usage(
+            "--fault injects a fault into the simulator: add --sim (e.g. tracerctl --sim --fault estop@0s doctor), \
+             or serve a simulator with `tracerctl sim --fault ...`",
+        ));
+    }
+    if !link.sim_params.is_empty() {
+        return Err(usage(
+            "--sim-param sets a parameter of the simulator: add --sim (e.g. tracerctl --sim --sim-param dead-time=100ms \
+             doctor), or serve a simulator with `tracerctl sim --sim-param ...`",
+        ));
+    }
+    Ok(())
+}
+
 /// Runs the parsed command line: each command's settings (usage errors first), the global ones, then the
 /// command. Returns the exit status.
 pub fn run(cli: Cli) -> anyhow::Result<u8> {
@@ -2002,21 +2183,16 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         let code = if error.is_usage() { crate::exit::USAGE } else { crate::exit::FAILURE };
         return Err(crate::exit::Failure { code, message: error.message }.into());
     }
-    // `--fault` goes to a simulator: `sim` itself or `--sim`'s (decode refuses it with the live options).
-    let simulator = link.sim || matches!(command, Command::Sim(_));
-    if !link.faults.is_empty() && !simulator && !matches!(command, Command::Decode(_)) {
-        return Err(usage(
-            "--fault injects a fault into the simulator: add --sim (e.g. tracerctl --sim --fault estop@0s doctor), \
-             or serve a simulator with `tracerctl sim --fault ...`",
-        ));
-    }
+    refuse_simulator_options_without_one(&link, &command)?;
     let sim_faults = link.faults.clone();
+    let sim_params = link.sim_params.clone();
     let battery_warning_volts = config.battery_warning_volts();
     let global = |link: LinkChoice| Global {
         link,
         color: color.into(),
         protocol: protocol.into(),
         sim_faults: sim_faults.clone(),
+        sim_params: sim_params.clone(),
         battery_warning_volts,
     };
     // What `decode` and `completions` get: they open no link.
@@ -2039,8 +2215,10 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
         }
         Command::Drive(args) => {
             let options = args.options()?;
+            link.refuse_overwriting("--record", options.record.as_deref())?;
             commands::drive::run(&global(link.choice()?), &options)
         }
+        Command::Commission(args) => commission(&link, &config, args, global),
         Command::Doctor(args) => {
             commands::doctor::run(&global(link.choice()?), &args.options(battery_warning_volts))
         }
@@ -2069,6 +2247,26 @@ pub fn run(cli: Cli) -> anyhow::Result<u8> {
             record(&global, options)
         }
     }
+}
+
+/// `commission`: its outputs refused where they are an input, then the run.
+fn commission(
+    link: &LinkArgs,
+    config: &Configured,
+    args: CommissionArgs,
+    global: impl Fn(LinkChoice) -> Global,
+) -> anyhow::Result<u8> {
+    use commands::same_file::{refuse_overwriting, Named};
+    let options = args.options(config)?;
+    let inputs: Vec<Named> = options.compare.iter().map(|path| Named { option: "--compare", path }).collect();
+    let outputs: Vec<Named> = [("--record", &options.record), ("--plot", &options.plot)]
+        .into_iter()
+        .filter_map(|(option, path)| Some(Named { option, path: path.as_deref()? }))
+        .collect();
+    refuse_overwriting(&inputs, &outputs)?;
+    link.refuse_overwriting("--record", options.record.as_deref())?;
+    link.refuse_overwriting("--plot", options.plot.as_deref())?;
+    commands::commission::run(&global(link.choice()?), &options)
 }
 
 /// `record`, its low-battery trigger at the configured warning voltage.
@@ -2452,6 +2650,7 @@ mod tests {
             baud: None,
             sim: false,
             faults: vec![],
+            sim_params: vec![],
             replay: None,
             speed: None,
             configured: link,

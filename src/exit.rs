@@ -13,6 +13,8 @@ pub const DATA_ERROR: u8 = 3;
 /// The robot is not ready or did not do what was asked (E-stop, latched fault, mode not switched,
 /// faults that did not clear, lights not confirmed, no status from the robot).
 pub const NOT_DONE: u8 = 4;
+/// `commission`: the drive ran to its end and a measured figure failed its threshold.
+pub const MEASURED_FAIL: u8 = 5;
 /// After a termination signal: 128 + the signal number (130 SIGINT, 143 SIGTERM, 129 SIGHUP).
 pub const SIGNAL_BASE: u8 = 128;
 

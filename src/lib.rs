@@ -31,6 +31,7 @@ pub mod control;
 pub mod exit;
 #[doc(hidden)]
 pub mod fuzzing;
+pub mod health;
 pub mod link;
 pub mod output;
 pub mod protocol;

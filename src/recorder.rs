@@ -126,15 +126,20 @@ pub struct RecordQueue {
 }
 
 impl RecordQueue {
-    /// Queues a frame; if the writer is that far behind, the frame is counted as lost instead.
-    pub fn push(&self, received: Received) {
+    /// Queues a frame; if the writer is that far behind, the frame is counted as lost instead. True when
+    /// it was queued (so a tap beside the recording can keep exactly what the recording holds).
+    pub fn push(&self, received: Received) -> bool {
         match self.queue.try_send(Item::Frame(received)) {
-            Ok(()) => {}
-            Err(TrySendError::Full(_)) => self.losses.add(1, || {
-                format!("the disk was too slow: the recording queue ({QUEUE_FRAMES} frames) was full")
-            }),
+            Ok(()) => true,
+            Err(TrySendError::Full(_)) => {
+                self.losses.add(1, || {
+                    format!("the disk was too slow: the recording queue ({QUEUE_FRAMES} frames) was full")
+                });
+                false
+            }
             Err(TrySendError::Disconnected(_)) => {
-                self.losses.add(1, || "the recording thread stopped".to_string())
+                self.losses.add(1, || "the recording thread stopped".to_string());
+                false
             }
         }
     }
@@ -173,8 +178,8 @@ impl Recorder {
     }
 
     /// Queues a frame (never waits; see [`RecordQueue::push`]).
-    pub fn push(&self, received: Received) {
-        self.queue.push(received);
+    pub fn push(&self, received: Received) -> bool {
+        self.queue.push(received)
     }
 
     pub fn path(&self) -> &Path {

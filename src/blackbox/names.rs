@@ -50,7 +50,7 @@ pub fn parse_stamp(stamp: &str) -> Option<u64> {
 
 /// A frame's stamp in the recorder's microseconds.
 pub fn micros(ts: &Timestamp) -> u64 {
-    u64::try_from(ts.as_nanos() / 1000).unwrap_or(u64::MAX)
+    ts.as_micros()
 }
 
 /// The stamp of a time in microseconds.

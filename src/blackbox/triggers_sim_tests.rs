@@ -113,6 +113,7 @@ const V2_EXPECTED: &[(&[&str], &[&str])] = &[
     ),
     (&["rc-lost@5s", "rc-restore@8s"], &["vehicle-exception", "fault:rc_disconnected"]),
     (&["swb-middle@5s"], &["mode-change", "rc-override"]),
+    (&["other-host@5s"], &["mode-change"]),
 ];
 
 /// RS232 names its bits by the V1/serial table, has no RC bit, and no driver-state frames.
@@ -141,6 +142,7 @@ const SERIAL_EXPECTED: &[(&[&str], &[&str])] = &[
     ),
     (&["rc-lost@5s", "rc-restore@8s"], &["vehicle-exception"]),
     (&["swb-middle@5s"], &["mode-change", "rc-override"]),
+    (&["other-host@5s"], &["mode-change"]),
 ];
 
 fn check(wire: SimWire, expected: &[(&[&str], &[&str])]) {

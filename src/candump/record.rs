@@ -100,6 +100,16 @@ impl Timestamp {
         u128::from(self.secs) * 1_000_000_000 + u128::from(self.nanos)
     }
 
+    /// Whole microseconds, as a candump line carries them; `u64::MAX` beyond (year 586,000).
+    pub fn as_micros(&self) -> u64 {
+        u64::try_from(self.as_nanos() / 1000).unwrap_or(u64::MAX)
+    }
+
+    /// [`Self::as_micros`] as the signed time of an analysis, `i64::MAX` beyond (year 294,000).
+    pub fn as_micros_i64(&self) -> i64 {
+        i64::try_from(self.as_micros()).unwrap_or(i64::MAX)
+    }
+
     /// Classifies a numeric stamp by its value (see [`RELATIVE_LIMIT_SECS`]).
     pub(crate) fn from_numeric(secs: u64, nanos: u32) -> Self {
         let kind = if secs < RELATIVE_LIMIT_SECS { TimestampKind::Relative } else { TimestampKind::Absolute };

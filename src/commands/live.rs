@@ -10,15 +10,23 @@ use crate::link::LinkChoice;
 use crate::protocol::detect::Verdict;
 use crate::protocol::message::{vehicle_state_name, MessageKind, SystemState};
 use crate::protocol::{catalog, ControlMode, Wire};
-use crate::session::{RobotStatus, Session};
+use crate::session::{Journaling, RobotStatus, Session};
 
 /// How long to wait for the first status frame (the robot sends one every 20 ms).
 pub const STATUS_WAIT: Duration = Duration::from_secs(1);
 
 /// Opens the link the global options choose. `--replay` is refused for commands that send.
 pub fn open(global: &Global, sends: bool) -> Result<Session> {
+    if sends {
+        return open_journaled(global, Journaling::default());
+    }
+    Session::open(&global.link, global.protocol, global.sim_config())
+}
+
+/// As [`open`] for a command that sends, with a recording (`--record`) and a tap on the frames.
+pub fn open_journaled(global: &Global, journal: Journaling<'_>) -> Result<Session> {
     let choice = &global.link;
-    if sends && matches!(choice, LinkChoice::Replay { .. }) {
+    if matches!(choice, LinkChoice::Replay { .. }) {
         return Err(crate::exit::Failure {
             code: crate::exit::USAGE,
             message: "--replay is read-only: this command sends frames and needs a live link (--iface, --serial or --sim)"
@@ -26,8 +34,7 @@ pub fn open(global: &Global, sends: bool) -> Result<Session> {
         }
         .into());
     }
-    let session = Session::open(choice, global.protocol, global.sim_config())?;
-    Ok(session)
+    Session::open_journaled(choice, global.protocol, global.sim_config(), journal)
 }
 
 /// Waits for the robot's protocol (auto mode) and for a status frame; describes what was seen.

@@ -2,6 +2,7 @@
 //! takes plain settings: the command line (`cli.rs`) parses and checks the arguments and calls it.
 
 pub mod clear_errors;
+pub mod commission;
 pub mod completions;
 pub mod config;
 pub mod dashboard;
@@ -31,16 +32,21 @@ pub struct Global {
     pub protocol: ProtocolHint,
     /// Faults the `--sim` robot is given (`--fault NAME@TIME`); the command line allows them only with `--sim`.
     pub sim_faults: Vec<crate::sim::ScheduledFault>,
+    /// Chassis parameters of the `--sim` robot (`--sim-param NAME=VALUE`, checked); only with `--sim`.
+    pub sim_params: Vec<crate::sim::SimParamSetting>,
     /// The low-battery threshold, volts: `battery.warning_volts` of the configuration files, else the
     /// manual's alarm voltage (`protocol::constants::BATTERY_WARNING_DV`).
     pub battery_warning_volts: f64,
 }
 
 impl Global {
-    /// The in-process robot's settings for `--sim` (its faults); `None` for other links.
+    /// The in-process robot's settings for `--sim` (its faults and parameters); `None` for other links.
     pub fn sim_config(&self) -> Option<crate::sim::SimConfig> {
-        matches!(self.link, LinkChoice::Sim)
-            .then(|| crate::sim::SimConfig { faults: self.sim_faults.clone(), ..Default::default() })
+        matches!(self.link, LinkChoice::Sim).then(|| {
+            let mut config = crate::sim::SimConfig { faults: self.sim_faults.clone(), ..Default::default() };
+            self.sim_params.iter().for_each(|param| param.apply(&mut config));
+            config
+        })
     }
 }
 

@@ -14,7 +14,7 @@ use super::Global;
 use crate::exit::SUCCESS;
 use crate::link::{self, Link, LinkChoice};
 use crate::signals;
-use crate::sim::{serve, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimState, SimWire};
+use crate::sim::{serve, FaultKind, RcSwitch, ScheduledFault, SimConfig, SimParamSetting, SimState, SimWire};
 
 /// `tracerctl sim`'s settings (checked by the command line: times and ranges within bounds, `pty` only
 /// with the default link).
@@ -23,6 +23,8 @@ pub struct Options {
     /// Serve on a new pseudo-terminal instead of the link.
     pub pty: bool,
     pub faults: Vec<ScheduledFault>,
+    /// Chassis parameters (`--sim-param NAME=VALUE`, checked), applied after `battery` and `drain`.
+    pub params: Vec<SimParamSetting>,
     /// An RC transmitter is on, with SWB here.
     pub rc: Option<RcSwitch>,
     /// Starting battery voltage.
@@ -41,13 +43,23 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         config.rc_swb = swb;
     }
     if let Some(volts) = args.battery {
-        config.battery_start_v = volts;
+        // As `--sim-param battery-ocv`: a pack at or under the empty voltage lowers "empty" below it
+        // (otherwise the model would fall back to its default 26 V).
+        let ocv = crate::sim::SimParam::find("battery-ocv").expect("a parameter of the table");
+        SimParamSetting { param: ocv, value: crate::sim::ParamValue::Number(volts) }.apply(&mut config);
     }
     if let Some(factor) = args.drain {
         config.battery_drain_factor = factor;
     }
+    args.params.iter().for_each(|param| param.apply(&mut config));
 
     let link = open_served_link(global, args.pty, &mut config)?;
+    let params = config.non_default_params();
+    if !params.is_empty() {
+        let mut stdout = std::io::stdout().lock();
+        writeln!(stdout, "chassis parameters: {}", params.join(" "))?;
+        stdout.flush()?;
+    }
     serve_until_done(config, link, args.duration)
 }
 

@@ -183,7 +183,7 @@ fn unknown_table(
     at: Location,
 ) -> ConfigError {
     let prefix = profile.map_or_else(String::new, |profile| format!("profiles.{profile}."));
-    let tables = "the tables are link, drive, battery, record and profiles";
+    let tables = "the tables are link, drive, battery, record, commission and profiles";
     let reason = match value.get_ref() {
         DeValue::Table(_) => {
             match nearest_table(name).filter(|table| profile.is_none() || *table != "profiles") {
@@ -295,7 +295,7 @@ baud = 9600
         );
         assert_eq!(
             error("[colour]\nx = 1"),
-            "c.toml:1:2: unknown table [colour]; the tables are link, drive, battery, record and profiles"
+            "c.toml:1:2: unknown table [colour]; the tables are link, drive, battery, record, commission and profiles"
         );
         assert!(error("[drive]\nspeed_of_light = 1").starts_with(
             "c.toml:2:1: unknown key drive.speed_of_light; [drive] takes max_linear, max_angular, accel"

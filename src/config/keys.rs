@@ -67,7 +67,7 @@ const fn target(subcommand: &'static str, arg: &'static str) -> Target {
 /// A key of the configuration file.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Key {
-    /// The table (`link`, `drive`, `battery`, `record`).
+    /// The table (`link`, `drive`, `battery`, `record`, `commission`).
     pub table: &'static str,
     /// The key within it.
     pub name: &'static str,
@@ -125,7 +125,7 @@ impl Key {
 }
 
 /// The tables, in the order of [`KEYS`].
-pub const TABLES: &[&str] = &["link", "drive", "battery", "record"];
+pub const TABLES: &[&str] = &["link", "drive", "battery", "record", "commission"];
 
 /// `record`'s keys give their values to `tracerctl record`'s arguments of the same ids.
 const fn record(name: &'static str, kind: Kind, targets: &'static [Target], fallback: Fallback) -> Key {
@@ -142,6 +142,20 @@ const fn motion(name: &'static str, targets: &'static [Target]) -> Key {
         usage: Use::Default,
         env: None,
         fallback: Fallback::None(""),
+    }
+}
+
+/// `commission`'s thresholds (docs/commission.md): read by the command from the settings; the fallback
+/// is the built-in limit (a test checks it against the command's own).
+const fn commission(name: &'static str, fallback: &'static str) -> Key {
+    Key {
+        table: "commission",
+        name,
+        kind: Kind::Number,
+        targets: &[],
+        usage: Use::Setting,
+        env: None,
+        fallback: Fallback::Text(fallback),
     }
 }
 
@@ -223,6 +237,24 @@ pub const KEYS: &[Key] = &[
         &[Target { subcommand: "record", arg: "no_default_triggers", inverted: true }],
         Fallback::Text("true"),
     ),
+    commission("dead_time_warn_ms", "150"),
+    commission("dead_time_fail_ms", "300"),
+    commission("rise_time_warn_ms", "500"),
+    commission("rise_time_fail_ms", "1000"),
+    commission("overshoot_warn_percent", "10"),
+    commission("overshoot_fail_percent", "25"),
+    commission("gain_ratio_warn", "0.02"),
+    commission("gain_ratio_fail", "0.05"),
+    commission("heading_drift_warn_deg_per_m", "2"),
+    commission("heading_drift_fail_deg_per_m", "5"),
+    commission("track_width_warn_percent", "5"),
+    commission("track_width_fail_percent", "10"),
+    commission("odometer_scale_warn_percent", "2"),
+    commission("odometer_scale_fail_percent", "5"),
+    commission("command_timeout_warn_ms", "100"),
+    commission("command_timeout_fail_ms", "1000"),
+    commission("internal_resistance_warn_ohm", "0.25"),
+    commission("internal_resistance_fail_ohm", "0.5"),
 ];
 
 /// `battery.warning_volts`: the pack from empty to full, as `sim --battery` takes it.

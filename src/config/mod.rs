@@ -39,6 +39,10 @@
 //! triggers = ["battery_voltage<23.0"]
 //! default_triggers = true   # false: as --no-default-triggers
 //!
+//! [commission]              # tracerctl commission's thresholds (docs/commission.md)
+//! dead_time_warn_ms = 150   # each figure: NAME_warn_UNIT and NAME_fail_UNIT, positive numbers
+//! gain_ratio_fail = 0.05
+//!
 //! [profiles.tracer-07]
 //! link.iface = "can1"
 //! drive.max_linear = 0.8

@@ -156,6 +156,10 @@ pub fn check_setting(key: &super::keys::Key, value: &Value) -> Result<(), String
                 super::keys::BATTERY_VOLTS.1
             ))
         }
+        // `commission`'s thresholds: a limit is a positive number.
+        ("commission", _, Value::Number(limit)) if !(limit.is_finite() && *limit > 0.0) => {
+            Err(format!("{limit} is not a positive number"))
+        }
         _ => Ok(()),
     }
 }

@@ -39,6 +39,9 @@ pub enum Hold {
     Gap(Duration),
     /// The owner stopped refreshing the target (input stalled) for longer than the watchdog.
     Watchdog,
+    /// Asked to send nothing at all (the command-timeout probe of `commission`: the robot's own timeout
+    /// must stop it). The ramp state is zero, so whatever is sent after the resume starts from rest.
+    Silence,
 }
 
 impl Hold {
@@ -242,6 +245,14 @@ impl MotionSender {
         }
     }
 
+    /// Sends no frame at all (not even zeros) until [`MotionSender::resume`]; the ramp state becomes zero.
+    /// Stopping still sends the stop frames. For measuring the robot's own command timeout.
+    pub fn silence(&self) {
+        self.set_target(0.0, 0.0);
+        self.shared.halt(Hold::Silence);
+        self.kick();
+    }
+
     /// Zero at once (no ramp), then hold zero until [`MotionSender::resume`].
     pub fn halt(&self) {
         self.set_target(0.0, 0.0);
@@ -357,6 +368,9 @@ fn tick(
     };
     state.last_tick = Some(now);
     shared.stats().hold = state.hold;
+    if state.hold == Some(Hold::Silence) {
+        return;
+    }
     if shared.enable_mode.swap(false, Ordering::SeqCst) {
         shared.record(tx.send(&codec.enable_command_mode()), true);
     }

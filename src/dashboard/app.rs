@@ -284,6 +284,8 @@ pub struct Shown {
     /// All received frames per second (last full window).
     pub total_fps: Option<u32>,
     pub ids: Vec<IdView>,
+    /// The live analysis' dead time and battery estimate, once measured.
+    pub health: super::health::HealthView,
 }
 
 /// Pose from odometer deltas ([`DeadReckoning`]), timed by the clock of the updates.
@@ -425,6 +427,11 @@ impl App {
             ended_at: None,
             battery_warning_dv: BATTERY_WARNING_DV,
         }
+    }
+
+    /// The live analysis' figures (the glue refreshes them about once a second).
+    pub fn set_health(&mut self, health: super::health::HealthView) {
+        self.shown.health = health;
     }
 
     /// The battery's warning voltage (`battery.warning_volts` of the configuration file).

@@ -8,6 +8,7 @@
 
 pub mod alert;
 pub mod app;
+pub mod health;
 pub mod keys;
 pub mod lights;
 pub mod message;

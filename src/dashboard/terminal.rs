@@ -39,8 +39,14 @@ pub fn restore() {
 /// so the message is readable and the robot is already stopped.
 fn install_panic_hook() {
     static INSTALLED: OnceLock<()> = OnceLock::new();
+    install_restoring_panic_hook(&INSTALLED, restore);
+}
+
+/// A panic hook, installed once per `installed`: the sender's zeros first, then `restore` (whatever the
+/// caller did to the terminal), then the previous hook's report.
+pub fn install_restoring_panic_hook(installed: &'static OnceLock<()>, restore: fn()) {
     crate::control::install_panic_hook();
-    INSTALLED.get_or_init(|| {
+    installed.get_or_init(|| {
         let previous = std::panic::take_hook();
         std::panic::set_hook(Box::new(move |info| {
             crate::control::emergency_stop();

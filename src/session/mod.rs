@@ -2,6 +2,7 @@
 //! codec for sending. Every live command (monitor aside, which reads frames itself) is built on it.
 
 pub mod confirm;
+pub mod health;
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -129,27 +130,39 @@ impl Session {
     }
 
     /// As [`Session::open`], also writing every frame received and sent to `record` (candump -L lines; RS232
-    /// frames in hex), flushed per line.
+    /// frames in hex), flushed per line. The dashboard's `--record`.
     pub fn open_recording(
         choice: &LinkChoice,
         hint: ProtocolHint,
         sim: Option<crate::sim::SimConfig>,
         record: Option<&std::path::Path>,
     ) -> Result<Self> {
+        let journal = Journaling { record: record.map(|path| (path, "dashboard")), tap: None };
+        Self::open_journaled(choice, hint, sim, journal)
+    }
+
+    /// As [`Session::open`], writing the recording `journal` names (for the command it names) and handing
+    /// every frame it holds to the tap, in the recording's order and with its stamps.
+    pub fn open_journaled(
+        choice: &LinkChoice,
+        hint: ProtocolHint,
+        sim: Option<crate::sim::SimConfig>,
+        journal: Journaling<'_>,
+    ) -> Result<Self> {
         let (link, simulator) = open_link(choice, sim)?;
-        Self::start(link, simulator, hint, record)
+        Self::start(link, simulator, hint, journal)
     }
 
     /// A session on a link that is already open (an in-process channel in tests, say).
     pub fn from_link(link: link::Link, hint: ProtocolHint) -> Result<Self> {
-        Self::start(link, None, hint, None)
+        Self::start(link, None, hint, Journaling::default())
     }
 
     fn start(
         link: link::Link,
         simulator: Option<crate::sim::serve::Running>,
         hint: ProtocolHint,
-        record: Option<&std::path::Path>,
+        journaling: Journaling<'_>,
     ) -> Result<Self> {
         let wire_for_can = match hint {
             ProtocolHint::V1 => Wire::CanV1,
@@ -161,16 +174,23 @@ impl Session {
             changed: Condvar::new(),
             stop: AtomicBool::new(false),
         });
-        let recorder = match record {
-            // Only the dashboard records through a session (`dashboard --record`).
-            Some(path) => Some(Recorder::start(LogFile::create(path, "dashboard", hint)?, &link.name)?),
+        // `dashboard --record`, `drive --record`, `commission --record`.
+        let recorder = match journaling.record {
+            Some((path, command)) => {
+                Some(Recorder::start(LogFile::create(path, command, hint)?, &link.name)?)
+            }
             None => None,
         };
-        let tx: Arc<dyn FrameTx> = match &recorder {
-            Some(recorder) => Arc::new(RecordingTx { inner: link.tx, queue: recorder.queue() }),
+        let journal = Journal {
+            queue: recorder.as_ref().map(Recorder::queue),
+            tap: journaling.tap,
+            order: Arc::new(Mutex::new(())),
+        };
+        let journal = (journal.queue.is_some() || journal.tap.is_some()).then_some(journal);
+        let tx: Arc<dyn FrameTx> = match &journal {
+            Some(journal) => Arc::new(RecordingTx { inner: link.tx, journal: journal.clone() }),
             None => link.tx,
         };
-        let record_queue = recorder.as_ref().map(Recorder::queue);
         let reader = {
             let shared = Arc::clone(&shared);
             let rx = link.rx;
@@ -178,7 +198,7 @@ impl Session {
             let kernel_stamps = link.kind == LinkKind::SocketCan;
             std::thread::Builder::new()
                 .name("tracerctl-reader".into())
-                .spawn(move || read_loop(rx, codec, hint, &shared, record_queue, kernel_stamps))
+                .spawn(move || read_loop(rx, codec, hint, &shared, journal, kernel_stamps))
                 .context("cannot start the reader thread")?
         };
         Ok(Self {
@@ -232,6 +252,13 @@ impl Session {
             }
             self.shared.changed.wait_for(&mut status, deadline - now);
         }
+    }
+
+    /// Sleeps until the reader takes in a frame (the status changes) or `timeout` passes: a loop that
+    /// must act on the robot's state at once wakes on it, not on its own period.
+    pub fn wait_for_change(&self, timeout: Duration) {
+        let mut status = self.shared.status.lock();
+        self.shared.changed.wait_for(&mut status, timeout);
     }
 
     /// Waits for a system-state frame newer than `after` (so a reply to something just sent).
@@ -355,16 +382,56 @@ pub(crate) fn sent_at(ts: &crate::candump::Timestamp) -> Instant {
     now.checked_sub(age).unwrap_or(now)
 }
 
-/// Sends, and queues what was sent for the recording.
+/// Which way a frame crossed the link.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    Received,
+    Sent,
+}
+
+/// Sees every frame the session's recording holds (every frame received and sent when there is none), in
+/// the recording's order and with its stamps, on the thread that received or sent it: what `commission`
+/// measures live is then exactly what `decode --summary` measures in its `--record` file. It must be quick
+/// (it runs on the sender's and the reader's threads) and take no lock a caller of the session holds.
+pub type FrameTap = Arc<dyn Fn(&link::Received, Direction) + Send + Sync>;
+
+/// What a session keeps of the frames besides the robot status: a recording and a tap.
+#[derive(Default)]
+pub struct Journaling<'a> {
+    /// The recording's file and the command that writes it (its provenance in MCAP).
+    pub record: Option<(&'a std::path::Path, &'static str)>,
+    pub tap: Option<FrameTap>,
+}
+
+/// The recording's queue and the tap, fed in one order: a frame the recording lost is not tapped either.
+#[derive(Clone)]
+struct Journal {
+    queue: Option<RecordQueue>,
+    tap: Option<FrameTap>,
+    /// Held across the queue and the tap, so both see the reader's and the sender's frames in one order.
+    order: Arc<Mutex<()>>,
+}
+
+impl Journal {
+    fn push(&self, received: link::Received, direction: Direction) {
+        let _order = self.order.lock();
+        let kept = self.queue.as_ref().is_none_or(|queue| queue.push(received));
+        if let (true, Some(tap)) = (kept, &self.tap) {
+            tap(&received, direction);
+        }
+    }
+}
+
+/// Sends, and queues what was sent for the recording and the tap.
 struct RecordingTx {
     inner: Arc<dyn FrameTx>,
-    queue: RecordQueue,
+    journal: Journal,
 }
 
 impl FrameTx for RecordingTx {
     fn send(&self, frame: &LinkFrame) -> std::io::Result<()> {
         self.inner.send(frame)?;
-        self.queue.push(link::Received { ts: link::now_timestamp(), frame: *frame });
+        self.journal.push(link::Received { ts: link::now_timestamp(), frame: *frame }, Direction::Sent);
         Ok(())
     }
 
@@ -389,7 +456,7 @@ fn read_loop(
     codec: Codec,
     hint: ProtocolHint,
     shared: &Shared,
-    record: Option<RecordQueue>,
+    journal: Option<Journal>,
     kernel_stamps: bool,
 ) -> ReaderEnd {
     // Kept for the end: the dashboard's screen is no place for them (a replay notes a few lines at most).
@@ -403,8 +470,8 @@ fn read_loop(
         }
         match received {
             Ok(Some(received)) => {
-                if let Some(record) = &record {
-                    record.push(received);
+                if let Some(journal) = &journal {
+                    journal.push(received, Direction::Received);
                 }
                 let now = if kernel_stamps { sent_at(&received.ts) } else { Instant::now() };
                 status.frames += 1;

@@ -163,6 +163,6 @@ impl Battery {
 }
 
 /// Volts as the robot reports them, in 0.1 V.
-fn to_decivolts(volts: f64) -> u16 {
+pub(super) fn to_decivolts(volts: f64) -> u16 {
     (volts * 10.0).round().clamp(0.0, f64::from(u16::MAX)) as u16
 }

@@ -2,10 +2,11 @@
 
 use std::time::Duration;
 
-use super::battery::{Battery, EMPTY_EVENT_V, LOW_EVENT_V, WARNING_EVENT_V};
+use super::battery::{to_decivolts, Battery, EMPTY_EVENT_V, LOW_EVENT_V, WARNING_EVENT_V};
 use super::drive::{Drive, Thermal};
-use super::faults::{ClearRequest, FaultKind, Latches, ScheduledFault};
+use super::faults::{ClearRequest, FaultKind, Latches, ScheduledFault, OTHER_HOST_HOLD};
 use super::feedback::Ticker;
+use super::noise::Noise;
 use super::{ControlMode, MotionBlock, MotorSnapshot, RcSwitch, SimConfig, SimState, SimWire};
 use crate::protocol::message::*;
 
@@ -67,6 +68,8 @@ pub struct Chassis {
     rc_present: bool,
     rc_swb: RcSwitch,
     rc_lost: bool,
+    /// After `other-host`: until then this link cannot select its command mode.
+    other_host_until: Option<Duration>,
     /// The last accepted motion command (limited), and when it came.
     commanded: (f64, f64),
     command_at: Option<Duration>,
@@ -83,6 +86,8 @@ pub struct Chassis {
     version_requested: bool,
     accepted: u64,
     ignored: u64,
+    /// Noise on reported values (none by default).
+    noise: Noise,
 }
 
 impl Chassis {
@@ -104,6 +109,7 @@ impl Chassis {
             rc_present: config.rc_present,
             rc_swb: config.rc_swb,
             rc_lost: false,
+            other_host_until: None,
             commanded: (0.0, 0.0),
             command_at: None,
             host_lights: None,
@@ -118,6 +124,7 @@ impl Chassis {
             version_requested: false,
             accepted: 0,
             ignored: 0,
+            noise: Noise::new(config.noise, config.seed),
             config,
         };
         chassis.apply_due_events();
@@ -192,7 +199,7 @@ impl Chassis {
             for motor in 0..2 {
                 out.push(Message::MotorLowSpeed(MotorLowSpeed {
                     motor: motor as u8 + 1,
-                    driver_decivolts: self.battery.decivolts(),
+                    driver_decivolts: self.reported_decivolts(),
                     driver_temperature: self.thermal[motor].celsius.round() as i16,
                     // One thermal mass per side: the motor reads what its driver reads.
                     motor_temperature: self.thermal[motor].celsius.round() as i8,
@@ -392,7 +399,11 @@ impl Chassis {
         if let Some(request) = ClearRequest::from_serial(cmd.fault_clear) {
             self.clear(request);
         }
-        if cmd.control_mode != ControlMode::Serial.code(Wire::Serial) || self.estop || self.rc_override() {
+        if cmd.control_mode != ControlMode::Serial.code(Wire::Serial)
+            || self.estop
+            || self.rc_override()
+            || self.other_host_holds()
+        {
             return false;
         }
         self.host_mode = ControlMode::Serial;
@@ -401,7 +412,7 @@ impl Chassis {
 
     /// 0x421. Ignored during E-stop and RC override (the transmitter has priority).
     fn set_mode(&mut self, mode: u8) -> bool {
-        if self.estop || self.rc_override() {
+        if self.estop || self.rc_override() || self.other_host_holds() {
             return false;
         }
         match ControlMode::from_code(Wire::CanV2, mode) {
@@ -414,6 +425,11 @@ impl Chassis {
             Some(ControlMode::Rc) | None => return false,
         }
         true
+    }
+
+    /// Within [`OTHER_HOST_HOLD`] of `other-host`.
+    fn other_host_holds(&self) -> bool {
+        self.other_host_until.is_some_and(|until| self.latest < until)
     }
 
     fn enter_standby(&mut self) {
@@ -490,6 +506,14 @@ impl Chassis {
             FaultKind::RcRestore => self.rc_lost = false,
             FaultKind::SwbMiddle => self.set_rc_switch(RcSwitch::Middle),
             FaultKind::SwbTop => self.set_rc_switch(RcSwitch::Top),
+            FaultKind::OtherHost => {
+                self.enter_standby();
+                self.host_mode = match self.config.wire {
+                    SimWire::CanV2 => ControlMode::Serial,
+                    SimWire::Serial => ControlMode::Can,
+                };
+                self.other_host_until = Some(Duration::from_millis(self.tick) + OTHER_HOST_HOLD);
+            }
         }
         self.evaluate();
     }
@@ -556,7 +580,7 @@ impl Chassis {
         let state = SystemState {
             vehicle_state: self.vehicle_state(),
             control_mode: self.control_mode().code(self.config.wire.into()),
-            battery_decivolts: self.battery.decivolts(),
+            battery_decivolts: self.reported_decivolts(),
             fault_code: self.fault_code(),
             count: self.system_count,
         };
@@ -564,9 +588,30 @@ impl Chassis {
         state
     }
 
-    fn motion_state(&self, count: u8) -> MotionState {
+    /// The actual body speeds, with the noise (1 mm/s and 1 mrad/s resolution).
+    fn motion_state(&mut self, count: u8) -> MotionState {
         let (linear, angular) = self.drive.speeds();
+        let linear = self.noise.add(linear, 0.001);
+        let angular = self.noise.add(angular, 0.001);
         MotionState { linear_mm_s: milli_i16(linear), angular_mrad_s: milli_i16(angular), count }
+    }
+
+    /// The battery voltage as reported, with the noise (0.1 V resolution); the levels judge it without.
+    fn reported_decivolts(&mut self) -> u16 {
+        to_decivolts(self.noise.add(self.battery.voltage(), 0.1))
+    }
+
+    /// A motor's RPM as reported, with the noise (1 RPM resolution).
+    fn reported_rpm(&mut self, motor: usize) -> i16 {
+        self.noise.add(self.drive.rpm(motor), 1.0).round() as i16
+    }
+
+    /// A motor's current as reported, 0.1 A, with the noise while it draws current (a motor at rest
+    /// reads 0); never negative.
+    fn reported_deciamps(&mut self, motor: usize) -> f64 {
+        let current = self.drive.current(motor);
+        let current = if current > 0.0 { self.noise.add(current, 0.1).max(0.0) } else { current };
+        (current * 10.0).round()
     }
 
     fn next_lights(&mut self) -> Lights {
@@ -582,8 +627,8 @@ impl Chassis {
         for motor in 0..2 {
             out.push(Message::MotorHighSpeed(MotorHighSpeed {
                 motor: motor as u8 + 1,
-                rpm: self.drive.rpm(motor).round() as i16,
-                current_deciamps: (self.drive.current(motor) * 10.0).round() as i16,
+                rpm: self.reported_rpm(motor),
+                current_deciamps: self.reported_deciamps(motor) as i16,
                 pulse_count: 0,
             }));
         }
@@ -599,8 +644,8 @@ impl Chassis {
         for motor in 0..2 {
             out.push(Message::MotorDriverState(MotorDriverState {
                 motor: motor as u8 + 1,
-                current_deciamps: (self.drive.current(motor) * 10.0).round() as u16,
-                rpm: self.drive.rpm(motor).round() as i16,
+                current_deciamps: self.reported_deciamps(motor) as u16,
+                rpm: self.reported_rpm(motor),
                 driver_temperature: self.thermal[motor].celsius.round() as i8,
                 count: self.motor_counts[motor],
             }));

@@ -4,6 +4,7 @@
 //! Motor 1 is the right wheel and motor 2 the left (an assumption: the TRACER manuals give the mapping only
 //! in a figure, whose label order 0x252 ... 0x251 matches AgileX's Scout numbering, motor 1 front right).
 
+use super::delay::DelayLine;
 use super::SimConfig;
 
 /// Index of a motor in per-motor arrays: motor 1 (right) is 0, motor 2 (left) is 1.
@@ -12,6 +13,7 @@ pub(super) const MOTOR_LEFT: usize = 1;
 
 #[derive(Clone, Debug)]
 pub(super) struct Drive {
+    /// Half the nominal track: the firmware mixes (v, w) into wheel commands with it.
     half_track: f64,
     wheel_circumference: f64,
     max_linear: f64,
@@ -21,21 +23,46 @@ pub(super) struct Drive {
     current_per_speed: f64,
     current_per_accel: f64,
     dt: f64,
-    /// Actual body speeds, m/s and rad/s.
-    linear: f64,
-    angular: f64,
-    /// Odometers, m.
+    /// Dead time on the target.
+    delay: DelayLine,
+    /// Per-step fraction of the gap the lag closes, 1 - exp(-dt/tau); `None`: no lag.
+    lag_step: Option<f64>,
+    /// (left, right) wheel gains.
+    gains: (f64, f64),
+    /// Actual body (v, w) from the firmware's (v, w): the gains and the effective track. Exactly the
+    /// identity with the defaults, so a default robot computes what it always did.
+    body: [[f64; 2]; 2],
+    odometer_scale: f64,
+    /// The acceleration-limited ramp, m/s and rad/s.
+    ramp: (f64, f64),
+    /// The firmware's body command: the ramp after the lag.
+    command: (f64, f64),
+    /// True odometers, m.
     left_m: f64,
     right_m: f64,
     /// Motor currents by motor index, A.
     currents: [f64; 2],
 }
 
+/// A lag closer than this to its input (m/s, rad/s) has arrived: an exponential never does, and the model
+/// must come to rest exactly to skip idle time.
+const LAG_ARRIVED: f64 = 1e-9;
+
 impl Drive {
     /// `dt`: the physics step, s.
     pub fn new(config: &SimConfig, dt: f64) -> Self {
+        let (left, right) = (config.left_gain, config.right_gain);
+        let half_track = config.track_m / 2.0;
+        let effective = config.effective_track_m;
+        // l = left (v - w h), r = right (v + w h); v' = (l + r) / 2, w' = (r - l) / effective track.
+        let body = [
+            [(left + right) / 2.0, half_track * (right - left) / 2.0],
+            [(right - left) / effective, config.track_m * ((left + right) / 2.0) / effective],
+        ];
+        let dead_steps = (config.dead_time.as_secs_f64() / dt).round() as usize;
+        let lag = config.lag.as_secs_f64();
         Self {
-            half_track: config.track_m / 2.0,
+            half_track,
             wheel_circumference: std::f64::consts::PI * config.wheel_diameter_m,
             max_linear: config.max_linear,
             max_angular: config.max_angular,
@@ -44,8 +71,13 @@ impl Drive {
             current_per_speed: config.current_per_speed,
             current_per_accel: config.current_per_accel,
             dt,
-            linear: 0.0,
-            angular: 0.0,
+            delay: DelayLine::new(dead_steps),
+            lag_step: (lag > 0.0).then(|| -(-dt / lag).exp_m1()),
+            gains: (left, right),
+            body,
+            odometer_scale: config.odometer_scale,
+            ramp: (0.0, 0.0),
+            command: (0.0, 0.0),
             left_m: 0.0,
             right_m: 0.0,
             currents: [0.0; 2],
@@ -69,13 +101,21 @@ impl Drive {
         }
     }
 
-    /// One physics step towards `target` (already limited): ramp, integrate the odometers (trapezoid,
-    /// exact for the piecewise-linear speeds of the ramp), and the motor currents.
+    /// One physics step towards `target` (already limited) as it was the dead time ago: ramp, lag,
+    /// integrate the odometers (trapezoid, exact for the piecewise-linear speeds of the ramp), and the
+    /// motor currents.
     pub fn advance(&mut self, target: (f64, f64)) {
+        let goal = self.delay.pass(target);
         let before = self.wheel_speeds();
-        let linear = approach(self.linear, target.0, self.linear_step);
-        let angular = approach(self.angular, target.1, self.angular_step);
-        (self.linear, self.angular) = self.limit_wheels(linear, angular);
+        let linear = approach(self.ramp.0, goal.0, self.linear_step);
+        let angular = approach(self.ramp.1, goal.1, self.angular_step);
+        self.ramp = self.limit_wheels(linear, angular);
+        self.command = match self.lag_step {
+            None => self.ramp,
+            Some(step) => {
+                (follow(self.command.0, self.ramp.0, step), follow(self.command.1, self.ramp.1, step))
+            }
+        };
         let after = self.wheel_speeds();
         self.left_m += (before.0 + after.0) / 2.0 * self.dt;
         self.right_m += (before.1 + after.1) / 2.0 * self.dt;
@@ -87,16 +127,18 @@ impl Drive {
         self.currents[MOTOR_LEFT] = current(before.0, after.0);
     }
 
-    /// Stops dead (E-stop, power cut): no ramp, and no current since the drivers lose power.
+    /// Stops dead (E-stop, power cut): no ramp, no lag, nothing left on the way through the dead time,
+    /// and no current since the drivers lose power.
     pub fn stop_now(&mut self) {
-        self.linear = 0.0;
-        self.angular = 0.0;
+        self.ramp = (0.0, 0.0);
+        self.command = (0.0, 0.0);
+        self.delay.clear();
         self.currents = [0.0; 2];
     }
 
     /// No motion, and none on the way as long as the target stays zero.
     pub fn at_rest(&self) -> bool {
-        self.linear == 0.0 && self.angular == 0.0
+        self.command == (0.0, 0.0) && self.ramp == (0.0, 0.0) && self.delay.idle()
     }
 
     /// A step at rest: no motion, no motor current.
@@ -104,14 +146,17 @@ impl Drive {
         self.currents = [0.0; 2];
     }
 
+    /// Actual body speeds (v, w), m/s and rad/s: those of the actual wheels.
     pub fn speeds(&self) -> (f64, f64) {
-        (self.linear, self.angular)
+        let [[vv, vw], [wv, ww]] = self.body;
+        let (v, w) = self.command;
+        (vv * v + vw * w, wv * v + ww * w)
     }
 
-    /// (left, right) wheel speeds, m/s.
+    /// (left, right) actual wheel speeds, m/s: the firmware's wheel commands (nominal track) × the gains.
     pub fn wheel_speeds(&self) -> (f64, f64) {
-        let turn = self.angular * self.half_track;
-        (self.linear - turn, self.linear + turn)
+        let turn = self.command.1 * self.half_track;
+        (self.gains.0 * (self.command.0 - turn), self.gains.1 * (self.command.0 + turn))
     }
 
     /// Wheel speed of a motor index, m/s.
@@ -137,15 +182,27 @@ impl Drive {
         self.currents.iter().sum()
     }
 
-    /// (left, right) odometers, mm, as 0x311 carries them (i32, wrapping like a real counter).
+    /// (left, right) odometers, mm, as 0x311 carries them: the odometer scale × the true distance (i32,
+    /// wrapping like a real counter).
     pub fn odometry_mm(&self) -> (i32, i32) {
-        let mm = |m: f64| (m * 1000.0).round() as i64 as i32;
+        let mm = |m: f64| (m * self.odometer_scale * 1000.0).round() as i64 as i32;
         (mm(self.left_m), mm(self.right_m))
     }
 
-    /// (left, right) odometers, m, unrounded.
+    /// (left, right) true wheel distances, m, unrounded and unscaled.
     pub fn odometry_m(&self) -> (f64, f64) {
         (self.left_m, self.right_m)
+    }
+}
+
+/// One lag step: closes `step` of the gap to `input` (x += (input - x)(1 - exp(-dt/tau))), and arrives
+/// once within [`LAG_ARRIVED`].
+fn follow(current: f64, input: f64, step: f64) -> f64 {
+    let gap = input - current;
+    if gap.abs() <= LAG_ARRIVED {
+        input
+    } else {
+        current + gap * step
     }
 }
 

@@ -38,11 +38,21 @@ pub enum FaultKind {
     SwbMiddle,
     /// SWB to the top: command mode allowed again (from standby: the host must send 0x421).
     SwbTop,
+    /// Another controller takes the robot's mode: a second host selects its own link's command mode (on a
+    /// CAN robot an RS232 host, mode 2; on an RS232 robot a CAN host, 0x421 = 1). Motion from this link
+    /// stops, and for [`OTHER_HOST_HOLD`] this link cannot select its mode back.
+    OtherHost,
 }
+
+/// How long after `other-host` the robot ignores this link's mode selection (CAN 0x421, the RS232 motion
+/// frame's mode 2): the other host's commands for that long. Ten 20 ms reports say the other mode, even to
+/// a host that selects its mode with every frame, as RS232 does (standby could not show there: RS232 reads
+/// mode 0 as RC).
+pub const OTHER_HOST_HOLD: Duration = Duration::from_millis(200);
 
 impl FaultKind {
     /// Every fault, in the order help text lists them.
-    pub const ALL: [FaultKind; 17] = [
+    pub const ALL: [FaultKind; 18] = [
         FaultKind::EStop,
         FaultKind::EStopRelease,
         FaultKind::Motor1Overheat,
@@ -60,6 +70,7 @@ impl FaultKind {
         FaultKind::RcRestore,
         FaultKind::SwbMiddle,
         FaultKind::SwbTop,
+        FaultKind::OtherHost,
     ];
 
     /// The `--fault` name.
@@ -82,6 +93,7 @@ impl FaultKind {
             FaultKind::RcRestore => "rc-restore",
             FaultKind::SwbMiddle => "swb-middle",
             FaultKind::SwbTop => "swb-top",
+            FaultKind::OtherHost => "other-host",
         }
     }
 
@@ -105,6 +117,7 @@ impl FaultKind {
             FaultKind::RcRestore => "RC transmitter link back",
             FaultKind::SwbMiddle => "SWB to the middle: RC mode, host commands ignored",
             FaultKind::SwbTop => "RC switch SWB to the top: command mode allowed",
+            FaultKind::OtherHost => "another host takes the mode (CAN vs RS232) for 200 ms",
         }
     }
 
@@ -306,7 +319,7 @@ mod tests {
         assert_eq!(err, FaultParseError::UnknownFault("motor3-overheat".into()));
         let text = err.to_string();
         assert!(text.starts_with("unknown fault \"motor3-overheat\"; known faults: estop, estop-release,"));
-        assert!(text.contains("motor1-overheat") && text.ends_with("swb-top"), "{text}");
+        assert!(text.contains("motor1-overheat") && text.ends_with("other-host"), "{text}");
 
         for bad in ["estop@", "estop@soon", "estop@-1", "estop@1.2.3", "estop@5 parsecs"] {
             let err = bad.parse::<ScheduledFault>().unwrap_err();

@@ -10,9 +10,14 @@
 
 mod battery;
 mod chassis;
+mod delay;
 mod drive;
 mod faults;
 mod feedback;
+mod noise;
+mod params;
+#[cfg(test)]
+mod params_tests;
 pub mod serve;
 #[cfg(test)]
 mod tests;
@@ -26,6 +31,7 @@ use crate::protocol::message::Lights;
 pub use crate::protocol::ControlMode;
 pub use chassis::Chassis;
 pub use faults::{fault_help, FaultKind, FaultParseError, ScheduledFault};
+pub use params::{param_help, ParamKind, ParamValue, SimParam, SimParamError, SimParamSetting, SIM_PARAMS};
 
 /// Which link the virtual robot speaks: decides the commands it obeys, the feedback set it sends and the
 /// layout of the fault bits it reports.
@@ -100,6 +106,25 @@ pub struct SimConfig {
     pub faults: Vec<ScheduledFault>,
     /// Communication protection: the robot stops this long after the last motion command (manual: 500 ms).
     pub command_timeout: Duration,
+    /// The drive acts on the target (v, w) as it was this long ago (a delay line on the 1 ms grid): every
+    /// target change, the command timeout's and a motion block's zero included; E-stop and battery
+    /// cut-off still stop at once. `dead-time`.
+    pub dead_time: Duration,
+    /// Time constant of a first-order lag of the actual speeds behind the acceleration ramp (0: none). `lag`.
+    pub lag: Duration,
+    /// Each wheel's actual speed = the firmware's wheel command × its gain. `left-gain`, `right-gain`.
+    pub left_gain: f64,
+    pub right_gain: f64,
+    /// The track the body turns with, m: the firmware mixes wheel commands with the nominal `track_m`, the
+    /// body turns at (r − l) / this, and 0x221 reports that. `track-width`.
+    pub effective_track_m: f64,
+    /// 0x311 odometers report this × the true wheel distance. `odometer-scale`.
+    pub odometer_scale: f64,
+    /// Standard deviation of Gaussian noise on the reported speeds, RPM, currents and battery voltage, in
+    /// units of each field's resolution (0: exact frames). `noise`.
+    pub noise: f64,
+    /// Seed of the noise generator: the same seed gives the same frames. `seed`.
+    pub seed: u64,
 }
 
 impl Default for SimConfig {
@@ -127,6 +152,14 @@ impl Default for SimConfig {
             rc_swb: RcSwitch::Top,
             faults: Vec::new(),
             command_timeout: crate::protocol::message::COMMAND_TIMEOUT,
+            dead_time: Duration::ZERO,
+            lag: Duration::ZERO,
+            left_gain: 1.0,
+            right_gain: 1.0,
+            effective_track_m: crate::protocol::constants::TRACK_M,
+            odometer_scale: 1.0,
+            noise: 0.0,
+            seed: 1,
         }
     }
 }
@@ -137,7 +170,7 @@ impl Default for SimConfig {
 pub struct SimConfigError {
     pub field: &'static str,
     pub value: String,
-    pub rule: &'static str,
+    pub rule: String,
 }
 
 #[derive(Clone, Copy)]
@@ -166,7 +199,7 @@ impl Rule {
 
 impl SimConfig {
     /// Every numeric setting with its rule, mutable so `sanitized` can repair it.
-    fn numbers(&mut self) -> [(&'static str, &mut f64, Rule); 17] {
+    fn numbers(&mut self) -> [(&'static str, &mut f64, Rule); 22] {
         [
             ("track_m", &mut self.track_m, Rule::Positive),
             ("wheel_diameter_m", &mut self.wheel_diameter_m, Rule::Positive),
@@ -185,6 +218,11 @@ impl SimConfig {
             ("ambient_temperature_c", &mut self.ambient_temperature_c, Rule::Finite),
             ("driver_heating", &mut self.driver_heating, Rule::NonNegative),
             ("driver_cooling_s", &mut self.driver_cooling_s, Rule::Positive),
+            ("left_gain", &mut self.left_gain, Rule::Positive),
+            ("right_gain", &mut self.right_gain, Rule::Positive),
+            ("effective_track_m", &mut self.effective_track_m, Rule::Positive),
+            ("odometer_scale", &mut self.odometer_scale, Rule::Positive),
+            ("noise", &mut self.noise, Rule::NonNegative),
         ]
     }
 
@@ -193,18 +231,25 @@ impl SimConfig {
         let mut copy = self.clone();
         for (field, value, rule) in copy.numbers() {
             if !rule.holds(*value) {
-                return Err(SimConfigError { field, value: value.to_string(), rule: rule.describe() });
+                return Err(SimConfigError { field, value: value.to_string(), rule: rule.describe().into() });
             }
+        }
+        if let Some((param, value)) = self.param_out_of_range() {
+            return Err(SimConfigError { field: param.field, value, rule: param.allowed_text() });
         }
         if self.battery_empty_v >= self.battery_start_v {
             return Err(SimConfigError {
                 field: "battery_empty_v",
                 value: self.battery_empty_v.to_string(),
-                rule: "below battery_start_v",
+                rule: "below battery_start_v".into(),
             });
         }
         if self.command_timeout.is_zero() {
-            return Err(SimConfigError { field: "command_timeout", value: "0s".into(), rule: "above 0" });
+            return Err(SimConfigError {
+                field: "command_timeout",
+                value: "0s".into(),
+                rule: "above 0".into(),
+            });
         }
         Ok(())
     }
@@ -218,6 +263,7 @@ impl SimConfig {
                 *value = *default;
             }
         }
+        self.reset_params_out_of_range();
         if self.battery_empty_v >= self.battery_start_v {
             self.battery_start_v = defaults.battery_start_v;
             self.battery_empty_v = defaults.battery_empty_v;
@@ -296,7 +342,8 @@ pub struct SimState {
     /// The last accepted motion command after clamping to the chassis limits, m/s and rad/s.
     pub commanded_linear: f64,
     pub commanded_angular: f64,
-    /// What the ramp heads for now: the command, or 0 after the timeout or while blocked.
+    /// What the ramp heads for now, before the dead time: the command, or 0 after the timeout or while
+    /// blocked.
     pub target_linear: f64,
     pub target_angular: f64,
     /// Actual speeds, m/s and rad/s (+ = forward, counter-clockwise).
@@ -312,7 +359,7 @@ pub struct SimState {
     pub state_of_charge: f64,
     /// The system-state fault code in the wire's layout (V2 table or V1/serial table).
     pub fault_code: u16,
-    /// Wheel odometers, mm, as 0x311 reports them.
+    /// Wheel odometers, mm, as 0x311 reports them (× `odometer_scale`).
     pub odometry_left_mm: i32,
     pub odometry_right_mm: i32,
     /// Light state as reported (count = frames sent so far).

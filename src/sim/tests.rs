@@ -516,6 +516,38 @@ fn estop_stops_at_once_and_needs_0x421_after_release() {
 }
 
 #[test]
+fn another_host_takes_the_mode_for_long_enough_to_be_reported_on_both_wires() {
+    // CAN: driving at 0.5 m/s; an RS232 host selects serial mode; 0x421 is ignored for 200 ms; it brakes.
+    let mut robot = can_commanded();
+    hold(&mut robot, &motion(0.5, 0.0), 0, 1000);
+    robot.inject(ms(1000), FaultKind::OtherHost);
+    assert_eq!(reported(&mut robot, ms(1000)).control_mode, MODE_SERIAL);
+    robot.receive(ms(1010), &Message::ControlModeCommand(MODE_CAN));
+    hold(&mut robot, &motion(0.5, 0.0), 1010, 1190);
+    let state = robot.state();
+    assert_eq!(
+        (state.control_mode, state.motion_block),
+        (ControlMode::Serial, Some(MotionBlock::NotInCommandMode))
+    );
+    assert!(state.linear < 0.5, "it brakes: {}", state.linear);
+    // After the hold, 0x421 selects CAN mode again.
+    robot.receive(ms(1200), &Message::ControlModeCommand(MODE_CAN));
+    assert_eq!(reported(&mut robot, ms(1200)).control_mode, MODE_CAN);
+
+    // RS232: every motion frame selects serial mode, yet for 200 ms none does: every report says CAN (1).
+    let mut robot = serial();
+    hold(&mut robot, &serial_motion(20, 0, 0), 0, 1000);
+    assert_eq!(reported(&mut robot, ms(1000)).control_mode, MODE_SERIAL);
+    robot.inject(ms(1000), FaultKind::OtherHost);
+    for t in (1020..1200).step_by(20) {
+        robot.receive(ms(t - 10), &serial_motion(20, 0, 0));
+        assert_eq!(reported(&mut robot, ms(t)).control_mode, MODE_CAN, "at {t} ms");
+    }
+    hold(&mut robot, &serial_motion(20, 0, 0), 1200, 1300);
+    assert_eq!(reported(&mut robot, ms(1300)).control_mode, MODE_SERIAL);
+}
+
+#[test]
 fn scheduled_estop_acts_at_its_millisecond() {
     let mut robot = with_faults(SimWire::CanV2, &["estop@2s", "estop-release@5s"]);
     robot.step(ms(1999));

@@ -127,3 +127,38 @@ fn a_replay_that_ends_is_info_and_a_long_path_leaves_the_status_in_the_header() 
     let (quit, screen) = session.wait_for(Duration::from_secs(10), |s| s.contains("exit status 0"));
     assert!(quit, "q quits with status 0:\n{screen}");
 }
+
+/// Issue 32: the dashboard shows the live analysis' dead time and battery estimate once it has them. A
+/// commissioning run of a simulator with a 60 ms dead time and a 0.3 Ω battery, replayed as fast as
+/// possible: the Speeds panel gives the dead time (the analysis finds it within one 20 ms period), the
+/// Battery panel the internal resistance (within 15 %). Before the replay has a step, neither shows.
+#[test]
+fn the_live_dead_time_and_battery_estimate_show_once_measured() {
+    use std::time::Duration;
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("commissioning.log");
+    let text = crate::parallel_summary::commissioning_log_with(1, false, |_| tracerctl::sim::SimConfig {
+        dead_time: Duration::from_millis(60),
+        battery_resistance_ohm: 0.3,
+        ..tracerctl::sim::SimConfig::default()
+    });
+    std::fs::write(&log, text).unwrap();
+    let binary = assert_cmd::cargo::cargo_bin("tracerctl");
+    let command = format!("{} --replay {} --speed 0 dashboard; sleep 30", binary.display(), log.display());
+    let session = crate::dashboard_driver::Session::start(
+        &format!("tracerctl-health-{}", std::process::id()),
+        &command,
+    );
+    let (shown, screen) =
+        session.wait_for(Duration::from_secs(20), |s| s.contains("dead time") && s.contains(" Ω · OCV "));
+    assert!(shown, "{screen}");
+    let after = |marker: &str| {
+        let at = screen.find(marker).unwrap() + marker.len();
+        screen[at..].split_whitespace().next().unwrap().parse::<f64>().unwrap()
+    };
+    let dead_time = after("dead time ");
+    assert!((60.0..=80.0).contains(&dead_time), "dead time {dead_time} ms:\n{screen}");
+    let resistance = after("R ");
+    assert!((0.255..=0.345).contains(&resistance), "R {resistance} Ω:\n{screen}");
+    session.keys(&["q"]);
+}

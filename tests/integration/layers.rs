@@ -14,7 +14,7 @@ const LAYERS: &[&[&str]] = &[
     &["commands"],
     &["dashboard", "session"],
     &["link", "control", "sim", "recorder", "blackbox", "signals"],
-    &["candump", "output", "exit", "config"],
+    &["candump", "output", "exit", "config", "health"],
     &["protocol"],
 ];
 

@@ -3,6 +3,7 @@
 #![allow(clippy::disallowed_macros)]
 
 mod black_box;
+mod commission;
 mod compressed_input;
 mod config;
 mod dashboard;
@@ -27,6 +28,7 @@ mod file_sizes;
 mod formats;
 mod fuzz;
 mod generated;
+mod health_summary;
 mod help_layout;
 mod layers;
 mod mcap;
@@ -47,6 +49,7 @@ mod serial_peer;
 mod serial_text;
 mod service;
 mod sim_command;
+mod sim_params;
 mod sim_training;
 // The library's test-only source scanner, shared with its unit tests; this binary uses a part of it.
 #[path = "../../src/source_scan.rs"]

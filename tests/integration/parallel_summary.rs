@@ -70,3 +70,104 @@ fn partial_summaries_and_replayed_chunks_give_the_single_pass_report() {
         }
     }
 }
+
+/// A candump log of the simulator driven through the commissioning plan `runs` times (timeout probe
+/// included, a different battery each run), then a minute of driving that never rests: the analysis of
+/// issue 32 finds steps, stops, holds, a timeout and load steps in it.
+fn commissioning_log(runs: u32) -> String {
+    commissioning_log_with(runs, true, |run| tracerctl::sim::SimConfig {
+        battery_resistance_ohm: 0.3 + 0.1 * f64::from(run),
+        ..tracerctl::sim::SimConfig::default()
+    })
+}
+
+/// [`commissioning_log`] with each run's simulator from `config`, and the restless minute or not.
+pub(crate) fn commissioning_log_with(
+    runs: u32,
+    restless_minute: bool,
+    config: impl Fn(u32) -> tracerctl::sim::SimConfig,
+) -> String {
+    use std::time::Duration;
+    use tracerctl::candump::{write_log_line, Timestamp, TimestampKind};
+    use tracerctl::health::plan::{self, Action, PlanOptions};
+    use tracerctl::protocol::can::encode_v2;
+    use tracerctl::protocol::message::{Message, MotionCommand, MODE_CAN};
+    use tracerctl::sim::Chassis;
+
+    let mut log = Vec::new();
+    let mut line = |now: Duration, message: &Message| {
+        let micros = 1_700_000_000_000_000 + now.as_micros() as u64;
+        let ts = Timestamp {
+            secs: micros / 1_000_000,
+            nanos: (micros % 1_000_000) as u32 * 1000,
+            kind: TimestampKind::Absolute,
+        };
+        write_log_line(&mut log, Some(ts), "can0", &encode_v2(message).unwrap());
+    };
+    let options = PlanOptions { include_timeout: true, ..PlanOptions::default() };
+    let mut now = Duration::ZERO;
+    let mut feedback = Vec::new();
+    for run in 0..runs {
+        let mut chassis = Chassis::new(config(run));
+        let start = now;
+        chassis.receive(Duration::ZERO, &Message::ControlModeCommand(MODE_CAN));
+        line(now, &Message::ControlModeCommand(MODE_CAN));
+        let mut actions: Vec<(Action, Duration)> =
+            plan::steps(&options).iter().map(|step| (step.action, step.duration)).collect();
+        if restless_minute && run + 1 == runs {
+            // A minute of a command that changes every period: no rest.
+            for n in 0..3000 {
+                let linear = 0.3 * (f64::from(n) / 50.0).sin();
+                actions.push((Action::Command { linear, angular: 0.0 }, Duration::from_millis(20)));
+            }
+        }
+        for (action, duration) in actions {
+            let until = now + duration;
+            while now < until {
+                if let Action::Command { linear, angular } = action {
+                    let command = Message::MotionCommand(MotionCommand::from_si(linear, angular).unwrap());
+                    chassis.receive(now - start, &command);
+                    line(now, &command);
+                }
+                feedback.clear();
+                chassis.due_feedback(now - start, &mut feedback);
+                for message in &feedback {
+                    line(now, message);
+                }
+                now += Duration::from_millis(20);
+            }
+        }
+        now += Duration::from_secs(2);
+    }
+    String::from_utf8(log).unwrap()
+}
+
+/// The health section of `decode -j N --summary` is the single pass's, byte for byte, whatever the chunks:
+/// chunks that rest merge from their replayed start, chunks that do not are replayed whole.
+#[test]
+fn the_health_section_is_the_same_with_any_chunking() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("commissioning.log");
+    std::fs::write(&path, commissioning_log(3)).unwrap();
+    for extra in [&[][..], &["-f", "json"]] {
+        let single = decode(&path, 1, None, extra);
+        let report = stdout(&single);
+        assert!(single.status.success(), "{}", stderr(&single));
+        if extra.is_empty() {
+            let health = &report[report.find("Response and health").expect("the section")..];
+            assert!(health.contains("steps: 15"), "{health}");
+            assert!(health.contains("command timeout: 500 ms"), "{health}");
+            // Three batteries of 0.3, 0.4 and 0.5 Ω: one estimate over their load steps.
+            assert!(
+                health.contains("battery: internal resistance 0.399 Ω (spread 0.083 Ω, 27 load steps)"),
+                "{health}"
+            );
+        }
+        for (threads, bytes) in [(2, 97), (3, 4000), (2, 65_536), (2, 1 << 20)] {
+            let parallel = decode(&path, threads, Some(bytes), extra);
+            let what = format!("{extra:?} -j{threads} TRACERCTL_CHUNK_BYTES={bytes}");
+            assert_eq!(stdout(&parallel), report, "stdout of {what}");
+            assert_eq!(stderr(&parallel), stderr(&single), "stderr of {what}");
+        }
+    }
+}

@@ -341,7 +341,7 @@ fn write_master(master: &OwnedFd, bytes: &[u8]) {
 /// (closing our copy would not hang up the host's side). The terminal side is set raw once, as
 /// `TTYPort::pair` does (its default line discipline would echo the robot's feedback back to it before the
 /// host opens the terminal).
-fn open_pty() -> (OwnedFd, String) {
+pub fn open_pty() -> (OwnedFd, String) {
     let ptmx = CString::new("/dev/ptmx").unwrap();
     let flags = libc::O_RDWR | libc::O_NOCTTY | libc::O_CLOEXEC | libc::O_NONBLOCK;
     // SAFETY: plain libc calls on descriptors this function owns; ptsname_r gets a buffer and its length.

@@ -16,6 +16,8 @@ mod serial_peer;
 mod util;
 
 mod black_box;
+#[cfg(target_os = "linux")]
+mod commission_matrix;
 mod dashboard;
 mod dashboard_mode;
 mod drive;
@@ -23,4 +25,6 @@ mod drive;
 mod fault_peer;
 #[cfg(target_os = "linux")]
 mod faults;
+#[cfg(target_os = "linux")]
+mod relay;
 mod send_raw;

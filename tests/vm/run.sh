@@ -92,8 +92,8 @@ case $suite in
         qemu_devices=(-object "can-bus,id=cbus0")
         for _ in 1 2 3; do qemu_devices+=(-device "kvaser_pci,canbus=cbus0"); done
         # ttyS2 (after the console ttyS0 and the artifacts' ttyS1): a terminal for the SIGTSTP checks
-        # (a job-control shell needs a controlling terminal); ttyS3: the RS232 robot (serial_stalled_peer),
-        # connected below when that check runs
+        # (a job-control shell needs a controlling terminal); ttyS3: the RS232 robot (serial_stalled_peer,
+        # commission_serial_stalled), connected below when one of them runs
         qemu_serial_extra=(-serial null)
         sfx=-sja1000
         # two CPUs: a flooding sender on one outruns the receiver on the other (RX FIFO overruns)
@@ -521,7 +521,7 @@ console=$work/console$sfx.log
 arts=$work/artifacts$sfx
 rm -f "$arts.tar.gz"
 rm -rf "$arts"
-# The sja1000 suite's RS232 robot (check serial_stalled_peer): serial-robot.py listens on a Unix socket before
+# The sja1000 suite's RS232 robot (checks serial_stalled_peer, commission_serial_stalled): serial-robot.py listens on a Unix socket before
 # the VM starts, QEMU connects to it as the chardev of a fourth 16550 UART (ttyS3); run.sh judges its log after.
 robot_pid=""
 robot_log=$work/robot$sfx.log
@@ -529,10 +529,13 @@ host_checks=$work/host-checks$sfx.log
 rm -f "$robot_log" "$host_checks"
 want_check() { [ -z "$checks" ] || case ",$checks," in *",$1,"*) return 0 ;; *) return 1 ;; esac; }
 if [ "$suite" = sja1000 ]; then
-    if want_check serial_stalled_peer; then
+    if want_check serial_stalled_peer || want_check commission_serial_stalled; then
         robot_sock=$work/robot$sfx.sock
         rm -f "$robot_sock"
+        # commission_serial_stalled: a session of its own (the scenario starts it), stalling 30 moving frames into
+        # the step "back" of `commission --max-linear 0.6` for 1.5 s (the stop frames get 2 s to leave)
         python3 "$here/serial-robot.py" serve --socket "$robot_sock" --log "$robot_log" --stall-after 50 --stall-for "${TRACERCTL_VM_SERIAL_STALL:-3}" \
+            --session "commission_serial_stalled:114:${TRACERCTL_VM_COMMISSION_STALL:-1.5}" \
             >"$work/robot$sfx.out" 2>&1 &
         robot_pid=$!
         for _ in $(seq 100); do [ -S "$robot_sock" ] && break; sleep 0.05; done
@@ -629,8 +632,13 @@ if [ -n "$robot_pid" ]; then
     wait "$robot_pid" 2>/dev/null || true
     if grep -q '^HOST-CHECK serial_stalled_peer:' "$console"; then
         python3 "$here/serial-robot.py" judge --log "$robot_log" --vm-dir "$arts/scn" --stall-after 50 \
-            >"$host_checks" 2>&1 || true
+            >>"$host_checks" 2>&1 || true
         log "serial_stalled_peer judged on the host from $robot_log and $arts/scn/ser.*"
+    fi
+    if grep -q '^HOST-CHECK commission_serial_stalled:' "$console"; then
+        python3 "$here/serial-robot.py" judge --check commission_serial_stalled --log "$robot_log" --vm-dir "$arts/scn" \
+            --stall-after 114 >>"$host_checks" 2>&1 || true
+        log "commission_serial_stalled judged on the host from $robot_log and $arts/scn/com.*"
     fi
 fi
 if [ -n "$helper_pid" ]; then

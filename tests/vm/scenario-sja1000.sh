@@ -30,7 +30,7 @@ W=/tmp/scn
 mkdir -p $W
 N_PASS=0
 N_FAIL=0
-N_HOST=0 # checks whose verdict run.sh gives on the host (serial_stalled_peer)
+N_HOST=0 # checks whose verdict run.sh gives on the host (serial_stalled_peer, commission_serial_stalled)
 FAILED=""
 CHECKS=${CHECKS:-}
 
@@ -743,6 +743,75 @@ ck_serial_stalled_peer() {
     host "drive exit status $rc; $(tr '\n' ' ' <$W/ser.vm)report: $(grep -hE '^stopped after|motion frames sent' $W/ser.out $W/ser.err | tail -n 1 | head -c 300)"
 }
 
+# ttyS3 again, for commission (issue 32 §3, "serial peer stalled"): the line "@session commission_serial_stalled"
+# tells the robot to start a session of its own, in which it follows the commands (a motion-state frame after each
+# status frame) and stalls after 114 moving frames for 1.5 s: with --max-linear 0.6 the forward step has 84, so
+# it stops reading 30 frames into the step "back" and the guest's transmitter stands still about 21 frames later
+# (what QEMU's socket still took), ~0.65 s before the step ends. commission must end by itself (exit 1,
+# peer_stalled): no signal is sent. Its recording (--record) gives the host's judge the time of every frame it
+# wrote; ser_tx shows when the transmitter stood still. The verdict is given on the host by
+# `serial-robot.py judge --check commission_serial_stalled`.
+ck_commission_serial_stalled() {
+    rm -f $W/com.*
+    grep '^3: ' /proc/tty/driver/serial >$W/com.port
+    if ! grep -q 'uart:16550A' $W/com.port; then
+        echo "ttyS3 is not a 16550A: $(cat $W/com.port)" >$W/com.vm
+        host "ttyS3 missing: $(cat $W/com.port)"
+        return
+    fi
+    stty -F $SER 115200 raw -echo clocal -crtscts -ixon -ixoff 2>$W/com.stty
+    printf '\n@session commission_serial_stalled\n' >$SER
+    # the robot follows: a motion-state frame (5A A5 0A AA 02) within 10 s (after what it had buffered before)
+    i=0
+    : >$W/com.probe
+    while [ $i -lt 10 ] && ! grep -q '5a a5 0a aa 02' $W/com.probe; do
+        timeout 1 head -c 1300 $SER 2>/dev/null | od -An -tx1 -v | tr -d '\n' >>$W/com.probe
+        i=$((i + 1))
+    done
+    if ! grep -q '5a a5 0a aa 02' $W/com.probe; then
+        echo "the robot on ttyS3 sent no motion state within 10 s (read: '$(tail -c 200 $W/com.probe)')" >$W/com.vm
+        host "$(cat $W/com.vm)"
+        return
+    fi
+    (
+        pid=$(wait_pidfile $W/com.pid)
+        t0=$(uptime_s)
+        tx0=$(ser_tx)
+        last=$tx0
+        since=""
+        still=""
+        i=0
+        # the transmitter standing still: the counter has moved and then not for 0.4 s while commission runs
+        while [ $i -lt 400 ] && alive "$pid" && [ "$(pstate "$pid")" != Z ]; do
+            usleep 100000
+            now=$(ser_tx)
+            if [ "$now" = "$last" ] && [ "$now" != "$tx0" ]; then
+                [ -z "$since" ] && since=$(uptime_s)
+            else
+                [ -n "$since" ] && [ -z "$still" ] && awk -v a="$since" -v b="$(uptime_s)" 'BEGIN {exit !(b - a >= 0.4)}' &&
+                    still="ttyS3's transmitter stood still at tx $last from $(awk -v a="$t0" -v b="$since" 'BEGIN {printf "%.1f", b - a}') s after commission started until $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}') s;"
+                since=""
+            fi
+            last=$now
+            i=$((i + 1))
+        done
+        [ -n "$since" ] && [ -z "$still" ] &&
+            still="ttyS3's transmitter stood still at tx $last from $(awk -v a="$t0" -v b="$since" 'BEGIN {printf "%.1f", b - a}') s after commission started until its exit;"
+        if alive "$pid" && [ "$(pstate "$pid")" != Z ]; then
+            echo "commission still running 40 s after its start: killed;" >>$W/com.vm
+            kill -KILL $pid
+        fi
+        echo "${still:-the transmitter was never seen standing still for 0.4 s;} commission ran $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}') s, tx $tx0 -> $(ser_tx)" >>$W/com.vm
+    ) &
+    helper=$!
+    fg_run $W/com.pid $W/com.out $W/com.err $T --serial $SER commission --yes --max-linear 0.6 --format json \
+        --record $W/com.rec </dev/null
+    rc=$?
+    wait $helper
+    echo $rc >$W/com.rc
+    host "commission exit status $rc; $(tr '\n' ' ' <$W/com.vm)abort: $(sed -n 's/.*"abort":\({[^}]*}\).*/\1/p' $W/com.out | head -c 300)"
+}
+
 # ------------------------------------------------------------------------------------------- phase B checks
 
 # --- RX FIFO overruns: cangen on CPU0 floods from can0; the interrupt of can1 (the receiver) is served by CPU1
@@ -1116,6 +1185,7 @@ check drive_sigtstp_hw
 check drive_sigstop_hw
 [ -n "$SIM_PID" ] && sim_stop
 check serial_stalled_peer
+check commission_serial_stalled
 
 # phase B: two CPUs; the interrupt of can0 (the flooding sender) on CPU0, that of can1 and can2 on CPU1
 if [ -e /sys/devices/system/cpu/cpu1/online ]; then

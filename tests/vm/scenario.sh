@@ -1496,6 +1496,175 @@ ck_doctor_estop() {
     case $VERDICT in FAIL*) ev_doc doc_estop "$cmd   (simulator: sim --fault estop@0)"; ev_sim ;; esac
 }
 
+# --- commission's abort matrix on SocketCAN (issue 32): each abort cause in the middle of a step
+# The RS232 matrix (tests/timing/commission_matrix.rs) runs every cause at every step on a pseudo-terminal;
+# here every cause that exists on CAN runs once, each at a different step (all nine steps covered), against a
+# fresh `sim` on vcan0, judged from candump -L: the cause's moment on the wire (the first 0x211 whose state,
+# mode or fault bytes changed after the harness acted; the harness's marker 7F1 for a signal; the robot's last
+# frame for link silence), then the first zero 0x111 within one 20 ms period of it (+10 ms for the harness's
+# own act, +1 s for silence: commission's FEEDBACK_LOST), no moving 0x111 after that, the exit status, and the
+# JSON report: the cause named, the steps begun marked, the finished steps' figures kept.
+# name:how:what:reason:status (how: sim = a fault typed on the simulator's stdin, bus = a frame another host
+# sends, sig = a signal to commission, silence = SIGSTOP of the simulator)
+CM_CAUSES="estop:sim:estop:estop:4 fault:sim:battery-low:fault:4 exception:sim:rc-lost:exception:4
+rc-override:sim:swb-middle:rc_override:4 mode-change:sim:other-host:mode_changed:4 standby-frame:bus:421#00:mode_changed:4
+sigint:sig:INT:signal:130 sigterm:sig:TERM:signal:143 sighup:sig:HUP:signal:129 link-silence:silence::link_lost:1"
+# the plan's steps at --max-linear 0.6 (src/health/plan.rs: straights of 1 m last 1.67 s): the middle of each, ms
+# from its first 0x111 (`commission --dry-run --max-linear 0.6` lists them); their names
+CM_MIDDLES="500 1833 3667 5500 7333 9833 12333 14833 17333"
+CM_NAMES="settle|forward|brake after forward|back|brake after back|spin left|brake after spin left|spin right|brake after spin right"
+
+# cm_run I NAME HOW WHAT STEP: one run; files $W/cm_I.*
+# (wait_grep and the other helpers use the global i: this code counts with cm_* names)
+cm_run() {
+    cm_i=$1; how=$3; what=$4; step=$5
+    mid=$(echo $CM_MIDDLES | cut -d' ' -f$step)
+    log=$W/cm_$cm_i.log
+    rm -f $W/cm_$cm_i.* $W/cm_fifo
+    mkfifo $W/cm_fifo
+    $T --iface vcan0 sim <$W/cm_fifo >$W/cm_$cm_i.sim.out 2>$W/cm_$cm_i.sim.err &
+    cm_sim=$!
+    exec 7>$W/cm_fifo
+    cap_start $log vcan0
+    wait_grep $log ' 211#' 15 $cm_sim || echo "the simulator sent no 0x211 within 15 s" >>$W/cm_$cm_i.note
+    (
+        pid=$(wait_pidfile $W/cm_$cm_i.pid)
+        if ! wait_grep $log ' 111#' 20 $pid; then
+            echo "no 0x111 within 20 s;" >>$W/cm_$cm_i.note
+        fi
+        usleep $((mid * 1000))
+        cansend vcan0 7F1#0$step
+        case $how in
+            sim) echo "$what" >&7 ;;
+            bus) cansend vcan0 "$what" ;;
+            sig) kill -$what $pid 2>/dev/null || echo "commission had exited before SIG$what;" >>$W/cm_$cm_i.note ;;
+            silence) kill -STOP $cm_sim ;;
+        esac
+        if ! wait_gone "$pid" 30; then
+            echo "still running 30 s after the cause: killed;" >>$W/cm_$cm_i.note
+            kill -KILL $pid
+        fi
+    ) &
+    helper=$!
+    # no terminal: the keys are the RS232 matrix's (a pseudo-terminal); here commission runs on --yes alone
+    fg_run $W/cm_$cm_i.pid $W/cm_$cm_i.out $W/cm_$cm_i.err $T --iface vcan0 commission --yes --max-linear 0.6 --format json </dev/null
+    CM_RC=$?
+    cansend vcan0 7F2#0$step
+    wait $helper
+    cap_stop
+    exec 7>&-
+    kill -CONT $cm_sim 2>/dev/null
+    stop $cm_sim
+    rm -f $W/cm_fifo
+}
+
+# cm_judge I HOW: "cause_us first_zero_us moving_after moving_before" from run I's capture (t_us as `frames`):
+# the cause's moment (see CM_CAUSES), the first zero 0x111 at or after it, the moving 0x111 after that zero
+# and before the exit marker 7F2, and the moving 0x111 before the cause
+cm_judge() {
+    frames $W/cm_$1.log 111 211 221 7F1 7F2 >$W/cm_$1.f
+    cause=$(awk -v how="$2" '
+        $2 == "7F2" {exit}
+        $2 == "7F1" {mark = $1; if (how == "sig") {print mark; done = 1; exit}; next}
+        $2 == "111" {next}
+        # a frame of the robot (0x211, 0x221); of 0x211, bytes 0-1 (state, mode) and 4-5 (fault code)
+        {robot = $1}
+        mark == "" {if ($2 == "211") state = substr($3, 1, 4) substr($3, 9, 4); next}
+        how == "silence" {next}
+        $2 == "211" && substr($3, 1, 4) substr($3, 9, 4) != state {print $1; done = 1; exit}
+        END {if (!done && how == "silence" && robot != "") print robot}' $W/cm_$1.f)
+    [ -n "$cause" ] || { echo "- - 0 0"; return; }
+    if [ "$2" = silence ]; then
+        # The silence limit (1 s) ends the drive: the stop is the first zero after the last moving frame.
+        # At rest when the robot fell silent (one period after commission's 100 ms freshness), nothing moving
+        # may follow: the next moving step waits for feedback that never comes.
+        awk -v cause="$cause" '
+            $2 == "7F2" {exit}
+            $2 != "111" {next}
+            {moving = substr($3, 1, 8) != "00000000"}
+            $1 < cause && moving {before++}
+            $1 <= cause + 120000 {rest = !moving; next}
+            moving {if (rest) blind++; zero = ""; next}
+            zero == "" {zero = $1}
+            END {printf "%s %s %d %d\n", cause, zero == "" ? "-" : zero, blind, before}' $W/cm_$1.f
+        return
+    fi
+    awk -v cause="$cause" '
+        $2 == "7F2" {exit}
+        $2 != "111" {next}
+        {moving = substr($3, 1, 8) != "00000000"}
+        $1 < cause {if (moving) before++; next}
+        zero == "" {if (!moving) zero = $1; next}
+        moving {after++}
+        END {printf "%s %s %d %d\n", cause, zero == "" ? "-" : zero, after, before}' $W/cm_$1.f
+}
+
+ck_commission_abort_matrix() {
+    cm_n=0
+    bad=0
+    : >$W/cm_table
+    for c in $CM_CAUSES; do
+        cm_n=$((cm_n + 1))
+        name=$(echo $c | cut -d: -f1); how=$(echo $c | cut -d: -f2); what=$(echo $c | cut -d: -f3)
+        reason=$(echo $c | cut -d: -f4); status=$(echo $c | cut -d: -f5)
+        # each cause at a different step; the tenth at the first again
+        step=$(( (cm_n - 1) % 9 + 1 ))
+        cm_run $cm_n "$name" $how "$what" $step
+        set -- $(cm_judge $cm_n $how)
+        cause=$1; zero=$2; after=$3; before=$4
+        case $how in sig) limit=30000 ;; silence) limit=1030000 ;; *) limit=20000 ;; esac
+        json=$W/cm_$cm_i.out
+        begun=$(grep -o '"run":true' $json 2>/dev/null | grep -c .)
+        # the figures a finished step keeps: a moving step's dead time, a brake's braking time
+        missing=""
+        k=1
+        while [ $k -lt $step ]; do
+            sname=$(echo "$CM_NAMES" | cut -d'|' -f$k)
+            case $k in
+                2 | 4 | 6 | 8) fig=dead_time_ms ;;
+                3 | 5 | 7 | 9) fig=braking_time_ms ;;
+                *) fig="" ;;
+            esac
+            if [ -n "$fig" ] && ! grep -q "\"name\":\"$fig\",\"note\":\"[^\"]*\",\"step\":\"$sname\",\"value\":[0-9]" $json; then
+                missing="$missing $fig@$sname"
+            fi
+            k=$((k + 1))
+        done
+        why=""
+        note=$(cat $W/cm_$cm_i.note 2>/dev/null | tr '\n' ' ')
+        if [ -n "$note" ]; then why="$note"
+        elif [ "$cause" = "-" ]; then why="the cause is not on the wire"
+        elif [ "$zero" = "-" ]; then why="no zero 0x111 after the cause"
+        elif [ $((zero - cause)) -gt $limit ]; then why="first zero 0x111 $(( (zero - cause) / 1000 )) ms after the cause (limit $((limit / 1000)) ms)"
+        elif [ "$after" != 0 ] && [ $how = silence ]; then why="$after moving 0x111 sent to a robot that fell silent at rest"
+        elif [ "$after" != 0 ]; then why="$after moving 0x111 after the first zero"
+        elif [ "$CM_RC" != "$status" ]; then why="exit status $CM_RC, want $status"
+        elif ! grep -q "\"reason\":\"$reason\"" $json; then why="the report does not give reason $reason"
+        elif [ "$begun" != "$step" ] && ! { [ $how = silence ] && [ "$begun" = $((step + 1)) ]; }; then
+            # (link silence ends the drive 1 s after it began: in the step after, or while that step waits for
+            # the robot's feedback before it moves; that step is marked begun)
+            why="$begun steps marked run, want $step"
+        elif [ -n "$missing" ]; then why="figures of finished steps missing:$missing"
+        fi
+        if [ "$step" = 2 ] || [ "$step" = 4 ] || [ "$step" = 6 ] || [ "$step" = 8 ]; then
+            [ -z "$why" ] && [ "$before" = 0 ] && why="no moving 0x111 before the cause in a moving step"
+        fi
+        if [ -n "$why" ]; then
+            bad=$((bad + 1))
+            echo "$name at step $step: FAIL $why" >>$W/cm_table
+            ev "$name at step $step: $why (exit status $CM_RC)"
+            ev "stderr:"; ev_file $W/cm_$cm_i.err 6
+            lines $W/cm_$cm_i.log 111 211 7F1 7F2 | grep -v ' 111#0000000000000000$' >$W/cm_$cm_i.l
+            ev "candump -L vcan0 (0x211, moving 0x111, markers):"; ev_file $W/cm_$cm_i.l 16
+        else
+            z=$(awk -v a="$cause" -v b="$zero" 'BEGIN {printf "%.1f", (b - a) / 1000}')
+            echo "$name at step $step: zero after ${z} ms, exit $CM_RC" >>$W/cm_table
+        fi
+    done
+    summary=$(awk -F': ' '{printf "%s%s", sep, $0; sep = "; "}' $W/cm_table)
+    if [ $bad = 0 ]; then pass "$cm_n runs: $summary"; else fail "$bad of $cm_n runs: $summary"; fi
+}
+
 # ------------------------------------------------------------------------------------------- run
 
 echo "SCENARIO START at uptime $(uptime_s)s; tracerctl: $($T --version 2>&1 | head -n 1)"
@@ -1548,6 +1717,8 @@ check doctor_healthy
 check doctor_probe
 check doctor_foreign_traffic
 check doctor_estop
+
+check commission_abort_matrix
 
 echo "SCENARIO END at uptime $(uptime_s)s: $N_PASS passed, $N_FAIL failed"
 if [ $N_FAIL = 0 ] && [ $N_PASS -gt 0 ]; then

@@ -1,5 +1,6 @@
 #!/usr/bin/env python3
-"""A TRACER on RS232 for the VM's check serial_stalled_peer (host side, stdlib only; the VM has no python).
+"""A TRACER on RS232 for the VM's checks serial_stalled_peer and commission_serial_stalled (host side, stdlib
+only; the VM has no python).
 
 serve: listens on a Unix socket that QEMU connects to as the chardev of the VM's fourth 16550 UART (ttyS3).
        Sends a system-status frame every 20 ms (normal, serial mode, 25.9 V, no fault; rolling frame id), and
@@ -7,8 +8,14 @@ serve: listens on a Unix socket that QEMU connects to as the chardev of the VM's
        stops reading for STALL_FOR seconds (a stalled USB-serial adapter): QEMU's writes to the socket then
        fail, the 16550 keeps its byte and its FIFO, and the guest's 8250 driver keeps what drive writes in its
        4 KiB transmit buffer (TIOCOUTQ). Then it reads on, and logs what arrives.
+       Sessions: the robot starts in the session serial_stalled_peer (status frames only). The line
+       "@session NAME" written to ttyS3 starts the session NAME given by --session NAME:AFTER:FOR: its own
+       count of motion frames and its own stall, and a chassis that follows the commands read (a motion-state
+       frame after each status frame; speed toward the command at 1 m/s^2 and 2 rad/s^2, zero when no command
+       was read for 500 ms, the robot's command timeout), as commission needs to drive. The log names each
+       session; each judge reads its own.
 judge: reads that log and the check's files from the VM and prints one line
-       CHECK serial_stalled_peer: PASS|FAIL <evidence>
+       CHECK NAME: PASS|FAIL <evidence>   (--check serial_stalled_peer, the default, or commission_serial_stalled)
        followed, on failure, by evidence lines starting with "  | ". Exit status 0 (pass) or 1 (fail).
 
 Before the robot stops reading, QEMU's socket already holds what it could still take (its send buffer, ~280 bytes
@@ -18,6 +25,7 @@ guest still held.
 """
 import argparse
 import fcntl
+import json
 import os
 import re
 import socket
@@ -66,7 +74,54 @@ def moving(frame):
     return frame[7] != 0 or frame[8] != 0 or frame[9] != 0
 
 
+def signed(byte):
+    return byte - 256 if byte > 127 else byte
+
+
+def motion_state_frame(frame_id, linear_mm_s, angular_mrad_s):
+    # 5A A5 0A AA 02: motion state, linear mm/s and angular mrad/s (big-endian, signed)
+    lin = int(round(linear_mm_s)) & 0xFFFF
+    ang = int(round(angular_mrad_s)) & 0xFFFF
+    body = bytes([0x5A, 0xA5, 0x0A, 0xAA, 0x02, lin >> 8, lin & 0xFF, ang >> 8, ang & 0xFF, 0, 0, frame_id & 0xFF])
+    return body + bytes([checksum(body)])
+
+
+class Chassis:
+    """Follows the last motion command read: toward its speed at ACCEL, to zero once no command came for
+    TIMEOUT (the robot's own command timeout). Percent commands: 100 % = 1.5 m/s, 0.7853 rad/s."""
+    ACCEL = 1000.0          # mm/s per s
+    ANGULAR_ACCEL = 2000.0  # mrad/s per s
+    TIMEOUT = 0.5
+
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.target = (0.0, 0.0)
+        self.speed = (0.0, 0.0)
+        self.last_command = None
+
+    def command(self, frame, now):
+        with self.lock:
+            self.target = (signed(frame[7]) * 15.0, signed(frame[8]) * 7.853)
+            self.last_command = now
+
+    def tick(self, now, dt):
+        with self.lock:
+            if self.last_command is None or now - self.last_command > self.TIMEOUT:
+                self.target = (0.0, 0.0)
+
+            def toward(value, goal, rate):
+                step = rate * dt
+                return goal if abs(goal - value) <= step else value + (step if goal > value else -step)
+            self.speed = (toward(self.speed[0], self.target[0], self.ACCEL),
+                          toward(self.speed[1], self.target[1], self.ANGULAR_ACCEL))
+            return self.speed
+
+
 # ------------------------------------------------------------------------------------------------ serve
+
+MARKER = re.compile(rb"@session ([a-z0-9_]+)\n")
+FIRST_SESSION = "serial_stalled_peer"
+
 
 def serve(args):
     t0 = time.monotonic()
@@ -77,6 +132,10 @@ def serve(args):
         with lock:
             log.write("%.6f %s\n" % (time.monotonic() - t0, text))
 
+    sessions = {}
+    for spec in args.session:
+        name, after, stall_for = spec.split(":")
+        sessions[name] = (int(after), float(stall_for))
     try:
         os.unlink(args.socket)
     except FileNotFoundError:
@@ -98,16 +157,30 @@ def serve(args):
     event("connect sndbuf(robot)=%d" % conn.getsockopt(socket.SOL_SOCKET, socket.SO_SNDBUF))
     done = threading.Event()
     counts = {"sent": 0, "dropped": 0}
+    chassis = Chassis()
+    # the chassis answers (motion-state frames) only in the sessions that ask for it
+    following = threading.Event()
+
+    def send(frame):
+        # one frame per send: a Unix stream socket takes a small write whole or not at all
+        try:
+            conn.send(frame, socket.MSG_DONTWAIT)
+            counts["sent"] += 1
+        except BlockingIOError:
+            counts["dropped"] += 1
 
     def sender():
         frame_id = 0
         nxt = time.monotonic()
+        last = nxt
         while not done.is_set():
+            now = time.monotonic()
+            linear, angular = chassis.tick(now, now - last)
+            last = now
             try:
-                conn.send(status_frame(frame_id), socket.MSG_DONTWAIT)
-                counts["sent"] += 1
-            except BlockingIOError:
-                counts["dropped"] += 1
+                send(status_frame(frame_id))
+                if following.is_set():
+                    send(motion_state_frame(frame_id, linear, angular))
             except OSError as error:
                 event("status send error: %s" % error)
                 return
@@ -122,8 +195,10 @@ def serve(args):
     threading.Thread(target=sender, daemon=True).start()
 
     buf = b""
+    tail = b""
     seen_moving = 0
     stalled = False
+    stall_after, stall_for = args.stall_after, args.stall_for
     rx = 0
     while True:
         try:
@@ -134,19 +209,36 @@ def serve(args):
         if not data:
             event("eof")
             break
+        now = time.monotonic()
         rx += len(data)
         event("rx %s" % data.hex())
-        if stalled:
+        tail = (tail + data)[-64:]
+        marker = MARKER.search(tail)
+        if marker:
+            name = marker.group(1).decode()
+            tail = tail[marker.end():]
+            if name not in sessions:
+                event("error: unknown session %s" % name)
+                continue
+            stall_after, stall_for = sessions[name]
+            buf, seen_moving, stalled = b"", 0, False
+            chassis.__init__()
+            following.set()
+            event("session %s stall_after=%d stall_for=%.1f" % (name, stall_after, stall_for))
             continue
-        # count the non-zero motion frames read so far; keep what may be the start of the next frame
+        # the chassis follows every motion frame read; the non-zero ones are counted until the stall
         buf += data
         found, _ = frames(buf)
-        seen_moving += sum(1 for _, f in found if is_motion(f) and moving(f))
+        for _, f in found:
+            if is_motion(f):
+                chassis.command(f, now)
+        if not stalled:
+            seen_moving += sum(1 for _, f in found if is_motion(f) and moving(f))
         buf = buf[found[-1][0] + FRAME:] if found else buf[-(FRAME - 1):]
-        if seen_moving >= args.stall_after:
+        if not stalled and seen_moving >= stall_after:
             stalled = True
-            event("stall moving=%d rx_bytes=%d for=%.1fs" % (seen_moving, rx, args.stall_for))
-            time.sleep(args.stall_for)
+            event("stall moving=%d rx_bytes=%d for=%.1fs" % (seen_moving, rx, stall_for))
+            time.sleep(stall_for)
             queued = struct.unpack("i", fcntl.ioctl(conn.fileno(), termios.FIONREAD, b"\0\0\0\0"))[0]
             event("resume socket_backlog=%d rx_bytes=%d" % (queued, rx))
     done.set()
@@ -156,50 +248,76 @@ def serve(args):
 
 # ------------------------------------------------------------------------------------------------ judge
 
-def judge(args):
-    fails = []
-    evidence = []
-    parsed = []
-    stall = resume = None
-    backlog = 0
-    rx_at_stall = rx_at_resume = None
-    status_line = ""
-    try:
-        with open(args.log) as f:
-            lines = f.read().splitlines()
-    except OSError as error:
-        lines = []
-        fails.append("no robot log (%s)" % error)
-    stream = bytearray()
-    chunk_at = []  # (offset of the chunk's first byte, host time)
-    for line in lines:
-        parts = line.split(" ", 2)
-        if len(parts) < 2:
-            continue
-        t, kind = float(parts[0]), parts[1]
-        rest = parts[2] if len(parts) > 2 else ""
-        if kind == "rx":
-            chunk_at.append((len(stream), t))
-            stream += bytes.fromhex(rest)
-        elif kind == "stall":
-            stall = t
-            rx_at_stall = len(stream)
-        elif kind == "resume":
-            resume = t
-            rx_at_resume = len(stream)
-            backlog = int(rest.split("socket_backlog=")[1].split()[0])
-        elif kind == "status":
-            status_line = rest
-        elif kind.startswith("error") or kind.endswith("error:"):
-            fails.append("robot: " + line)
+class Session:
+    """One session's part of the robot's log: the bytes read (with the host time of each chunk), the stall and
+    the resume."""
 
-    def time_of(offset):
+    def __init__(self, path, name):
+        self.lines = []
+        self.errors = []
+        self.stream = bytearray()
+        self.chunk_at = []  # (offset of the chunk's first byte, host time)
+        self.stall = self.resume = None
+        self.backlog = 0
+        self.rx_at_stall = self.rx_at_resume = None
+        self.status_line = ""
+        self.missing = None
+        try:
+            with open(path) as f:
+                every = f.read().splitlines()
+        except OSError as error:
+            every = []
+            self.missing = "no robot log (%s)" % error
+        current = FIRST_SESSION
+        for line in every:
+            parts = line.split(" ", 2)
+            if len(parts) < 2:
+                continue
+            t, kind = float(parts[0]), parts[1]
+            rest = parts[2] if len(parts) > 2 else ""
+            if kind == "session":
+                current = rest.split()[0]
+                continue
+            # the robot's own lines (connect, the final count, errors) belong to every session
+            if current != name and kind in ("rx", "stall", "resume"):
+                continue
+            self.lines.append(line)
+            if kind == "rx":
+                self.chunk_at.append((len(self.stream), t))
+                self.stream += bytes.fromhex(rest)
+            elif kind == "stall":
+                self.stall = t
+                self.rx_at_stall = len(self.stream)
+            elif kind == "resume":
+                self.resume = t
+                self.rx_at_resume = len(self.stream)
+                self.backlog = int(rest.split("socket_backlog=")[1].split()[0])
+            elif kind == "status":
+                self.status_line = rest
+            elif kind.startswith("error") or kind.endswith("error:"):
+                self.errors.append("robot: " + line)
+
+    def time_of(self, offset):
         t = None
-        for start, at in chunk_at:
+        for start, at in self.chunk_at:
             if start > offset:
                 break
             t = at
         return t
+
+
+def judge(args):
+    if args.check == "commission_serial_stalled":
+        return judge_commission(args)
+    fails = []
+    evidence = []
+    log = Session(args.log, FIRST_SESSION)
+    if log.missing:
+        fails.append(log.missing)
+    fails += log.errors
+    lines, stream, time_of = log.lines, log.stream, log.time_of
+    stall, resume, backlog, status_line = log.stall, log.resume, log.backlog, log.status_line
+    rx_at_stall, rx_at_resume = log.rx_at_stall, log.rx_at_resume
 
     found, _ = frames(bytes(stream))
     # bytes that are no frame after the resume: frames cut by the output flush (before it: the echo of a fresh
@@ -295,6 +413,219 @@ def judge(args):
     return 0
 
 
+# ------------------------------------------------------------------------------------------------ commission
+
+# What the stop rules allow commission (docs/commission.md "Safety rules", docs/architecture.md "Stop rules" 6;
+# src/control/sender.rs BACKLOG_LIMIT): once the UART's transmitter stands still, the 16550 takes at most its
+# 16-byte FIFO and the byte in its transmitter, the 8250 driver's queue (TIOCOUTQ) at most two frames before
+# the sender holds motion back (it never queues behind a backlog of 2 frames), and the guard ends the drive
+# within the period the first frame is held back in: after the frame in transmission when the transmitter
+# stood still, at most 3 more moving frames (one every 20 ms) are written, and the first stop frame within
+# 2 periods of the last one (+10 ms for TCG).
+COMMISSION_MAX_MOVING_AFTER_STALL = 3
+COMMISSION_STOP_AFTER_LAST_MOVING = 0.050
+# After the robot reads on, beyond the socket's backlog: what the 16550 held (17 bytes: one whole frame besides
+# the rest of the one in transmission) may arrive before the stop frames, stale.
+COMMISSION_MAX_STALE = 1
+# The figures a full run measures for the steps the check's stall leaves finished (a run on the simulator).
+COMMISSION_FIGURES = {
+    "forward": ("dead_time_ms", "rise_time_ms", "overshoot_percent"),
+    "brake after forward": ("braking_time_ms", "braking_distance_m", "deceleration_mps2"),
+}
+RECORD_LINE = re.compile(r"^([0-9A-Fa-f]{26}) # \((\d+\.\d+)\)")
+
+
+def recorded_motion(text):
+    """(guest time, frame) of every motion frame commission wrote, from its --record file, in order."""
+    out = []
+    for line in (text or "").splitlines():
+        m = RECORD_LINE.match(line)
+        if m:
+            frame = bytes.fromhex(m.group(1))
+            if is_motion(frame):
+                out.append((float(m.group(2)), frame))
+    return out
+
+
+def judge_commission(args):
+    name = "commission_serial_stalled"
+    fails = []
+    log = Session(args.log, name)
+    if log.missing:
+        fails.append(log.missing)
+    fails += log.errors
+
+    def vm_file(file):
+        try:
+            with open(os.path.join(args.vm_dir, file)) as f:
+                return f.read()
+        except OSError:
+            return None
+
+    vm_note = " ".join((vm_file("com.vm") or "").split("\n")).strip()
+    rc = (vm_file("com.rc") or "").strip()
+    try:
+        report = json.loads(vm_file("com.out") or "")
+    except ValueError:
+        report = None
+    sent = recorded_motion(vm_file("com.rec"))
+
+    found, _ = frames(bytes(log.stream))
+    received = [(off, f) for off, f in found if is_motion(f)]
+    stalled = log.stall is not None and log.resume is not None
+    wire_end = (log.rx_at_resume or 0) + log.backlog
+    # frames whose first byte left the UART before its transmitter stood still (in the socket at the latest
+    # at the resume), and what the guest still held
+    left = [f for off, f in received if off < wire_end] if stalled else [f for _, f in received]
+    held = [(off, f) for off, f in received if off >= wire_end] if stalled else []
+    skipped = frames(bytes(log.stream[wire_end:]))[1] if stalled else 0
+    figures = {}
+    if log.stall is None:
+        fails.append("the robot never stalled: it read fewer than its %d non-zero motion frames; VM: %s"
+                     % (args.stall_after, vm_note or "no com.vm"))
+    elif log.resume is None:
+        fails.append("the robot stalled but never resumed")
+    if not sent:
+        fails.append("no motion frame in commission's recording (artifacts-sja1000/scn/com.rec)")
+
+    # what reached the robot against what commission wrote: the first frames unaltered and in order, then
+    # the 16550's stale frames, a gap (what the flush dropped), then the last frames written (the stop frames)
+    n = len(left)
+    if [f for _, f in sent[:n]] != left:
+        i = next((i for i, (_, f) in enumerate(sent[:n]) if f != left[i]), min(n, len(sent)))
+        fails.append("the %d motion frames the robot read before the stall are not the first %d commission wrote "
+                     "(first difference at frame %d)" % (n, n, i))
+    stale_n = 0
+    while stale_n < len(held) and n + stale_n < len(sent) and held[stale_n][1] == sent[n + stale_n][1]:
+        stale_n += 1
+    rest = [f for _, f in held[stale_n:]]
+    gap_at = len(sent) - len(rest)
+    if stalled and sent and ([f for _, f in sent[gap_at:]] != rest or gap_at < n + stale_n):
+        fails.append("what arrived after the resume (%d frames) is not the stale frames followed by the last "
+                     "frames commission wrote" % len(held))
+    flushed = max(0, gap_at - n - stale_n)
+
+    # commission's own clock (its recording): the frame in transmission when the transmitter stood still,
+    # the moving frames written after it, the first stop frame
+    timing = ""
+    if stalled and 0 < n <= len(sent):
+        t_stall, stall_frame = sent[n - 1]
+        after = sent[n:]
+        moving_after = [(t, f) for t, f in after if moving(f)]
+        first_zero = next(((t, f) for t, f in after if not moving(f)), None)
+        t_last = moving_after[-1][0] if moving_after else t_stall
+        if not moving(stall_frame):
+            fails.append("the transmitter stood still while commission sent zero (not in a moving step): %s"
+                         % stall_frame.hex(" "))
+        if len(moving_after) > COMMISSION_MAX_MOVING_AFTER_STALL:
+            fails.append("%d moving frames written after the UART's transmitter stood still (limit %d: its "
+                         "FIFO, then 2 frames queued)" % (len(moving_after), COMMISSION_MAX_MOVING_AFTER_STALL))
+        if first_zero is None:
+            fails.append("commission wrote no zero frame after the stall")
+        elif first_zero[0] - t_last > COMMISSION_STOP_AFTER_LAST_MOVING:
+            fails.append("the first stop frame was written %.0f ms after the last moving one (limit %.0f ms)"
+                         % ((first_zero[0] - t_last) * 1000, COMMISSION_STOP_AFTER_LAST_MOVING * 1000))
+        if first_zero is not None and any(moving(f) for t, f in after if t >= first_zero[0]):
+            fails.append("commission wrote moving frames after its first stop frame")
+        timing = ("after the frame in transmission when the UART stood still (written at +0 ms) commission wrote "
+                  "%d moving frames, the last at +%.0f ms, its first stop frame at %s; "
+                  % (len(moving_after), (t_last - t_stall) * 1000,
+                     "+%.0f ms" % ((first_zero[0] - t_stall) * 1000) if first_zero else "never"))
+
+    # after the resume, beyond the socket's backlog: the stale frames, then zeros only
+    from_vm = [f for _, f in held]
+    first_zero = next((i for i, f in enumerate(from_vm) if not moving(f)), None)
+    stale = sum(1 for f in from_vm[:first_zero] if moving(f))
+    zeros = sum(1 for f in from_vm if not moving(f))
+    nz_after_zero = sum(1 for f in from_vm[first_zero:] if moving(f)) if first_zero is not None else 0
+    lat = ""
+    if first_zero is not None and log.resume is not None:
+        tz = log.time_of(held[first_zero][0])
+        if tz is not None:
+            lat = ", the first %.0f ms after the resume" % ((tz - log.resume) * 1000)
+    if stalled:
+        if stale > COMMISSION_MAX_STALE:
+            fails.append("%d stale non-zero motion frames reached the robot after it read on, before the first "
+                         "zero (limit %d: the 16550's FIFO)" % (stale, COMMISSION_MAX_STALE))
+        if zeros == 0:
+            fails.append("no zero motion frame reached the robot after it read on")
+        if nz_after_zero:
+            fails.append("%d non-zero motion frames after the first zero" % nz_after_zero)
+    if received and moving(received[-1][1]):
+        fails.append("the last motion frame the robot read moves: %s" % received[-1][1].hex(" "))
+
+    # the exit status and the report
+    abort = (report or {}).get("abort") or {}
+    steps = (report or {}).get("steps") or []
+    ran = [s.get("name") for s in steps if s.get("run") is True]
+    if rc != "1":
+        fails.append("commission exit status %s (want 1: the serial peer stalled)" % (rc or "unknown"))
+    if report is None:
+        fails.append("no JSON report on commission's stdout")
+    else:
+        if report.get("verdict") != "aborted" or abort.get("reason") != "peer_stalled":
+            fails.append("the report's verdict %r, abort %r (want aborted, peer_stalled)"
+                         % (report.get("verdict"), abort.get("reason")))
+        if "not draining" not in (abort.get("message") or ""):
+            fails.append("the abort's message does not say 'not draining': %r" % abort.get("message"))
+        if report.get("exit_status") != 1:
+            fails.append("the report's exit_status %r (want 1)" % report.get("exit_status"))
+        if stalled and report.get("stop_confirmed") is not True:
+            fails.append("stop_confirmed %r although the robot read on within the 2 s the stop frames get"
+                         % report.get("stop_confirmed"))
+        flags = [s.get("run") is True for s in steps]
+        if flags != sorted(flags, reverse=True) or not ran or ran[-1] != "back" or \
+                [s.get("name") for s in steps[:3]] != ["settle", "forward", "brake after forward"]:
+            fails.append("steps run %s: want settle, forward, brake after forward, back (the stall's step)" % ran)
+        for f in report.get("figures") or []:
+            figures[(f.get("name"), f.get("step"))] = f.get("value")
+        for step, names in COMMISSION_FIGURES.items():
+            for figure in names:
+                if figures.get((figure, step)) is None:
+                    fails.append("%s of %s (finished before the stall) has no value" % (figure, step))
+        never = [s.get("name") for s in steps if s.get("run") is not True]
+        valued = ["%s of %s" % key for key, value in figures.items() if key[1] in never and value is not None]
+        if valued:
+            fails.append("figures of steps never begun have values: %s" % ", ".join(valued))
+    stop = (report or {}).get("stop") or ""
+    m = re.search(r"(\d+) stale frames discarded before the stop frames", stop)
+    discarded = int(m.group(1)) if m else 0
+    m = re.search(r"(\d+) held back", stop)
+    held_back = int(m.group(1)) if m else 0
+    if report is not None and discarded == 0:
+        fails.append("the report counts no stale frames discarded before the stop frames: %r" % stop)
+    elif stalled and report is not None and discarded != flushed:
+        # TIOCOUTQ counts the bytes the driver held: every frame with bytes among them never arrived whole
+        fails.append("the report counts %d frames discarded, but %d of the frames commission wrote never reached "
+                     "the robot" % (discarded, flushed))
+
+    kept = ", ".join("%s %s %.3g" % (step, figure, figures[(figure, step)])
+                     for step, names in COMMISSION_FIGURES.items() for figure in names[:1]
+                     if figures.get((figure, step)) is not None)
+    summary = ("robot read %d motion frames (%d moving), stopped reading for %.1f s; at the resume QEMU's socket "
+               "held %d bytes; %sthen from the guest: %d stale non-zero frames before the first zero, %d zero "
+               "frames%s, %d non-zero after them; %d frames flushed (the report: %d discarded, %d held back); "
+               "%d bytes skipped; exit %s; abort %s: %s; steps run: %s; kept: %s; VM: %s"
+               % (len(left), sum(1 for f in left if moving(f)),
+                  (log.resume - log.stall) if stalled else 0, log.backlog, timing, stale, zeros, lat,
+                  nz_after_zero, flushed, discarded, held_back, skipped, rc or "?", abort.get("reason"),
+                  (abort.get("message") or "")[:160], ", ".join(ran), kept or "-", vm_note or "-"))
+    if fails:
+        print("CHECK %s: FAIL %s [%s]" % (name, "; ".join(fails), summary))
+        evidence = ["commission's stop: %s" % (stop or "(none)"), "robot: %s" % log.status_line]
+        err = (vm_file("com.err") or "").strip().splitlines()
+        evidence += ["commission's stderr: %s" % line for line in err[-4:]]
+        evidence.append("motion frames from the guest after the resume (first 8):")
+        evidence += ["  @%d %s" % (off, f.hex(" ")) for off, f in held[:8]]
+        evidence.append("the last 8 motion frames commission wrote (its recording):")
+        evidence += ["  %.6f %s" % (t, f.hex(" ")) for t, f in sent[-8:]]
+        for line in evidence:
+            print("  | " + line)
+        return 1
+    print("CHECK %s: PASS %s" % (name, summary))
+    return 0
+
+
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="cmd", required=True)
@@ -304,9 +635,13 @@ def main():
     s.add_argument("--stall-after", type=int, default=50, help="non-zero motion frames read before the stall")
     s.add_argument("--stall-for", type=float, default=3.0, help="seconds without reading")
     s.add_argument("--accept-timeout", type=int, default=120)
+    s.add_argument("--session", action="append", default=[], metavar="NAME:AFTER:FOR",
+                   help="a session started by '@session NAME' on the line: stall after AFTER moving frames for "
+                        "FOR seconds; its chassis follows the commands")
     j = sub.add_parser("judge")
     j.add_argument("--log", required=True)
     j.add_argument("--vm-dir", required=True, help="the scenario's files (artifacts-sja1000/scn)")
+    j.add_argument("--check", default=FIRST_SESSION, choices=[FIRST_SESSION, "commission_serial_stalled"])
     j.add_argument("--stall-after", type=int, default=50)
     j.add_argument("--max-stale", type=int, default=3)
     args = p.parse_args()

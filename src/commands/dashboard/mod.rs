@@ -28,7 +28,8 @@ use crate::dashboard::terminal::{spawn_input, Screen};
 use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
 use crate::link::LinkKind;
 use crate::protocol::message::COMMAND_TIMEOUT;
-use crate::session::Session;
+use crate::session::health::LiveHealth;
+use crate::session::{FrameTap, Journaling, Session};
 use crate::signals::{self, SignalFlag};
 
 /// `tracerctl dashboard`'s settings.
@@ -56,13 +57,22 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         }
         .into());
     }
-    let session =
-        Session::open_recording(&global.link, global.protocol, global.sim_config(), args.record.as_deref())?;
+    // The live analysis sees exactly the frames `--record` writes (the session's tap).
+    let health = Arc::new(Mutex::new(LiveHealth::new(global.protocol)));
+    let tap: FrameTap = {
+        let health = Arc::clone(&health);
+        Arc::new(move |received, direction| {
+            health.lock().observe(received, direction);
+        })
+    };
+    let journal =
+        Journaling { record: args.record.as_deref().map(|path| (path, "dashboard")), tap: Some(tap) };
+    let session = Session::open_journaled(&global.link, global.protocol, global.sim_config(), journal)?;
     let color = global.color.enabled(true);
 
     let (end, stopped) = {
         let screen = Screen::enter()?;
-        let result = drive_loop(screen, &session, args, color);
+        let result = drive_loop(screen, &session, args, color, health);
         // `screen` was dropped inside: the terminal is back before anything is printed.
         result?
     };
@@ -109,7 +119,13 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
     Ok(status)
 }
 
-fn drive_loop(mut screen: Screen, session: &Session, args: &Options, color: bool) -> Result<(End, Stopped)> {
+fn drive_loop(
+    mut screen: Screen,
+    session: &Session,
+    args: &Options,
+    color: bool,
+    health: Arc<Mutex<LiveHealth>>,
+) -> Result<(End, Stopped)> {
     let limits = args.limits;
     let watch_only = match (session.kind == LinkKind::Replay, args.watch) {
         (true, _) => Some("--replay is read-only"),
@@ -126,7 +142,7 @@ fn drive_loop(mut screen: Screen, session: &Session, args: &Options, color: bool
     let mut app = App::new(&session.name, limits, color);
     app.set_battery_warning(args.battery_warning_volts);
     app.set_arming(driving.arming());
-    let mut state = Loop::new(app, driving, teleop);
+    let mut state = Loop::new(app, driving, teleop, health);
     let end = loop {
         if let Some(end) = state.tick(&mut screen, &input, &signal)? {
             break end;

@@ -82,11 +82,14 @@ pub(super) fn render_battery(frame: &mut Frame, area: Rect, app: &App, theme: Th
         spark_area,
     );
     if let Some(caption) = caption {
-        let text = match (recent.iter().min(), recent.iter().max()) {
-            (Some(low), Some(high)) => {
+        // Once a drive has given one, the battery's internal resistance (the live analysis) says more
+        // about its age than the range of the sparkline.
+        let text = match (app.shown.health.battery_text(), recent.iter().min(), recent.iter().max()) {
+            (Some(estimate), _, _) => estimate,
+            (None, Some(low), Some(high)) => {
                 format!("last {} s: {}-{}", recent.len(), volts_bare(*low), volts(*high))
             }
-            _ => "history: none yet".to_string(),
+            (None, _, _) => "history: none yet".to_string(),
         };
         frame.render_widget(Paragraph::new(Line::styled(text, theme.dim())), caption);
     }

@@ -29,7 +29,14 @@ pub(super) fn render_speeds(frame: &mut Frame, area: Rect, app: &App, theme: The
     let held: String = teleop.held.iter().map(Key::to_string).collect();
     let mm = |value: i16| speed_text(f64::from(value) / 1000.0);
     let mut lines = vec![
-        Line::styled(row("", "m/s".into(), "rad/s".into()), theme.dim()),
+        // The live analysis' dead time, once a step gave one, beside the units (the panel's rows are full).
+        Line::styled(
+            match app.shown.health.dead_time_text() {
+                Some(dead_time) => format!("{}  {dead_time}", row("", "m/s".into(), "rad/s".into())),
+                None => row("", "m/s".into(), "rad/s".into()),
+            },
+            theme.dim(),
+        ),
         Line::from(vec![
             Span::raw(row("keys", speed_text(teleop.requested.0), speed_text(teleop.requested.1))),
             Span::styled(if held.is_empty() { String::new() } else { format!(" {held}") }, theme.bold()),

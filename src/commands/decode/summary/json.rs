@@ -30,6 +30,7 @@ pub(super) fn render(report: &Report) -> Json {
             "current": reading(m.current)})).collect::<Vec<_>>(),
         "error_frames": report.error_frames.iter().map(|e| json!({"class": e.class, "frames": e.frames}))
             .collect::<Vec<_>>(),
+        "health": super::health::json(&report.health),
     });
     if let (Some(object), Json::Object(fields)) = (object.as_object_mut(), report_fields) {
         object.extend(fields);

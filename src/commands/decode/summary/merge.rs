@@ -8,14 +8,18 @@ use super::{absorb_extreme, larger_abs, RowKey, Summary, MAX_OTHER_IDS};
 impl Summary {
     /// An empty summary of one chunk, to be merged with [`Self::absorb`].
     pub(in crate::commands::decode) fn partial() -> Self {
-        Self { partial: true, ..Self::default() }
+        Self { partial: true, health: crate::health::Analyzer::partial(), ..Self::default() }
     }
 
     /// Whether [`Self::absorb`] merges `later` exactly: not when its identifiers or interface names
     /// overflowed into counted-only sets (a name or row already known here could not be told apart), nor
-    /// when its new identifiers would overflow this summary's rows.
+    /// when its new identifiers would overflow this summary's rows, nor when its health analysis kept too
+    /// much before its first rest (`health::Analyzer::can_absorb`).
     pub(in crate::commands::decode) fn can_absorb(&self, later: &Summary) -> bool {
         if !later.interfaces.extra.is_empty() || later.interfaces.extra_overflow {
+            return false;
+        }
+        if !self.health.can_absorb(&later.health) {
             return false;
         }
         let mut new_other = 0;
@@ -86,6 +90,7 @@ impl Summary {
             *count += more;
         }
         self.raw_frames += later.raw_frames;
+        self.health.absorb(&later.health);
     }
 
     /// The row of `key`, a new one (last) if it has none.

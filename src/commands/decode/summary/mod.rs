@@ -1,5 +1,6 @@
 //! `decode --summary`: the report a technician reads. Memory is bounded: per-ID tables, capped event lists.
 
+mod health;
 mod json;
 mod merge;
 mod report;
@@ -460,6 +461,8 @@ pub struct Summary {
     current: [Option<Extreme>; 2],
     error_classes: [u64; 10],
     raw_frames: u64,
+    /// Response and health (issue 32): commands against feedback.
+    health: crate::health::Analyzer,
 }
 
 impl Default for Summary {
@@ -492,6 +495,7 @@ impl Default for Summary {
             current: [None; 2],
             error_classes: [0; 10],
             raw_frames: 0,
+            health: crate::health::Analyzer::new(),
         }
     }
 }
@@ -627,8 +631,10 @@ impl Summary {
             Message::SystemState(state) => {
                 self.ids[row].count_byte(state.count);
                 self.system_state(&state, decoded.wire, at);
+                self.health(at, &decoded.message);
             }
             Message::MotionState(state) => {
+                self.health(at, &decoded.message);
                 if decoded.wire != Wire::CanV2 {
                     self.ids[row].count_byte(state.count);
                 }
@@ -636,10 +642,12 @@ impl Summary {
                 keep_max_abs(&mut self.measured_angular, state.angular_mrad_s.into(), at);
             }
             Message::MotionCommand(cmd) => {
+                self.health(at, &decoded.message);
                 keep_max_abs(&mut self.commanded_linear, cmd.linear_mm_s.into(), at);
                 keep_max_abs(&mut self.commanded_angular, cmd.angular_mrad_s.into(), at);
             }
             Message::PercentMotionCommand(cmd) => {
+                self.health(at, &decoded.message);
                 self.ids[row].count_byte(cmd.count);
                 keep_max_abs(&mut self.commanded_linear, cmd.linear_mm_s(), at);
                 // Percent commands are in 1e-5 rad/s; the table keeps mrad/s.
@@ -650,9 +658,11 @@ impl Summary {
             }
             Message::RcState(rc) => self.ids[row].count_byte(rc.count),
             Message::MotorHighSpeed(motor) if matches!(motor.motor, 1 | 2) => {
+                self.health(at, &decoded.message);
                 self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
             }
             Message::MotorDriverState(motor) => {
+                self.health(at, &decoded.message);
                 self.ids[row].count_byte(motor.count);
                 if matches!(motor.motor, 1 | 2) {
                     self.motor_extremes(motor.motor, motor.rpm.into(), motor.current_deciamps.into(), at);
@@ -663,10 +673,19 @@ impl Summary {
                 see_bits(&mut self.driver_faults[index], motor.driver_state.into(), at);
             }
             Message::Odometry(odo) => {
+                self.health(at, &decoded.message);
                 self.wheels[0].update(odo.left_mm.into());
                 self.wheels[1].update(odo.right_mm.into());
             }
             _ => {}
+        }
+    }
+
+    /// A message the health analysis uses, at its stamp (messages without one cannot be timed).
+    #[inline]
+    fn health(&mut self, at: At, message: &Message) {
+        if let Some(ts) = at.ts {
+            self.health.observe(ts.as_micros_i64(), message);
         }
     }
 

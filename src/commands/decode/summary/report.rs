@@ -29,6 +29,8 @@ pub(super) struct Report<'a> {
     pub motors: [MotorRow; 2],
     /// Only the error classes seen.
     pub error_frames: Vec<ErrorClassCount>,
+    /// Response and health (issue 32).
+    pub health: crate::health::Report,
 }
 
 pub(super) struct InterfaceList<'a> {
@@ -196,6 +198,7 @@ impl Summary {
                 .filter(|(_, frames)| *frames > 0)
                 .map(|((_, class), frames)| ErrorClassCount { class, frames })
                 .collect(),
+            health: self.health.report(),
         }
     }
 

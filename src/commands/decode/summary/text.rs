@@ -19,6 +19,7 @@ pub(super) fn render(report: &Report) -> String {
     speeds_section(&mut out, report);
     bus_errors_section(&mut out, report);
     rejected_section(&mut out, report);
+    super::health::text(&mut out, &report.health);
     out
 }
 
