@@ -1,7 +1,7 @@
 //! The live analysis: every frame the session's tap hands over (exactly the frames and stamps of a
 //! `--record` recording, in its order) decoded as `decode` decodes a log and fed to the
 //! [`health::Analyzer`](crate::health::Analyzer), so what `commission` and the dashboard show live is what
-//! `decode --summary` of the recording reports. Runs on the reader's and the sender's threads: quick.
+//! `decode --summary` of the recording reports. Runs on the session's analysis thread.
 
 use super::Direction;
 use crate::health::Analyzer;

@@ -3,6 +3,10 @@
 
 pub mod confirm;
 pub mod health;
+mod journal;
+
+pub use journal::{FrameTap, Journaling, TAP_QUEUE_FRAMES};
+use journal::{Journal, RecordingTx};
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
@@ -19,7 +23,7 @@ use crate::protocol::message::{
     Lights, MotionState, MotorDriverState, MotorHighSpeed, MotorLowSpeed, Odometry, RcState, SystemState,
 };
 use crate::protocol::{CanFrame, Codec, Decoded, FrameId, Message, ProtocolHint, Wire};
-use crate::recorder::{LogFile, RecordLoss, RecordQueue, Recorder};
+use crate::recorder::{LogFile, RecordLoss, Recorder};
 
 /// How many distinct identifiers `RobotStatus::id_counts` keeps.
 pub const MAX_COUNTED_IDS: usize = 64;
@@ -120,6 +124,8 @@ pub struct Session {
     shared: Arc<Shared>,
     reader: Option<JoinHandle<ReaderEnd>>,
     recorder: Option<Recorder>,
+    /// The recording's and the tap's queues, to wait for the tap at the end.
+    journal: Option<Journal>,
     simulator: Option<crate::sim::serve::Running>,
 }
 
@@ -181,12 +187,8 @@ impl Session {
             }
             None => None,
         };
-        let journal = Journal {
-            queue: recorder.as_ref().map(Recorder::queue),
-            tap: journaling.tap,
-            order: Arc::new(Mutex::new(())),
-        };
-        let journal = (journal.queue.is_some() || journal.tap.is_some()).then_some(journal);
+        let journal = Journal::start(recorder.as_ref().map(Recorder::queue), journaling.tap)
+            .context("cannot start the analysis thread")?;
         let tx: Arc<dyn FrameTx> = match &journal {
             Some(journal) => Arc::new(RecordingTx { inner: link.tx, journal: journal.clone() }),
             None => link.tx,
@@ -196,6 +198,7 @@ impl Session {
             let rx = link.rx;
             let codec = Codec::new(wire);
             let kernel_stamps = link.kind == LinkKind::SocketCan;
+            let journal = journal.clone();
             std::thread::Builder::new()
                 .name("tracerctl-reader".into())
                 .spawn(move || read_loop(rx, codec, hint, &shared, journal, kernel_stamps))
@@ -210,6 +213,7 @@ impl Session {
             shared,
             reader: Some(reader),
             recorder,
+            journal,
             simulator,
         })
     }
@@ -306,8 +310,13 @@ impl Session {
             let loss = recorder.close()?;
             Some(recorder.describe(&loss))
         });
-        let ReaderEnd { rx, notes, report } =
+        let ReaderEnd { rx, mut notes, report } =
             reader.unwrap_or(ReaderEnd { rx: RxStats::default(), notes: Vec::new(), report: None });
+        // After the reader: every frame received and sent is queued for the tap; its figures are complete
+        // once it has taken them in.
+        if let Some(Err(incomplete)) = self.journal.as_ref().map(Journal::drain) {
+            notes.push(incomplete);
+        }
         Finished { rx, notes, report, recording }
     }
 
@@ -387,61 +396,6 @@ pub(crate) fn sent_at(ts: &crate::candump::Timestamp) -> Instant {
 pub enum Direction {
     Received,
     Sent,
-}
-
-/// Sees every frame the session's recording holds (every frame received and sent when there is none), in
-/// the recording's order and with its stamps, on the thread that received or sent it: what `commission`
-/// measures live is then exactly what `decode --summary` measures in its `--record` file. It must be quick
-/// (it runs on the sender's and the reader's threads) and take no lock a caller of the session holds.
-pub type FrameTap = Arc<dyn Fn(&link::Received, Direction) + Send + Sync>;
-
-/// What a session keeps of the frames besides the robot status: a recording and a tap.
-#[derive(Default)]
-pub struct Journaling<'a> {
-    /// The recording's file and the command that writes it (its provenance in MCAP).
-    pub record: Option<(&'a std::path::Path, &'static str)>,
-    pub tap: Option<FrameTap>,
-}
-
-/// The recording's queue and the tap, fed in one order: a frame the recording lost is not tapped either.
-#[derive(Clone)]
-struct Journal {
-    queue: Option<RecordQueue>,
-    tap: Option<FrameTap>,
-    /// Held across the queue and the tap, so both see the reader's and the sender's frames in one order.
-    order: Arc<Mutex<()>>,
-}
-
-impl Journal {
-    fn push(&self, received: link::Received, direction: Direction) {
-        let _order = self.order.lock();
-        let kept = self.queue.as_ref().is_none_or(|queue| queue.push(received));
-        if let (true, Some(tap)) = (kept, &self.tap) {
-            tap(&received, direction);
-        }
-    }
-}
-
-/// Sends, and queues what was sent for the recording and the tap.
-struct RecordingTx {
-    inner: Arc<dyn FrameTx>,
-    journal: Journal,
-}
-
-impl FrameTx for RecordingTx {
-    fn send(&self, frame: &LinkFrame) -> std::io::Result<()> {
-        self.inner.send(frame)?;
-        self.journal.push(link::Received { ts: link::now_timestamp(), frame: *frame }, Direction::Sent);
-        Ok(())
-    }
-
-    fn pending(&self) -> Option<usize> {
-        self.inner.pending()
-    }
-
-    fn discard_pending(&self) -> crate::link::Discarded {
-        self.inner.discard_pending()
-    }
 }
 
 /// What the reader thread hands back when it stops.

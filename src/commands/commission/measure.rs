@@ -1,5 +1,5 @@
 //! The plot's samples beside the live analysis ([`LiveHealth`]), fed by the session's tap with exactly the
-//! frames and stamps of the `--record` recording. Runs on the reader's and the sender's threads: quick.
+//! frames and stamps of the `--record` recording. Runs on the session's analysis thread.
 
 use crate::health::Analyzer;
 use crate::link::Received;

@@ -303,10 +303,13 @@ fn execute(
     let abort = end
         .as_ref()
         .map(|end| Abort { reason: end.name(), message: end.words(elapsed, &driven.follow, &link) });
-    // Everything sent and received is in the recording now (and so in the tap): the analysis is complete.
+    // Everything sent and received is in the recording now and through the tap: the analysis is complete.
     let finished = session.finish();
     if let Some(loss) = &finished.recording {
         crate::say!("tracerctl: {loss}");
+    }
+    for note in &finished.notes {
+        crate::say!("tracerctl: {note}");
     }
     let (analysis, samples) = {
         let measurement = start.measurement.lock();

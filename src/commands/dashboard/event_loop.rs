@@ -319,7 +319,7 @@ impl<'a> Loop<'a> {
         self.app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
         self.app.set_recording_loss(session.recording_losses());
         if self.health_taken.is_none_or(|at| now.saturating_duration_since(at) >= HEALTH_EVERY) {
-            // A copy under the lock, the report outside it: the sender's thread feeds the tap too.
+            // A copy under the lock, the report outside it: the analysis thread waits on it meanwhile.
             let analyzer = self.health.lock().analyzer.clone();
             self.app.set_health(HealthView::of(&analyzer.report()));
             self.health_taken = Some(now);
