@@ -15,10 +15,13 @@ use super::{Axis, Braking, CommandTimeout, StepResponse};
 pub(super) const HOLD_US: i64 = 1_000_000;
 /// Smaller command changes are not steps: m/s (linear), rad/s (angular).
 const MIN_STEP: f64 = 0.05;
-/// Commands have ceased after a gap of more than this many command periods ...
+/// Commands may have ceased after a gap of more than this many command periods ...
 const SILENT_PERIODS: i64 = 3;
-/// ... and never less than this, µs.
+/// ... and never less than this, µs. They have when the robot stopped by itself in the gap, or ...
 const MIN_SILENCE_US: i64 = 60_000;
+/// ... whatever it did, after a gap this long (the documented command timeout), µs. A sender starved of the
+/// CPU leaves gaps of a few hundred ms that the robot drives through: the run goes on.
+const CEASED_US: i64 = 500_000;
 /// At most this many steps and stops are listed; the rest are counted.
 pub(super) const MAX_LISTED: usize = 1000;
 
@@ -81,7 +84,7 @@ impl Found {
     }
 }
 
-/// A run of command frames of one value, without a silence inside.
+/// A run of command frames of one value, without a cease inside.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 struct Run {
     first: usize,
@@ -98,7 +101,11 @@ pub(super) fn analyse(view: &View, from: i64, end: i64, found: &mut Found) {
         return;
     }
     let silence = silence_gap(commands);
-    let runs = runs(commands, silence);
+    let ceased = |previous: &Command, next: &Command| {
+        let gap = next.t - previous.t;
+        gap > CEASED_US || (gap > silence && stopped_by_itself(view, previous, next.t))
+    };
+    let runs = runs(commands, ceased);
     for (index, run) in runs.iter().enumerate() {
         let value = commands[run.first];
         let (t0, last) = (value.t, commands[run.last].t);
@@ -163,14 +170,25 @@ fn change(
     dead
 }
 
-/// The gap between command frames beyond which commands have ceased: [`SILENT_PERIODS`] median periods.
+/// The robot, told `command`, stopped by itself before `next` (the command timeout).
+fn stopped_by_itself(view: &View, command: &Command, next: i64) -> bool {
+    let axis = match (command.linear != 0, command.angular != 0) {
+        (true, _) => Axis::Linear,
+        (false, true) => Axis::Angular,
+        (false, false) => return false,
+    };
+    timeout(view.motion, axis, (command.t, next), None).is_some()
+}
+
+/// The gap between command frames beyond which commands may have ceased: [`SILENT_PERIODS`] median periods.
 fn silence_gap(commands: &[Command]) -> i64 {
     let gaps: Vec<i64> = commands.windows(2).map(|pair| pair[1].t - pair[0].t).collect();
     let period = median(gaps).unwrap_or(0);
     (SILENT_PERIODS * period).max(MIN_SILENCE_US)
 }
 
-fn runs(commands: &[Command], silence: i64) -> Vec<Run> {
+/// The runs of one value; `ceased` tells whether commands ceased between two frames.
+fn runs(commands: &[Command], ceased: impl Fn(&Command, &Command) -> bool) -> Vec<Run> {
     let mut runs = Vec::new();
     let mut first = 0;
     for index in 1..=commands.len() {
@@ -178,7 +196,7 @@ fn runs(commands: &[Command], silence: i64) -> Vec<Run> {
             None => Some(false),
             Some(next) => {
                 let previous = &commands[index - 1];
-                if next.t - previous.t > silence {
+                if ceased(previous, next) {
                     Some(true)
                 } else if !next.same_value(previous) {
                     Some(false)
@@ -215,7 +233,7 @@ mod tests {
         ];
         let silence = silence_gap(&commands);
         assert_eq!(silence, 60_000);
-        let runs = runs(&commands, silence);
+        let runs = runs(&commands, |previous, next| next.t - previous.t > silence);
         assert_eq!(
             runs,
             [

@@ -29,6 +29,17 @@ fn command_for(wire: SimWire, linear: f64, angular: f64) -> Message {
 pub(crate) fn drive_traced(
     config: SimConfig,
     options: &PlanOptions,
+    trace: impl FnMut(Duration, &Chassis),
+) -> Vec<(i64, Message)> {
+    drive_with(config, options, |_| true, trace)
+}
+
+/// [`drive_traced`] by a sender that sends a command only at the times (µs) `sends` allows (one starved
+/// of the CPU): the chassis and the log see only those.
+fn drive_with(
+    config: SimConfig,
+    options: &PlanOptions,
+    sends: impl Fn(i64) -> bool,
     mut trace: impl FnMut(Duration, &Chassis),
 ) -> Vec<(i64, Message)> {
     let wire = config.wire;
@@ -43,7 +54,7 @@ pub(crate) fn drive_traced(
         let until = now + step.duration;
         while now < until {
             let t = now.as_micros() as i64;
-            if let Action::Command { linear, angular } = step.action {
+            if let (Action::Command { linear, angular }, true) = (step.action, sends(t)) {
                 let command = command_for(wire, linear, angular);
                 chassis.receive(now, &command);
                 log.push((t, command));
@@ -92,9 +103,8 @@ fn close(measured: f64, expected: f64, tolerance: f64) -> bool {
     (measured - expected).abs() <= tolerance
 }
 
-#[test]
-fn the_default_simulator_is_measured_as_built() {
-    let report = analyse(&drive(SimConfig::default(), &PlanOptions::default()));
+/// The default plan's steps: forward, back, spin left, spin right, each from standing.
+fn the_plans_four_steps_are_found(report: &Report) {
     let steps: Vec<(Axis, f64, f64)> = report.steps.iter().map(|s| (s.axis, s.from, s.to)).collect();
     assert_eq!(
         steps,
@@ -105,6 +115,12 @@ fn the_default_simulator_is_measured_as_built() {
             (Axis::Angular, 0.0, -0.5)
         ]
     );
+}
+
+#[test]
+fn the_default_simulator_is_measured_as_built() {
+    let report = analyse(&drive(SimConfig::default(), &PlanOptions::default()));
+    the_plans_four_steps_are_found(&report);
     for step in &report.steps {
         let dead = step.dead_time_ms.unwrap();
         assert!((0.0..=20.0).contains(&dead), "{step:?}");
@@ -132,6 +148,25 @@ fn the_default_simulator_is_measured_as_built() {
         "{:?}",
         report.battery
     );
+}
+
+#[test]
+fn a_sender_starved_of_the_cpu_is_still_measured() {
+    // A busy computer: no command for 220 ms in every 600 (the robot's 500 ms timeout never trips). Every
+    // step and stop was once lost, each gap taken for commands ceasing.
+    let starved = |t: i64| !(300_000..520_000).contains(&(t % 600_000));
+    let log = drive_with(SimConfig::default(), &PlanOptions::default(), starved, |_, _| {});
+    let report = analyse(&log);
+    the_plans_four_steps_are_found(&report);
+    for step in &report.steps {
+        assert!((0.0..=20.0).contains(&step.dead_time_ms.unwrap()), "{step:?}");
+    }
+    assert_eq!(report.braking.len(), 4, "{:?}", report.braking);
+    for braking in &report.braking {
+        let limit = if braking.axis == Axis::Linear { 1.0 } else { 2.0 };
+        assert!(close(braking.deceleration, limit, 0.1 * limit), "{:?}", report.braking);
+    }
+    assert_eq!(report.command_timeout, None, "no gap was long enough for the robot to stop");
 }
 
 #[test]

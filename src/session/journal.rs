@@ -2,6 +2,12 @@
 //! one order from the reader's and the sender's threads. Both only queue: the recording is written on the
 //! recorder's thread and the tap runs on its own (`tracerctl-analysis`), so neither a slow disk nor a slow
 //! analysis ever holds up the sender's next frame (a stop frame least of all) or the robot's status.
+//!
+//! The order is the stamps' order. A received frame is stamped when it arrived (by the kernel, or by the
+//! simulator), a sent one when it left; a reader starved of the CPU takes in frames hundreds of ms after
+//! they arrived, while the sender has stamped and sent newer ones. So a sent frame waits here until the
+//! reader has passed on every frame received before it (it passed on a later one, or found the link idle),
+//! at most [`HOLD_LIMIT_US`]: analysed in arrival order, a run is cut at every stamp going back.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
@@ -10,7 +16,10 @@ use std::time::Duration;
 
 use parking_lot::Mutex;
 
+use std::collections::VecDeque;
+
 use super::Direction;
+use crate::candump::Timestamp;
 use crate::link::{self, FrameTx, LinkFrame, Received};
 use crate::recorder::RecordQueue;
 
@@ -25,6 +34,11 @@ pub const TAP_QUEUE_FRAMES: usize = 16_384;
 
 /// How long [`Journal::drain`] waits for the tap to take in what is queued.
 const DRAIN_TIMEOUT: Duration = Duration::from_secs(10);
+/// A sent frame waits at most this long for the frames received before it, µs (a reader that has stopped
+/// reading must not hold the sender's frames back for ever) ...
+const HOLD_LIMIT_US: i64 = 1_000_000;
+/// ... and at most this many wait (50 Hz for 2 s and more): the oldest goes on first.
+const MAX_HELD: usize = 128;
 
 /// What a session keeps of the frames besides the robot status: a recording and a tap.
 #[derive(Default)]
@@ -49,7 +63,16 @@ pub(super) struct Journal {
     tap_lost: Arc<AtomicU64>,
     /// Held across both queues, so both see the reader's and the sender's frames in one order. Only
     /// queueing happens under it.
-    order: Arc<Mutex<()>>,
+    order: Arc<Mutex<Order>>,
+}
+
+/// Where the merge of the received and the sent frames stands.
+#[derive(Default)]
+struct Order {
+    /// Sent frames not passed on yet, oldest first.
+    held: VecDeque<Received>,
+    /// Every frame received before this (µs) has been passed on.
+    received_until: i64,
 }
 
 impl Journal {
@@ -68,11 +91,57 @@ impl Journal {
             }
             None => None,
         };
-        Ok(Some(Self { queue, tap, tap_lost: Arc::default(), order: Arc::default() }))
+        let order = Order { held: VecDeque::with_capacity(MAX_HELD), received_until: i64::MIN };
+        Ok(Some(Self { queue, tap, tap_lost: Arc::default(), order: Arc::new(Mutex::new(order)) }))
     }
 
+    /// A frame received or sent: passed on in the stamps' order (see the module's doc).
     pub(super) fn push(&self, received: Received, direction: Direction) {
-        let _order = self.order.lock();
+        let mut order = self.order.lock();
+        let at = micros(&received.ts);
+        match direction {
+            Direction::Received => {
+                self.pass_held(&mut order, at);
+                self.pass_on(received, Direction::Received);
+                order.received_until = order.received_until.max(at);
+            }
+            Direction::Sent => {
+                if order.held.len() == MAX_HELD {
+                    let oldest = order.held.pop_front();
+                    oldest.into_iter().for_each(|sent| self.pass_on(sent, Direction::Sent));
+                }
+                order.held.push_back(received);
+                let until = order.received_until.max(at.saturating_sub(HOLD_LIMIT_US));
+                self.pass_held(&mut order, until);
+            }
+        }
+    }
+
+    /// The reader found the link idle: every frame received before `since` (stamped before it began to
+    /// wait) has been passed on.
+    pub(super) fn received_until(&self, since: Timestamp) {
+        let mut order = self.order.lock();
+        order.received_until = order.received_until.max(micros(&since));
+        let until = order.received_until;
+        self.pass_held(&mut order, until);
+    }
+
+    /// Passes on every frame still held (the reader has stopped).
+    pub(super) fn flush(&self) {
+        let mut order = self.order.lock();
+        self.pass_held(&mut order, i64::MAX);
+    }
+
+    /// Passes on the held sent frames stamped at or before `until`, µs.
+    fn pass_held(&self, order: &mut Order, until: i64) {
+        while let Some(sent) = order.held.front().filter(|sent| micros(&sent.ts) <= until).copied() {
+            order.held.pop_front();
+            self.pass_on(sent, Direction::Sent);
+        }
+    }
+
+    /// To the recording's queue and the tap's. Under the order lock.
+    fn pass_on(&self, received: Received, direction: Direction) {
         let kept = self.queue.as_ref().is_none_or(|queue| queue.push(received));
         if let (true, Some(tap)) = (kept, &self.tap) {
             if let Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) =
@@ -101,6 +170,10 @@ impl Journal {
             )),
         }
     }
+}
+
+fn micros(ts: &Timestamp) -> i64 {
+    ts.as_micros_i64()
 }
 
 /// The analysis thread: the tap, frame by frame, until every journal is gone.
@@ -140,6 +213,7 @@ impl FrameTx for RecordingTx {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::candump::TimestampKind;
     use crate::protocol::CanFrame;
     use std::io;
 
@@ -248,6 +322,64 @@ mod tests {
         assert_eq!(seen.lock().len() as u64, pushed as u64 - lost);
         drop(journal);
         releaser.join().unwrap();
+    }
+
+    /// A frame of identifier `id` stamped `ms` after an epoch.
+    fn stamped(id: u32, ms: u64) -> Received {
+        let ts = Timestamp {
+            secs: 1_700_000_000 + ms / 1000,
+            nanos: (ms % 1000) as u32 * 1_000_000,
+            kind: TimestampKind::Absolute,
+        };
+        Received { ts, frame: frame(id) }
+    }
+
+    /// What a [`keeping_tap`] saw: identifier and stamp, ms.
+    type Kept = Arc<Mutex<Vec<(u32, u64)>>>;
+
+    /// A tap that keeps what it sees, in order.
+    fn keeping_tap() -> (FrameTap, Kept) {
+        let seen = Arc::new(Mutex::new(Vec::new()));
+        let tap: FrameTap = {
+            let seen = Arc::clone(&seen);
+            Arc::new(move |received: &Received, _| {
+                if let LinkFrame::Can(can) = received.frame {
+                    let ms =
+                        (received.ts.secs - 1_700_000_000) * 1000 + u64::from(received.ts.nanos) / 1_000_000;
+                    seen.lock().push((can.id(), ms));
+                }
+            })
+        };
+        (tap, seen)
+    }
+
+    #[test]
+    fn a_late_reader_s_frames_go_before_the_sent_frames_stamped_after_them() {
+        let (tap, seen) = keeping_tap();
+        let journal = Journal::start(None, Some(tap)).unwrap().unwrap();
+        // The sender sends at 10, 20 and 30 ms; the reader, starved, takes in what arrived at 5, 15 and 25
+        // only afterwards. Passed on in arrival order, the analysis once saw the stamps go back 25 ms.
+        for ms in [10, 20, 30] {
+            journal.push(stamped(0x111, ms), Direction::Sent);
+        }
+        for ms in [5, 15, 25] {
+            journal.push(stamped(0x221, ms), Direction::Received);
+        }
+        journal.drain().unwrap();
+        assert_eq!(*seen.lock(), [(0x221, 5), (0x111, 10), (0x221, 15), (0x111, 20), (0x221, 25)]);
+        // The reader found the link idle from 40 ms: nothing arrived before, the frame of 30 ms goes on.
+        journal.received_until(stamped(0, 40).ts);
+        journal.drain().unwrap();
+        assert_eq!(seen.lock().last(), Some(&(0x111, 30)));
+        // A reader that takes nothing in: a sent frame waits at most a second, then the rest at the end.
+        journal.push(stamped(0x111, 1_000), Direction::Sent);
+        journal.push(stamped(0x111, 2_500), Direction::Sent);
+        journal.drain().unwrap();
+        assert_eq!(seen.lock().last(), Some(&(0x111, 1_000)));
+        journal.flush();
+        journal.drain().unwrap();
+        assert_eq!(seen.lock().last(), Some(&(0x111, 2_500)));
+        assert_eq!(seen.lock().len(), 8, "nothing lost");
     }
 
     #[test]

@@ -306,6 +306,8 @@ impl Session {
     /// Ends the session: stops the reader, writes out the recording, and says what was lost or rejected.
     pub fn finish(mut self) -> Finished {
         let reader = self.stop_reader();
+        // The reader has stopped: the sent frames waiting for its frames go on.
+        self.journal.iter().for_each(Journal::flush);
         let recording = self.recorder.as_mut().and_then(|recorder| {
             let loss = recorder.close()?;
             Some(recorder.describe(&loss))
@@ -342,6 +344,7 @@ pub struct Finished {
 impl Drop for Session {
     fn drop(&mut self) {
         self.stop_reader();
+        self.journal.iter().for_each(Journal::flush);
         // After the reader: everything received and sent is queued; write it all before going.
         if let Some(recorder) = self.recorder.as_mut() {
             recorder.close();
@@ -416,6 +419,7 @@ fn read_loop(
     // Kept for the end: the dashboard's screen is no place for them (a replay notes a few lines at most).
     let mut notes = Vec::new();
     while !shared.stop.load(Ordering::SeqCst) {
+        let waiting_since = link::now_timestamp();
         let received = rx.recv(Duration::from_millis(20));
         let mut status = shared.status.lock();
         status.rx = rx.stats();
@@ -446,7 +450,11 @@ fn read_loop(
                 }
                 shared.changed.notify_all();
             }
-            Ok(None) => {}
+            Ok(None) => {
+                if let Some(journal) = &journal {
+                    journal.received_until(waiting_since);
+                }
+            }
             Err(error) => {
                 status.link_ended = error.kind() == std::io::ErrorKind::UnexpectedEof;
                 status.link_error = Some(error.to_string());

@@ -186,7 +186,7 @@ fn a_full_run_on_the_simulator_reports_every_section_records_plots_saves_and_com
     assert!(summary.status.success(), "{}", stderr(&summary));
     let rise =
         text.lines().find(|line| line.starts_with("forward") && line.contains("rise")).unwrap_or_default();
-    assert!(rise.contains("240 ms  WARN  warn > 100 ms"), "{rise}");
+    assert!(rise.contains("240 ms  WARN  warn > 100 ms"), "{rise:?} in\n{text}");
     // 0.970 before, 1.000 now: beyond half the 0.02 warning margin.
     let compared = text.lines().find(|line| line.contains("left_right_gain_ratio")).unwrap_or_default();
     assert!(compared.ends_with("DRIFTED"), "{compared}");

@@ -56,6 +56,7 @@ mod sim_training;
 #[allow(dead_code, reason = "the scanners in src use the rest")]
 mod source_scan;
 mod stress;
+mod stress_commission;
 mod truncated_input;
 mod usage;
 mod util;

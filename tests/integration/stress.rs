@@ -46,6 +46,29 @@ fn run(
     (output, svg)
 }
 
+/// The machine's cores.
+pub fn cores() -> usize {
+    std::thread::available_parallelism().map_or(2, |n| n.get())
+}
+
+/// `body` while two busy threads per core spin.
+pub fn under_cpu_hogs<T>(body: impl FnOnce() -> T) -> T {
+    let done = AtomicBool::new(false);
+    std::thread::scope(|scope| {
+        for _ in 0..cores() * 2 {
+            scope.spawn(|| {
+                let mut spin = 0u64;
+                while !done.load(Ordering::Relaxed) {
+                    spin = std::hint::black_box(spin.wrapping_add(1));
+                }
+            });
+        }
+        let result = body();
+        done.store(true, Ordering::Relaxed);
+        result
+    })
+}
+
 /// A small pseudo-random sequence (xorshift), so each runner tries other chunk sizes and thread counts.
 fn next(state: &mut u64) -> u64 {
     *state ^= *state << 13;
@@ -68,56 +91,48 @@ fn stress_chunk_boundaries_under_load_change_nothing() {
             run(&path, 1, None, args, plotted.then(|| dir.path().join("one.svg")).as_deref())
         })
         .collect();
-    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let done = AtomicBool::new(false);
+    let cores = cores();
     let (runs, failures) = (AtomicU64::new(0), parking_lot::Mutex::new(Vec::new()));
-    std::thread::scope(|scope| {
-        // CPU hogs: the load the loss was seen under.
-        for _ in 0..cores * 2 {
-            scope.spawn(|| {
-                let mut spin = 0u64;
-                while !done.load(Ordering::Relaxed) {
-                    spin = std::hint::black_box(spin.wrapping_add(1));
-                }
-            });
-        }
-        let runners: Vec<_> = (0..cores * 2)
-            .map(|runner| {
-                let (path, dir, references, runs, failures) =
-                    (&path, dir.path(), &references, &runs, &failures);
-                scope.spawn(move || {
-                    let mut state = 0x9E37_79B9_7F4A_7C15u64 ^ (runner as u64 + 1);
-                    let plot = dir.join(format!("runner{runner}.svg"));
-                    while Instant::now() < deadline {
-                        let mode = next(&mut state) as usize % MODES.len();
-                        let (args, plotted) = MODES[mode];
-                        let threads = 2 + (next(&mut state) % 3) as u16;
-                        // The seen failure's 197 among sizes 1 to 256.
-                        let bytes = [197, 1 + next(&mut state) % 256][(next(&mut state) % 2) as usize];
-                        let (output, svg) =
-                            run(path, threads, Some(bytes), args, plotted.then_some(plot.as_path()));
-                        let (reference, reference_svg) = &references[mode];
-                        let same = output.stdout == reference.stdout
-                            && output.stderr == reference.stderr
-                            && output.status.code() == reference.status.code()
-                            && svg == *reference_svg;
-                        runs.fetch_add(1, Ordering::Relaxed);
-                        if !same {
-                            let stdout = String::from_utf8_lossy(&output.stdout);
-                            let stderr = String::from_utf8_lossy(&output.stderr);
-                            let head: String = stdout.lines().take(3).collect::<Vec<_>>().join(" | ");
-                            failures
-                                .lock()
-                                .push(format!("{args:?} -j{threads} chunks {bytes}: {head} / {stderr}"));
+    // Under CPU hogs: the load the loss was seen under.
+    under_cpu_hogs(|| {
+        std::thread::scope(|scope| {
+            let runners: Vec<_> = (0..cores * 2)
+                .map(|runner| {
+                    let (path, dir, references, runs, failures) =
+                        (&path, dir.path(), &references, &runs, &failures);
+                    scope.spawn(move || {
+                        let mut state = 0x9E37_79B9_7F4A_7C15u64 ^ (runner as u64 + 1);
+                        let plot = dir.join(format!("runner{runner}.svg"));
+                        while Instant::now() < deadline {
+                            let mode = next(&mut state) as usize % MODES.len();
+                            let (args, plotted) = MODES[mode];
+                            let threads = 2 + (next(&mut state) % 3) as u16;
+                            // The seen failure's 197 among sizes 1 to 256.
+                            let bytes = [197, 1 + next(&mut state) % 256][(next(&mut state) % 2) as usize];
+                            let (output, svg) =
+                                run(path, threads, Some(bytes), args, plotted.then_some(plot.as_path()));
+                            let (reference, reference_svg) = &references[mode];
+                            let same = output.stdout == reference.stdout
+                                && output.stderr == reference.stderr
+                                && output.status.code() == reference.status.code()
+                                && svg == *reference_svg;
+                            runs.fetch_add(1, Ordering::Relaxed);
+                            if !same {
+                                let stdout = String::from_utf8_lossy(&output.stdout);
+                                let stderr = String::from_utf8_lossy(&output.stderr);
+                                let head: String = stdout.lines().take(3).collect::<Vec<_>>().join(" | ");
+                                failures
+                                    .lock()
+                                    .push(format!("{args:?} -j{threads} chunks {bytes}: {head} / {stderr}"));
+                            }
                         }
-                    }
+                    })
                 })
-            })
-            .collect();
-        for runner in runners {
-            runner.join().unwrap();
-        }
-        done.store(true, Ordering::Relaxed);
+                .collect();
+            for runner in runners {
+                runner.join().unwrap();
+            }
+        })
     });
     let failures = failures.into_inner();
     let runs = runs.into_inner();
