@@ -315,7 +315,10 @@ fn execute(
         let measurement = start.measurement.lock();
         (measurement.analyzer().report(), measurement.samples.clone())
     };
-    let figures = verdict::figures(&analysis, &driven.steps, &options.thresholds, driven.observed);
+    let mut figures = verdict::figures(&analysis, &driven.steps, &options.thresholds, driven.observed);
+    // The last step begun was cut short when the drive ended early.
+    let completed = if end.is_some() { driven.begun.saturating_sub(1) } else { driven.begun };
+    figures.extend(verdict::missing(start.steps, &driven.steps, completed, &analysis));
     let exit_status = match &end {
         Some(end) => end.exit_status(),
         None if !stats.stop_confirmed() => FAILURE,

@@ -2,6 +2,7 @@
 //! figures with units (`dead_time_ms`, `left_right_gain_ratio`, ...), each judged PASS / WARN / FAIL against
 //! [`Thresholds`] (docs/commission.md, overridable in the configuration file's `[commission]` table). Pure.
 
+use crate::health::plan::{Action, Step};
 use crate::health::{Axis, BatteryEstimate, Report};
 use crate::protocol::constants::TRACK_M;
 use crate::protocol::message::COMMAND_TIMEOUT;
@@ -403,6 +404,44 @@ fn battery_figures(report: &Report, t: &Thresholds, figures: &mut Vec<Figure>) {
     }
 }
 
+/// What a step that ran to its end must have given, when the analysis did not find it: a WARN with no
+/// value, so a run that measured nothing never passes quietly. A held single-axis command of 1 s or more
+/// gives a step response; a zero after a moving step, a braking.
+pub fn missing(plan: &[Step], steps: &StepTimes, completed: usize, report: &Report) -> Vec<Figure> {
+    const WHY: &str = "not found: the recording holds no response to this step (docs/troubleshooting.md, \
+                       \"commission: not found\")";
+    let within = |at_us: i64, (from, to): (i64, i64)| from <= at_us + 1000 && at_us + 1000 < to;
+    let mut figures = Vec::new();
+    for (index, step) in plan.iter().enumerate().take(completed.min(steps.starts.len())) {
+        let span = (steps.starts[index].1, steps.starts.get(index + 1).map_or(i64::MAX, |next| next.1));
+        let Action::Command { linear, angular } = step.action else { continue };
+        let previous_moving = index
+            .checked_sub(1)
+            .is_some_and(|p| matches!(plan[p].action, Action::Command { linear, angular } if linear != 0.0 || angular != 0.0));
+        let expected = match (linear != 0.0, angular != 0.0) {
+            (true, false) | (false, true) if step.duration.as_secs_f64() >= 1.0 => {
+                let found = report.steps.iter().any(|response| within(response.at_us, span));
+                (!found).then(|| Figure::new("dead_time_ms", step.name, "dead time", None, "ms"))
+            }
+            (false, false) if previous_moving => {
+                let found = report.braking.iter().any(|braking| within(braking.at_us, span));
+                let (name, unit) = match plan[index - 1].action {
+                    Action::Command { linear: 0.0, .. } => ("angular_deceleration_radps2", "rad/s²"),
+                    _ => ("deceleration_mps2", "m/s²"),
+                };
+                (!found).then(|| Figure::new(name, step.name, "deceleration", None, unit))
+            }
+            _ => None,
+        };
+        if let Some(mut figure) = expected {
+            figure.verdict = Verdict::Warn;
+            figure.note = WHY.to_string();
+            figures.push(figure);
+        }
+    }
+    figures
+}
+
 /// The worst verdict of the figures (`Info` when none was judged).
 pub fn worst(figures: &[Figure]) -> Verdict {
     figures.iter().map(|figure| figure.verdict).max().unwrap_or(Verdict::Info)
@@ -411,7 +450,38 @@ pub fn worst(figures: &[Figure]) -> Verdict {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::health::plan::{self, PlanOptions};
     use crate::health::{Braking, Geometry, StepResponse, Symmetry};
+
+    #[test]
+    fn a_step_that_ran_and_gave_nothing_warns_so_nothing_measured_never_passes() {
+        let plan = plan::steps(&PlanOptions::default());
+        // The report has the forward step (1.0 s) and its braking (5.0 s) only.
+        let starts_ms = [0, 990, 4_990, 7_000, 10_000, 12_000, 15_000, 17_000, 20_000];
+        let steps = StepTimes {
+            starts: plan.iter().zip(starts_ms).map(|(step, ms)| (step.name.to_string(), ms * 1000)).collect(),
+        };
+        let named = |figures: Vec<Figure>| -> Vec<(String, &'static str, Verdict, Option<f64>)> {
+            figures.into_iter().map(|f| (f.step, f.name, f.verdict, f.value)).collect()
+        };
+        let warn = |step: &str, name| (step.to_string(), name, Verdict::Warn, None);
+        assert_eq!(
+            named(missing(&plan, &steps, plan.len(), &report())),
+            [
+                warn("back", "dead_time_ms"),
+                warn("brake after back", "deceleration_mps2"),
+                warn("spin left", "dead_time_ms"),
+                warn("brake after spin left", "angular_deceleration_radps2"),
+                warn("spin right", "dead_time_ms"),
+                warn("brake after spin right", "angular_deceleration_radps2"),
+            ]
+        );
+        // Cut short during "back": the steps before it gave what they must.
+        assert_eq!(named(missing(&plan, &steps, 3, &report())), []);
+        let figure = &missing(&plan, &steps, 4, &report())[0];
+        assert!(figure.note.starts_with("not found: the recording holds no response"), "{figure:?}");
+        assert_eq!(worst(std::slice::from_ref(figure)), Verdict::Warn);
+    }
 
     fn report() -> Report {
         Report {
