@@ -9,14 +9,13 @@
 //! reader has passed on every frame received before it (it passed on a later one, or found the link idle),
 //! at most [`HOLD_LIMIT_US`]: analysed in arrival order, a run is cut at every stamp going back.
 
+use std::collections::VecDeque;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::mpsc::{self, Receiver, SyncSender, TrySendError};
 use std::sync::Arc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use parking_lot::Mutex;
-
-use std::collections::VecDeque;
 
 use super::Direction;
 use crate::candump::Timestamp;
@@ -67,7 +66,6 @@ pub(super) struct Journal {
 }
 
 /// Where the merge of the received and the sent frames stands.
-#[derive(Default)]
 struct Order {
     /// Sent frames not passed on yet, oldest first.
     held: VecDeque<Received>,
@@ -156,8 +154,22 @@ impl Journal {
     /// never saw, an analysis that stopped or did not catch up.
     pub(super) fn drain(&self) -> Result<(), String> {
         let Some(tap) = &self.tap else { return Ok(()) };
+        let deadline = Instant::now() + DRAIN_TIMEOUT;
         let (done, drained) = mpsc::sync_channel(1);
-        let finished = tap.send(Tapped::Drained(done)).is_ok() && drained.recv_timeout(DRAIN_TIMEOUT).is_ok();
+        // Not `send`: an analysis that never takes its queue in again must not hold the session's end.
+        let mut asking = Tapped::Drained(done);
+        let asked = loop {
+            match tap.try_send(asking) {
+                Ok(()) => break true,
+                Err(TrySendError::Full(again)) if Instant::now() < deadline => {
+                    asking = again;
+                    std::thread::sleep(Duration::from_millis(1));
+                }
+                Err(_) => break false,
+            }
+        };
+        let finished =
+            asked && drained.recv_timeout(deadline.saturating_duration_since(Instant::now())).is_ok();
         let lost = self.tap_lost.load(Ordering::Relaxed);
         match (finished, lost) {
             (false, _) => Err("the live analysis stopped before the session's end: its figures miss frames \
