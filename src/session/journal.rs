@@ -395,7 +395,7 @@ mod tests {
     }
 
     #[test]
-    fn a_journal_with_a_recording_only_needs_no_draining() {
+    fn without_a_recording_or_a_tap_there_is_no_journal() {
         assert!(Journal::start(None, None).unwrap().is_none());
     }
 }
