@@ -3,7 +3,6 @@
 //! tmux does not pass key releases, so this exercises the auto-repeat deadline path.
 
 use std::path::Path;
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 use crate::util::tracerctl;
@@ -162,7 +161,7 @@ fn drive_then(name: &str, finish: impl FnOnce(&Session, &Path)) -> Vec<i16> {
 fn ssh_drop_sigterm_and_ctrl_c_all_leave_zero_velocity_on_the_bus() {
     // The terminal goes away, as when SSH drops: tmux hangs up on the process (SIGHUP).
     let speeds = drive_then("tracerctl-hup", |session, _| {
-        let _ = Command::new("tmux").args(["kill-session", "-t", &session.name]).output();
+        session.hang_up();
     });
     assert_eq!(speeds.last(), Some(&0), "SIGHUP: {speeds:?}");
 

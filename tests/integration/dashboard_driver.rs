@@ -10,13 +10,22 @@ use std::time::{Duration, Instant};
 
 use crate::util::tracerctl;
 
-pub(crate) fn tmux(args: &[&str]) -> String {
-    let output = Command::new("tmux").args(args).output().expect("tmux is installed (apt-get install tmux)");
-    String::from_utf8_lossy(&output.stdout).into_owned()
+/// Runs tmux against the server listening on `socket`.
+fn tmux_on(socket: &Path, args: &[&str]) -> std::process::Output {
+    Command::new("tmux")
+        .arg("-S")
+        .arg(socket)
+        .args(args)
+        .output()
+        .expect("tmux is installed (apt-get install tmux)")
 }
 
+/// A tmux session on its own server, whose socket lives in a directory of the test's: no test shares a
+/// server with another, nor with one on its way out after its last session ended.
 pub(crate) struct Session {
     pub(crate) name: String,
+    socket: std::path::PathBuf,
+    _socket_dir: tempfile::TempDir,
     _guard: std::sync::MutexGuard<'static, ()>,
 }
 
@@ -28,23 +37,54 @@ static ONE_AT_A_TIME: std::sync::Mutex<()> = std::sync::Mutex::new(());
 impl Session {
     pub(crate) fn start(name: &str, command: &str) -> Self {
         let guard = ONE_AT_A_TIME.lock().unwrap_or_else(|poisoned| poisoned.into_inner());
-        let _ = Command::new("tmux").args(["kill-session", "-t", name]).output();
-        let status = Command::new("tmux")
-            .args(["new-session", "-d", "-s", name, "-x", "120", "-y", "40", command])
-            .status()
-            .expect("tmux is installed (apt-get install tmux)");
-        assert!(status.success());
-        Self { name: name.to_string(), _guard: guard }
+        let socket_dir = tempfile::tempdir().expect("a temporary directory for the tmux socket");
+        let socket = socket_dir.path().join("tmux");
+        // A starting server can fail on a loaded machine (CI once saw new-session exit non-zero with no
+        // other tmux running): try again, and say what tmux said if it never starts.
+        let mut said = Vec::new();
+        for attempt in 0..3 {
+            let output =
+                tmux_on(&socket, &["new-session", "-d", "-s", name, "-x", "120", "-y", "40", command]);
+            if output.status.success() {
+                return Self { name: name.to_string(), socket, _socket_dir: socket_dir, _guard: guard };
+            }
+            said.push(format!(
+                "attempt {attempt}: {} {}",
+                output.status,
+                String::from_utf8_lossy(&output.stderr).trim()
+            ));
+            std::thread::sleep(Duration::from_millis(200));
+        }
+        panic!("tmux new-session never started:\n{}", said.join("\n"));
+    }
+
+    /// Runs tmux on this session's server; its standard output.
+    pub(crate) fn tmux(&self, args: &[&str]) -> String {
+        String::from_utf8_lossy(&tmux_on(&self.socket, args).stdout).into_owned()
+    }
+
+    /// Ends the session as a closed terminal would: tmux hangs up on the process (SIGHUP).
+    pub(crate) fn hang_up(&self) {
+        let _ = tmux_on(&self.socket, &["kill-session", "-t", &self.name]);
+    }
+
+    /// Resizes the window (tmux keeps a detached session at the size it is given).
+    pub(crate) fn resize(&self, width: u16, height: u16) {
+        let output = tmux_on(
+            &self.socket,
+            &["resize-window", "-t", &self.name, "-x", &width.to_string(), "-y", &height.to_string()],
+        );
+        assert!(output.status.success(), "tmux resize-window: {}", String::from_utf8_lossy(&output.stderr));
     }
 
     pub(crate) fn screen(&self) -> String {
-        tmux(&["capture-pane", "-p", "-t", &self.name])
+        self.tmux(&["capture-pane", "-p", "-t", &self.name])
     }
 
     pub(crate) fn keys(&self, keys: &[&str]) {
         let mut args = vec!["send-keys", "-t", &self.name];
         args.extend_from_slice(keys);
-        tmux(&args);
+        self.tmux(&args);
     }
 
     /// Waits until the screen satisfies `check`; the last screen either way.
@@ -65,7 +105,7 @@ impl Session {
 
 impl Drop for Session {
     fn drop(&mut self) {
-        let _ = Command::new("tmux").args(["kill-session", "-t", &self.name]).output();
+        let _ = tmux_on(&self.socket, &["kill-server"]);
     }
 }
 

@@ -3,19 +3,9 @@
 //! units, faults, battery, how to quit), the footer keeps whole entries, and the end of a replay is news,
 //! not a fault.
 
-use std::process::Command;
 use std::time::Duration;
 
 use crate::dashboard::Session;
-
-/// Resizes the session's window (tmux keeps a detached session at the size it is given).
-fn resize(session: &Session, width: u16, height: u16) {
-    let status = Command::new("tmux")
-        .args(["resize-window", "-t", &session.name, "-x", &width.to_string(), "-y", &height.to_string()])
-        .status()
-        .expect("tmux is installed");
-    assert!(status.success(), "tmux resize-window");
-}
 
 /// The speeds panel's row after `label` (`sent`, `robot`): its two values, m/s and rad/s.
 fn speeds_row(screen: &str, label: &str) -> Option<Vec<String>> {
@@ -62,7 +52,7 @@ fn sim_at_60x20_and_80x24_shows_the_safety_facts_and_whole_footer_entries() {
     let command = format!("{} --sim dashboard; echo \"exit status $?\"; sleep 30", binary.display());
     let session = Session::start(&format!("tracerctl-screens-{}", std::process::id()), &command);
     for (width, height, arming) in [(60, 20, "WATCHING"), (80, 24, "WATCHING")] {
-        resize(&session, width, height);
+        session.resize(width, height);
         let size = format!("{width}x{height}");
         let (drawn, screen) = session.wait_for(Duration::from_secs(10), |s| {
             s.lines().count() == usize::from(height) && s.contains("driver_disabled") && s.contains("q quit")
@@ -72,7 +62,7 @@ fn sim_at_60x20_and_80x24_shows_the_safety_facts_and_whole_footer_entries() {
         assert_safety_facts(&screen, arming, &size);
     }
     // The help at the smallest size keeps the way out.
-    resize(&session, 60, 20);
+    session.resize(60, 20);
     session.keys(&["?"]);
     // tmux may be caught mid-redraw (the overlay's top drawn, its bottom not yet): wait for the whole overlay.
     let (help, screen) = session.wait_for(Duration::from_secs(5), |s| {
@@ -111,7 +101,7 @@ fn a_replay_that_ends_is_info_and_a_long_path_leaves_the_status_in_the_header() 
         log.display()
     );
     let session = Session::start(&format!("tracerctl-replay-end-{}", std::process::id()), &command);
-    resize(&session, 80, 24);
+    session.resize(80, 24);
     let (ended, screen) = session
         .wait_for(Duration::from_secs(10), |s| s.lines().count() == 24 && s.contains("[info] replay ended"));
     assert!(ended, "the end of the replay is info:\n{screen}");
