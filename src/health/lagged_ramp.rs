@@ -28,7 +28,7 @@ pub(super) struct LaggedRamp {
 }
 
 /// The points to fit: (seconds since the command, the change so far in the step's direction).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct Points {
     items: [(f64, f64); MAX_POINTS],
     len: usize,
@@ -133,6 +133,51 @@ pub(super) fn fit(
         .map(|start| refine(points, change, start.bounded(dead_range), dead_range))
         .min_by(|a, b| a.1.total_cmp(&b.1))?;
     Some((best.0, (best.1 / points.len() as f64).sqrt()))
+}
+
+/// The dead time alone, the lag and acceleration held at `shape`'s: the best `dead_s` within `dead_range`
+/// for a change of `change` (> 0), and the root-mean-square residual; `None` for fewer than 4 points or an
+/// empty range. With two parameters fewer the dead time is told apart where the joint fit cannot (a small
+/// step's ramp ends before its lag lets the speed rise). A scan every millisecond, then a golden-section
+/// search within a millisecond of the best.
+pub(super) fn fit_dead_time(
+    points: &[(f64, f64)],
+    change: f64,
+    shape: LaggedRamp,
+    (earliest, latest): (f64, f64),
+) -> Option<(f64, f64)> {
+    // (a NaN bound is an empty range too)
+    let ordered =
+        matches!(earliest.partial_cmp(&latest), Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal));
+    if points.len() < 4 || change <= 0.0 || !ordered || shape.accel <= 0.0 {
+        return None;
+    }
+    let error = |dead_s: f64| LaggedRamp { dead_s, ..shape }.squared_error(points, change);
+    const SCAN_S: f64 = 0.001;
+    // At most 2000 evaluations: a range beyond 2 s is scanned more coarsely.
+    let stride = SCAN_S.max((latest - earliest) / 2000.0);
+    let mut best = (earliest, error(earliest));
+    let mut dead_s = earliest;
+    while dead_s < latest {
+        dead_s = (dead_s + stride).min(latest);
+        let candidate = error(dead_s);
+        if candidate < best.1 {
+            best = (dead_s, candidate);
+        }
+    }
+    let (mut low, mut high) = ((best.0 - stride).max(earliest), (best.0 + stride).min(latest));
+    let ratio = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..30 {
+        let (a, b) = (high - ratio * (high - low), low + ratio * (high - low));
+        if error(a) <= error(b) {
+            high = b;
+        } else {
+            low = a;
+        }
+    }
+    let middle = (low + high) / 2.0;
+    let (dead_s, squared) = if error(middle) < best.1 { (middle, error(middle)) } else { best };
+    Some((dead_s, (squared / points.len() as f64).sqrt()))
 }
 
 /// Levenberg-Marquardt from `start`: the parameters and their squared error.
@@ -266,6 +311,41 @@ mod tests {
             assert!((fitted.lag_s - lag_s).abs() < 0.01, "{truth:?}: {fitted:?}");
             assert!(rms < 0.0006, "{rms}");
         }
+    }
+
+    #[test]
+    fn with_the_lag_and_acceleration_known_the_dead_time_of_a_small_noisy_step_is_found() {
+        // A 0.1 step whose ramp (at 3 per s²) ends in 33 ms, under a lag of 130 ms: the joint fit can trade
+        // a later start for a faster ramp; with the shape held, the dead time is one parameter.
+        let truth = LaggedRamp { dead_s: 0.06, lag_s: 0.13, accel: 3.0 };
+        let mut noise = 0x2545_f491_4f6c_dd1d_u64;
+        let points: Vec<(f64, f64)> = sampled(truth, 0.1, -0.06, 30, 0.001)
+            .into_iter()
+            .map(|(t, v)| {
+                noise ^= noise << 13;
+                noise ^= noise >> 7;
+                noise ^= noise << 17;
+                (t, v + ((noise % 5) as f64 - 2.0) * 0.001)
+            })
+            .collect();
+        let (dead_s, rms) = fit_dead_time(&points, 0.1, truth, (0.0, 0.2)).unwrap();
+        assert!((dead_s - 0.06).abs() < 0.005, "{dead_s}");
+        assert!(rms < 0.002, "{rms}");
+        // Exact samples: to the tenth of a millisecond.
+        let exact = sampled(truth, 0.1, -0.06, 30, 1e-9);
+        let (dead_s, _) = fit_dead_time(&exact, 0.1, truth, (0.0, 0.2)).unwrap();
+        assert!((dead_s - 0.06).abs() < 1e-4, "{dead_s}");
+    }
+
+    #[test]
+    fn the_dead_time_alone_needs_points_and_a_range() {
+        let shape = LaggedRamp { dead_s: 0.0, lag_s: 0.05, accel: 1.0 };
+        assert_eq!(fit_dead_time(&[(0.0, 0.0); 3], 0.1, shape, (0.0, 1.0)), None);
+        assert_eq!(fit_dead_time(&[(0.0, 0.0); 8], 0.1, shape, (0.2, 0.1)), None);
+        assert_eq!(fit_dead_time(&[(0.0, 0.0); 8], 0.1, shape, (f64::NAN, 0.1)), None);
+        assert_eq!(fit_dead_time(&[(0.0, 0.0); 8], 0.0, shape, (0.0, 0.1)), None);
+        let huge = fit_dead_time(&[(0.0, 0.0); 8], 0.1, shape, (0.0, 1e300)).unwrap();
+        assert!(huge.0.is_finite());
     }
 
     #[test]

@@ -9,7 +9,8 @@
 //! The folder: [`plan`] (the commissioning drive, pure data); `stream.rs` (the [`Analyzer`]: bounded queues,
 //! stretches between rests, the exact merge of a log's chunks); `segment.rs` (a stretch cut into runs of
 //! one command value, each judged); one file per measurement (`steps.rs`, `braking.rs`, `holds.rs`,
-//! `timeout.rs`, `battery.rs`); `sample.rs`, `series.rs` and `fit.rs` (what is kept and the arithmetic).
+//! `timeout.rs`, `battery.rs`); `refit.rs` (small steps fitted again with the large steps' lag and
+//! acceleration, once all are known); `sample.rs`, `series.rs` and `fit.rs` (what is kept and the arithmetic).
 
 #[cfg(test)]
 mod any_input_tests;
@@ -21,6 +22,7 @@ mod lagged_ramp;
 pub mod plan;
 #[cfg(test)]
 mod precision_tests;
+mod refit;
 mod sample;
 mod segment;
 mod series;
@@ -146,14 +148,16 @@ pub struct Report {
 impl Report {
     fn from_found(found: &segment::Found) -> Self {
         let load_steps = &found.load_steps.items;
+        let (steps, command_timeout) =
+            refit::refit(&found.steps.items, &found.step_fits.items, found.timeout.as_ref());
         Self {
-            steps: found.steps.items.clone(),
+            steps,
             steps_not_listed: found.steps.not_listed,
             braking: found.braking.items.clone(),
             braking_not_listed: found.braking.not_listed,
             symmetry: found.holds.symmetry(),
             geometry: found.holds.geometry(),
-            command_timeout: found.timeout.clone(),
+            command_timeout,
             battery: battery::estimate(load_steps, found.current_frames, found.voltage_frames),
             command_frames: found.command_frames,
         }

@@ -5,11 +5,12 @@ use super::battery::{load_step, LoadStep};
 use super::braking::brake;
 use super::fit::median;
 use super::holds::HoldSums;
+use super::refit::{StepFit, TimeoutFound};
 use super::sample::Command;
 use super::series::View;
 use super::steps::respond;
 use super::timeout::timeout;
-use super::{Axis, Braking, CommandTimeout, StepResponse};
+use super::{Axis, Braking, StepResponse};
 
 /// A command value must be held this long to be a step (its response has to settle), µs.
 pub(super) const HOLD_US: i64 = 1_000_000;
@@ -60,9 +61,11 @@ impl<T: Clone> Capped<T> {
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(super) struct Found {
     pub steps: Capped<StepResponse>,
+    /// Each listed step's onset fit, in the same order (`refit.rs`).
+    pub step_fits: Capped<StepFit>,
     pub braking: Capped<Braking>,
     pub holds: HoldSums,
-    pub timeout: Option<CommandTimeout>,
+    pub timeout: Option<TimeoutFound>,
     pub load_steps: Capped<LoadStep>,
     pub command_frames: u64,
     pub current_frames: u64,
@@ -72,6 +75,7 @@ pub(super) struct Found {
 impl Found {
     pub fn absorb(&mut self, later: &Self) {
         self.steps.absorb(&later.steps);
+        self.step_fits.absorb(&later.step_fits);
         self.braking.absorb(&later.braking);
         self.holds.absorb(&later.holds);
         if self.timeout.is_none() {
@@ -114,19 +118,19 @@ pub(super) fn analyse(view: &View, from: i64, end: i64, found: &mut Found) {
         let mut dead = None;
         if let (Some(previous), true) = (previous, t0 > from) {
             let before = commands[previous.first];
-            dead = change(view, (&before, &value), (t0, last, next), found);
+            dead = change(view, (&before, &value), (t0, last, next), found).map(|at| (t0, at - t0 as f64));
         }
-        if run.silence_after && last > from && !value.is_zero() {
+        if run.silence_after && last > from && !value.is_zero() && found.timeout.is_none() {
             let axis = if value.linear != 0 { Axis::Linear } else { Axis::Angular };
-            if let Some(found_timeout) = timeout(view.motion, axis, (last, next), dead) {
-                found.timeout.get_or_insert(found_timeout);
+            if let Some((figure, stop)) = timeout(view.motion, axis, (last, next), dead.map(|(_, us)| us)) {
+                found.timeout = Some(TimeoutFound::new(figure, axis, &stop, dead));
             }
         }
     }
 }
 
 /// A change of command from `before` to `value` at `t0`, held until `last` (the next change at `next`):
-/// a stop, a step and a hold, each measured when it qualifies. The step's dead time, µs.
+/// a stop, a step and a hold, each measured when it qualifies. The step's onset, µs.
 fn change(
     view: &View,
     (before, value): (&Command, &Command),
@@ -158,9 +162,10 @@ fn change(
         _ => None,
     };
     if let Some((axis, from, to)) = axis {
-        let (response, measured) = respond(view.motion, axis, (t0, last), (from, to));
-        dead = measured;
+        let (response, onset) = respond(view.motion, axis, (t0, last), (from, to));
         found.steps.push(response);
+        found.step_fits.push(StepFit::of(onset.as_ref(), to - from));
+        dead = onset.map(|onset| onset.at);
     }
     match (value.linear != 0, value.angular != 0) {
         (true, false) => found.holds.straight(view.motion, view.odometry, t0, last),

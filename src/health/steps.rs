@@ -2,7 +2,7 @@
 //! and the helpers the other measurements share (levels, noise-aware thresholds, motion onsets).
 
 use super::fit::{crossing, mean_and_sigma, Line};
-use super::lagged_ramp::{self, Points};
+use super::lagged_ramp::{self, LaggedRamp, Points};
 use super::sample::Motion;
 use super::series::within;
 use super::{Axis, StepResponse};
@@ -55,6 +55,30 @@ pub(super) fn threshold(sigma: f64) -> f64 {
     (2.0 * QUANTUM).max(3.0 * sigma)
 }
 
+/// The samples a response's onset was fitted to and what the joint fit made of them: kept so that the report
+/// can fit a small step's dead time again with the lag and acceleration of the larger steps of its axis
+/// (`refit.rs`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct OnsetFit {
+    /// µs of the log's clock the points' seconds count from (the command frame).
+    pub t0: i64,
+    pub points: Points,
+    /// The size of the change (> 0), in the points' direction.
+    pub change: f64,
+    /// Where the dead time may lie, s after `t0`.
+    pub dead_range: (f64, f64),
+    pub threshold: f64,
+    /// The joint fit, when it explained the samples within `threshold` (then the onset is its dead time).
+    pub model: Option<LaggedRamp>,
+}
+
+/// Where a response started, µs, and the fit behind it when there was one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Onset {
+    pub at: f64,
+    pub fit: Option<OnsetFit>,
+}
+
 /// When the measured value started to leave `level` in `direction` after `t0` (until `end`), µs: the first
 /// sample beyond the noise `threshold`, then a line through the first few moving samples extrapolated back
 /// to `level` (so the 20 ms feedback period does not round the answer up), kept between `t0` and that
@@ -65,7 +89,7 @@ pub(super) fn onset(
     (t0, end): (i64, i64),
     level: f64,
     (direction, change, threshold): (f64, f64, f64),
-) -> Option<f64> {
+) -> Option<Onset> {
     let range = within(motion, t0 + 1, end, |m| m.t);
     let after = &motion[range.clone()];
     let beyond = |m: &Motion| direction * (value(m, axis) - level) > threshold;
@@ -85,15 +109,16 @@ pub(super) fn onset(
         .filter(|line| line.slope * direction > 0.0)
         .and_then(|line| line.time_at(level))
         .map_or(at_first, |t| t.clamp(t0 as f64, at_first));
-    let fitted = fitted_onset(motion, axis, t0, after, (level, direction, change.abs(), threshold), apparent);
-    Some(fitted.unwrap_or(apparent))
+    let fit = fitted_onset(motion, axis, t0, after, (level, direction, change.abs(), threshold), apparent);
+    let at = fit.and_then(|fit| fit.model).map_or(apparent, |model| t0 as f64 + model.dead_s * 1e6);
+    Some(Onset { at, fit })
 }
 
-/// The onset from a joint fit of dead time, lag and acceleration ([`lagged_ramp`]) to the samples from
-/// [`FIT_BEFORE_US`] before `t0` until the response has nearly arrived, when the model explains them within
-/// the noise threshold (the residual of a fit that fits is the noise, σ, and the threshold is 3 σ measured
-/// on a few samples); `None` otherwise (a shape it does not describe: the apparent onset stands).
-/// `after`: the samples after `t0`; `apparent`: the line's onset, µs.
+/// A joint fit of dead time, lag and acceleration ([`lagged_ramp`]) to the samples from [`FIT_BEFORE_US`]
+/// before `t0` until the response has nearly arrived; its model stands when it explains them within the
+/// noise threshold (the residual of a fit that fits is the noise, σ, and the threshold is 3 σ measured on a
+/// few samples), else (a shape it does not describe) the apparent onset does. `None`: too few samples, or
+/// the response never arrived. `after`: the samples after `t0`; `apparent`: the line's onset, µs.
 fn fitted_onset(
     motion: &[Motion],
     axis: Axis,
@@ -101,7 +126,7 @@ fn fitted_onset(
     after: &[Motion],
     (level, direction, change, threshold): (f64, f64, f64, f64),
     apparent: f64,
-) -> Option<f64> {
+) -> Option<OnsetFit> {
     let seconds = |t: i64| (t - t0) as f64 / 1e6;
     let mut points = Points::default();
     let before = within(motion, t0 - FIT_BEFORE_US, t0, |m| m.t);
@@ -129,18 +154,19 @@ fn fitted_onset(
     }
     arrived_at?;
     let starts = lagged_ramp::starts((apparent - t0 as f64) / 1e6, steepest.max(change));
-    let (model, rms) = lagged_ramp::fit(points.as_slice(), change, &starts, (0.0, half_way?))?;
-    (rms <= threshold).then_some(t0 as f64 + model.dead_s * 1e6)
+    let dead_range = (0.0, half_way?);
+    let (model, rms) = lagged_ramp::fit(points.as_slice(), change, &starts, dead_range)?;
+    Some(OnsetFit { t0, points, change, dead_range, threshold, model: (rms <= threshold).then_some(model) })
 }
 
-/// The response to a step of `axis` from `from` to `to` (commanded) at `t0`, held until `end`; the dead
-/// time in µs too (for the command timeout).
+/// The response to a step of `axis` from `from` to `to` (commanded) at `t0`, held until `end`; its onset too
+/// (the dead time in µs is `at - t0`: the command timeout takes it off).
 pub(super) fn respond(
     motion: &[Motion],
     axis: Axis,
     (t0, end): (i64, i64),
     (from, to): (f64, f64),
-) -> (StepResponse, Option<f64>) {
+) -> (StepResponse, Option<Onset>) {
     let mut response = StepResponse {
         axis,
         at_us: t0,
@@ -162,8 +188,8 @@ pub(super) fn respond(
         return (response, None);
     }
     let direction = change.signum();
-    let dead = onset(motion, axis, (t0, end), before, (direction, change, threshold)).map(|t| t - t0 as f64);
-    response.dead_time_ms = dead.map(|us| us / 1000.0);
+    let dead = onset(motion, axis, (t0, end), before, (direction, change, threshold));
+    response.dead_time_ms = dead.map(|onset| (onset.at - t0 as f64) / 1000.0);
     // Rise and overshoot are judged against where the response settled: a step cut short while still
     // changing (the robot had not reached the command yet) has neither, never a guess.
     if !settled_within(motion, axis, end, change) {
@@ -235,7 +261,7 @@ pub(super) mod tests {
             let (response, dead) = respond(&ramp(dead_ms), Axis::Linear, (1_000_000, 2_900_000), (0.0, 0.3));
             let measured = response.dead_time_ms.unwrap();
             assert!((measured - dead_ms as f64).abs() < 0.5, "{dead_ms}: {measured}");
-            assert!((dead.unwrap() / 1000.0 - measured).abs() < 1e-9);
+            assert!(((dead.unwrap().at - 1_000_000.0) / 1000.0 - measured).abs() < 1e-9);
             // 10 % to 90 % of 300 mm/s at 1 m/s²: 240 ms.
             assert!((response.rise_time_ms.unwrap() - 240.0).abs() < 1e-6, "{response:?}");
             assert!(response.overshoot_percent.unwrap() < 1e-9);

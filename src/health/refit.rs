@@ -1,0 +1,216 @@
+//! The report's second look at small steps. A step below [`LARGE_STEP`] reaches its level by a ramp of a
+//! period or two, before a lag lets the speed rise: its joint fit can trade a later start for a faster
+//! ramp within the noise. The larger steps of the same axis tell the lag and the acceleration apart, and
+//! the drive has one of each: with them held, a small step's dead time (and the onset of the robot's own
+//! stop when commands cease at a small speed) is a fit of one parameter. It stands when it explains the
+//! samples within their noise threshold, as the joint fit must; otherwise the first figure does.
+//!
+//! Done on the merged findings, when the report is made: every step of the run is known then, whichever
+//! chunk of a log (`decode -jN`) held it.
+
+use super::lagged_ramp::{fit_dead_time, LaggedRamp};
+use super::steps::{Onset, OnsetFit};
+use super::{Axis, CommandTimeout, StepResponse};
+
+/// Steps of at least this (m/s, rad/s) give the shape; smaller ones are fitted again with it.
+pub(super) const LARGE_STEP: f64 = 0.2;
+
+/// What the findings keep of a step's onset: the joint model of a large step (its lag and acceleration),
+/// the samples of a small one.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(super) struct StepFit {
+    pub model: Option<LaggedRamp>,
+    /// On the heap: 1.5 KB of samples, kept only for the few small steps.
+    pub small: Option<Box<OnsetFit>>,
+}
+
+impl StepFit {
+    pub fn of(onset: Option<&Onset>, size: f64) -> Self {
+        let fit = onset.and_then(|onset| onset.fit);
+        if size.abs() >= LARGE_STEP {
+            Self { model: fit.and_then(|fit| fit.model), small: None }
+        } else {
+            Self { model: None, small: fit.map(Box::new) }
+        }
+    }
+}
+
+/// The command timeout as found, with what fitting it again needs.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct TimeoutFound {
+    pub figure: CommandTimeout,
+    pub axis: Axis,
+    /// The robot's own stop, when it was from a small speed.
+    pub stop: Option<Box<OnsetFit>>,
+    /// The step whose dead time was taken off: its command frame, µs, and that dead time, µs.
+    pub step_at: Option<i64>,
+    pub dead_us: Option<f64>,
+}
+
+impl TimeoutFound {
+    pub fn new(figure: CommandTimeout, axis: Axis, stop: &Onset, step: Option<(i64, f64)>) -> Self {
+        let stop = stop.fit.filter(|fit| fit.change < LARGE_STEP).map(Box::new);
+        Self { figure, axis, stop, step_at: step.map(|(at, _)| at), dead_us: step.map(|(_, dead)| dead) }
+    }
+}
+
+/// The middle value (the mean of the two middle ones for an even count); `None` for none.
+fn median(mut values: Vec<f64>) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let count = values.len();
+    match count {
+        0 => None,
+        _ if count % 2 == 1 => Some(values[count / 2]),
+        _ => Some((values[count / 2 - 1] + values[count / 2]) / 2.0),
+    }
+}
+
+/// The lag and acceleration of an axis: the medians of its large steps' joint fits.
+fn shape(steps: &[StepResponse], fits: &[StepFit], axis: Axis) -> Option<LaggedRamp> {
+    let models =
+        || steps.iter().zip(fits).filter(|(step, _)| step.axis == axis).filter_map(|(_, fit)| fit.model);
+    Some(LaggedRamp {
+        dead_s: 0.0,
+        lag_s: median(models().map(|model| model.lag_s).collect())?,
+        accel: median(models().map(|model| model.accel).collect())?,
+    })
+}
+
+/// The dead time of `fit` with `shape` held, s after its command; `None` when that does not explain the
+/// samples within their noise threshold.
+fn dead_time(fit: &OnsetFit, shape: LaggedRamp) -> Option<f64> {
+    let (dead_s, rms) = fit_dead_time(fit.points.as_slice(), fit.change, shape, fit.dead_range)?;
+    (rms <= fit.threshold).then_some(dead_s)
+}
+
+/// The steps with the small ones' dead times fitted again, and the command timeout with its stop's onset
+/// and its step's dead time fitted again.
+pub(super) fn refit(
+    steps: &[StepResponse],
+    fits: &[StepFit],
+    timeout: Option<&TimeoutFound>,
+) -> (Vec<StepResponse>, Option<CommandTimeout>) {
+    let shapes = [Axis::Linear, Axis::Angular].map(|axis| shape(steps, fits, axis));
+    let shape_of = |axis: Axis| shapes[usize::from(axis == Axis::Angular)];
+    let mut refitted = steps.to_vec();
+    for (step, fit) in refitted.iter_mut().zip(fits) {
+        let (Some(small), Some(shape)) = (&fit.small, shape_of(step.axis)) else { continue };
+        if let Some(dead_s) = dead_time(small, shape) {
+            step.dead_time_ms = Some(dead_s * 1000.0);
+        }
+    }
+    let timeout = timeout.map(|found| {
+        let mut figure = found.figure.clone();
+        let shape = shape_of(found.axis);
+        let stop = found
+            .stop
+            .as_deref()
+            .zip(shape)
+            .and_then(|(fit, shape)| dead_time(fit, shape).map(|dead_s| fit.t0 as f64 + dead_s * 1e6));
+        if let Some(stop) = stop {
+            let step =
+                found.step_at.and_then(|at| refitted.iter().find(|s| s.at_us == at && s.axis == found.axis));
+            let dead_us = step.and_then(|s| s.dead_time_ms).map(|ms| ms * 1000.0).or(found.dead_us);
+            figure.timeout_ms = (stop - figure.last_command_us as f64 - dead_us.unwrap_or(0.0)) / 1000.0;
+        }
+        figure
+    });
+    (refitted, timeout)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::lagged_ramp::Points;
+    use super::*;
+
+    fn step(axis: Axis, at_us: i64, size: f64, dead_ms: f64) -> StepResponse {
+        StepResponse {
+            axis,
+            at_us,
+            from: 0.0,
+            to: size,
+            dead_time_ms: Some(dead_ms),
+            rise_time_ms: None,
+            overshoot_percent: None,
+        }
+    }
+
+    /// A small step's samples every 20 ms from 60 ms before its command, from `truth`.
+    fn small_fit(t0: i64, truth: LaggedRamp, change: f64) -> OnsetFit {
+        let mut points = Points::default();
+        for n in 0..48 {
+            let s = -0.06 + n as f64 * 0.02;
+            points.push(s, (truth.value(s, change) / 0.001).round() * 0.001);
+        }
+        OnsetFit { t0, points, change, dead_range: (0.0, 0.25), threshold: 0.002, model: None }
+    }
+
+    const TRUTH: LaggedRamp = LaggedRamp { dead_s: 0.05, lag_s: 0.12, accel: 3.0 };
+
+    #[test]
+    fn a_small_step_takes_the_lag_and_acceleration_of_the_large_ones_of_its_axis() {
+        let steps = [
+            step(Axis::Linear, 1_000_000, 0.3, 50.0),
+            step(Axis::Angular, 3_000_000, 0.5, 40.0),
+            step(Axis::Linear, 5_000_000, 0.1, 81.0),
+        ];
+        let fits = [
+            StepFit { model: Some(TRUTH), small: None },
+            // The angular axis's shape is another: it must not be used for a linear step.
+            StepFit { model: Some(LaggedRamp { dead_s: 0.04, lag_s: 0.0, accel: 20.0 }), small: None },
+            StepFit { model: None, small: Some(Box::new(small_fit(5_000_000, TRUTH, 0.1))) },
+        ];
+        let (refitted, _) = refit(&steps, &fits, None);
+        let dead = refitted[2].dead_time_ms.unwrap();
+        assert!((dead - 50.0).abs() < 1.0, "{dead}");
+        assert_eq!(refitted[..2], steps[..2]);
+    }
+
+    #[test]
+    fn without_a_large_step_or_a_fit_that_explains_the_samples_the_first_figure_stands() {
+        let small = step(Axis::Linear, 5_000_000, 0.1, 81.0);
+        let fit = StepFit { model: None, small: Some(Box::new(small_fit(5_000_000, TRUTH, 0.1))) };
+        let (alone, _) = refit(std::slice::from_ref(&small), std::slice::from_ref(&fit), None);
+        assert_eq!(alone[0].dead_time_ms, Some(81.0));
+        // A shape far from the samples' (no lag, a slow ramp): the residual is beyond the threshold.
+        let large = step(Axis::Linear, 1_000_000, 0.3, 50.0);
+        let wrong = StepFit { model: Some(LaggedRamp { dead_s: 0.0, lag_s: 0.0, accel: 0.2 }), small: None };
+        let (refitted, _) = refit(&[large, small], &[wrong, fit], None);
+        assert_eq!(refitted[1].dead_time_ms, Some(81.0));
+    }
+
+    #[test]
+    fn the_timeout_takes_its_stop_and_its_step_fitted_again() {
+        let steps = [step(Axis::Linear, 1_000_000, 0.3, 50.0), step(Axis::Linear, 5_000_000, 0.1, 81.0)];
+        let fits = [
+            StepFit { model: Some(TRUTH), small: None },
+            StepFit { model: None, small: Some(Box::new(small_fit(5_000_000, TRUTH, 0.1))) },
+        ];
+        // Commands ceased at 6.5 s; the robot's own stop began 550 ms later (500 ms timeout + 50 ms dead).
+        let stop = small_fit(6_500_000, LaggedRamp { dead_s: 0.55, ..TRUTH }, 0.1);
+        let found = TimeoutFound {
+            figure: CommandTimeout { last_command_us: 6_500_000, timeout_ms: 470.0 },
+            axis: Axis::Linear,
+            stop: Some(Box::new(OnsetFit { dead_range: (0.0, 0.8), ..stop })),
+            step_at: Some(5_000_000),
+            dead_us: Some(81_000.0),
+        };
+        let (_, timeout) = refit(&steps, &fits, Some(&found));
+        let timeout = timeout.unwrap();
+        assert!((timeout.timeout_ms - 500.0).abs() < 2.0, "{timeout:?}");
+        assert_eq!(timeout.last_command_us, 6_500_000);
+        // No shape: as found.
+        let (_, as_found) = refit(&steps[1..], &fits[1..], Some(&found));
+        assert_eq!(as_found.unwrap().timeout_ms, 470.0);
+    }
+
+    #[test]
+    fn a_large_step_keeps_its_model_and_a_small_one_its_samples() {
+        let fit = small_fit(0, TRUTH, 0.3);
+        let onset = Onset { at: 50_000.0, fit: Some(OnsetFit { model: Some(TRUTH), ..fit }) };
+        assert_eq!(StepFit::of(Some(&onset), -0.3), StepFit { model: Some(TRUTH), small: None });
+        let kept = StepFit::of(Some(&onset), 0.1);
+        assert_eq!((kept.model, kept.small.map(|fit| fit.t0)), (None, Some(0)));
+        assert_eq!(StepFit::of(None, 0.1), StepFit::default());
+    }
+}
