@@ -348,7 +348,7 @@ fn a_full_disk_shrinks_the_ring_counts_losses_and_recording_resumes() {
 
 #[test]
 fn an_rs232_recording_keeps_hex_lines_and_its_incidents_decode() {
-    let sim = crate::sim_command::Simulator::start(&[]);
+    let sim = crate::pty_sim::PtySim::start("20s", &[]);
     let dir = tempfile::tempdir().unwrap();
     let child =
         start(&["--serial", &sim.path], dir.path(), &["--segment", "1s", "--before", "1s", "--after", "1s"]);

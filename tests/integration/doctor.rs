@@ -20,7 +20,7 @@ use tracerctl::protocol::{CanFrame, ProtocolHint, Wire};
 use tracerctl::session::Session;
 use tracerctl::sim::{FaultKind, RcSwitch, ScheduledFault, SimConfig, SimWire};
 
-use crate::sim_command::Simulator;
+use crate::pty_sim::PtySim;
 use crate::util::{stderr, stdout, tracerctl};
 
 fn args(probe: bool) -> doctor::Options {
@@ -347,7 +347,7 @@ fn doctor_json(link: &[&str], options: &[&str]) -> (i32, Value, String) {
 #[test]
 #[ignore = "timing group: the status rate of a simulator process (starved on a busy machine); .ci/run runs it alone"]
 fn over_rs232_the_simulator_process_passes_and_the_probe_selects_serial_mode() {
-    let sim = Simulator::start(&[]);
+    let sim = PtySim::start("20s", &[]);
     let (code, report, errors) = doctor_json(&["--serial", &sim.path], &["--probe"]);
     assert_eq!(code, 0, "{errors} {report:#}");
     assert_eq!(
@@ -363,7 +363,7 @@ fn over_rs232_the_simulator_process_passes_and_the_probe_selects_serial_mode() {
 
 #[test]
 fn over_rs232_an_estop_from_the_simulator_process_fails() {
-    let sim = Simulator::start(&["--fault", "estop@0s"]);
+    let sim = PtySim::start("20s", &["--fault", "estop@0s"]);
     let (code, report, errors) = doctor_json(&["--serial", &sim.path], &[]);
     assert_eq!(code, 4, "{errors}");
     assert_eq!(failed(&report), ["estop"], "{report:#}");

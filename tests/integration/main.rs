@@ -40,6 +40,7 @@ mod parallel_logs;
 mod parallel_summary;
 mod plot;
 mod pty_robot;
+mod pty_sim;
 mod pure_files;
 mod recording;
 mod report;

@@ -1,52 +1,16 @@
 //! `tracerctl sim --pty` as a separate process: another tracerctl drives it over the pseudo-terminal, and a
 //! fault injected on the simulator's standard input reaches the driver.
 
-use std::io::{BufRead, BufReader, Write};
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::time::Duration;
 
+use crate::pty_sim::PtySim;
 use crate::util::{stderr, stdout, tracerctl};
-
-pub struct Simulator {
-    child: Child,
-    pub path: String,
-    /// Kept open: the simulator may still write to it.
-    _stdout: BufReader<std::process::ChildStdout>,
-}
-
-impl Simulator {
-    pub fn start(extra: &[&str]) -> Self {
-        let mut child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
-            .args(["sim", "--pty", "--duration", "20s"])
-            .args(extra)
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut stdout = BufReader::new(child.stdout.take().unwrap());
-        let mut first = String::new();
-        stdout.read_line(&mut first).unwrap();
-        let path = first.strip_prefix("PTY ").expect("`PTY <path>` first").trim().to_string();
-        Self { child, path, _stdout: stdout }
-    }
-
-    fn inject(&mut self, line: &str) {
-        writeln!(self.child.stdin.as_mut().unwrap(), "{line}").unwrap();
-    }
-}
-
-impl Drop for Simulator {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
 
 #[test]
 #[ignore = "timing group: reaches 0.15 m/s within a 2 s drive between two processes, which a busy machine misses; .ci/run runs it alone"]
 fn a_second_process_drives_the_simulator_over_the_pseudo_terminal() {
-    let sim = Simulator::start(&[]);
+    let sim = PtySim::start("20s", &[]);
     let output = tracerctl()
         .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "2s"])
         .output()
@@ -63,7 +27,7 @@ fn a_second_process_drives_the_simulator_over_the_pseudo_terminal() {
 #[test]
 #[ignore = "timing group: the drive must still be running 1.5 s in when the E-stop is injected; .ci/run runs it alone"]
 fn an_estop_injected_at_run_time_stops_the_drive() {
-    let mut sim = Simulator::start(&[]);
+    let mut sim = PtySim::start("20s", &[]);
     let driver = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
         .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "10s"])
         .stdout(Stdio::null())
@@ -80,7 +44,7 @@ fn an_estop_injected_at_run_time_stops_the_drive() {
 
 #[test]
 fn faults_from_the_command_line_are_reported_to_the_host() {
-    let sim = Simulator::start(&["--fault", "estop@0s"]);
+    let sim = PtySim::start("20s", &["--fault", "estop@0s"]);
     let output = tracerctl()
         .args(["--serial", &sim.path, "drive", "--linear", "0.2", "--for", "1s"])
         .output()

@@ -14,9 +14,9 @@
 //! runs another build (the proof that a broken one fails). One table of every run is printed, then the
 //! failures.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::Read;
 use std::os::fd::AsRawFd;
-use std::process::{Child, Command, Stdio};
+use std::process::{Command, Stdio};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -24,6 +24,7 @@ use tracerctl::protocol::message::{Message, SystemState};
 use tracerctl::protocol::serial::decode;
 
 use crate::fault_peer::{open_pty, percent};
+use crate::pty_sim::PtySim;
 use crate::relay::{Relay, Side};
 
 /// One motion period.
@@ -133,40 +134,6 @@ fn plan() -> Vec<(String, Duration, Duration)> {
         .collect()
 }
 
-struct Sim {
-    child: Child,
-    path: String,
-}
-
-impl Sim {
-    fn start() -> Self {
-        let mut child = Command::new(bin())
-            .args(["sim", "--pty", "--duration", "60s"])
-            .env("TRACERCTL_CONFIG", "")
-            .stdin(Stdio::piped())
-            .stdout(Stdio::piped())
-            .stderr(Stdio::null())
-            .spawn()
-            .unwrap();
-        let mut stdout = BufReader::new(child.stdout.take().unwrap());
-        let mut first = String::new();
-        stdout.read_line(&mut first).unwrap();
-        let path = first.strip_prefix("PTY ").expect("`PTY <path>` first").trim().to_string();
-        // Keep reading (and dropping) what it says, so it never blocks on a full pipe.
-        std::thread::spawn(move || std::io::copy(&mut stdout, &mut std::io::sink()));
-        Self { child, path }
-    }
-}
-
-impl Drop for Sim {
-    fn drop(&mut self) {
-        // SAFETY: kill(2) on our own child (it may be stopped).
-        unsafe { libc::kill(self.child.id() as i32, libc::SIGCONT) };
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 /// One run's outcome.
 struct Run {
     cause: &'static str,
@@ -179,7 +146,7 @@ struct Run {
 
 /// A run: `Some(step)` injects the cause in the middle of that step (from 0); `None` is the full reference.
 fn run(cause: Option<Cause>, step: usize, plan: &[(String, Duration, Duration)]) -> (Run, serde_json::Value) {
-    let sim = Sim::start();
+    let mut sim = PtySim::start_with(&bin(), "60s", &[]);
     let relay = Relay::start(&sim.path);
     let (terminal, terminal_path) = open_pty();
     let open = || std::fs::OpenOptions::new().read(true).write(true).open(&terminal_path).unwrap();
@@ -217,14 +184,13 @@ fn run(cause: Option<Cause>, step: usize, plan: &[(String, Duration, Duration)])
         std::thread::sleep(Duration::from_millis(2));
     };
     let mut acted = None;
-    let mut sim = sim;
     if let (Some(cause), Some(plan_start)) = (cause, plan_start) {
         let (_, start, duration) = &plan[step];
         let at = plan_start + *start + *duration / 2;
         std::thread::sleep(at.saturating_duration_since(Instant::now()));
         acted = Some(Instant::now());
         match cause.how {
-            How::Sim(name) => writeln!(sim.child.stdin.as_mut().unwrap(), "{name}").unwrap(),
+            How::Sim(name) => sim.inject(name),
             How::Keys(bytes) => {
                 // SAFETY: writes from a buffer of the given length to our terminal's master.
                 unsafe { libc::write(terminal.as_raw_fd(), bytes.as_ptr().cast(), bytes.len()) };
@@ -233,9 +199,7 @@ fn run(cause: Option<Cause>, step: usize, plan: &[(String, Duration, Duration)])
             How::Signal(signal) => unsafe {
                 libc::kill(pid, signal);
             },
-            How::Silence => unsafe {
-                libc::kill(sim.child.id() as i32, libc::SIGSTOP);
-            },
+            How::Silence => sim.pause(),
             How::Stall => {
                 relay.stall(true);
                 std::thread::sleep(STALL);

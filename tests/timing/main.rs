@@ -10,6 +10,8 @@
 mod dashboard_driver;
 #[path = "../integration/pty_robot.rs"]
 mod pty_robot;
+#[path = "../integration/pty_sim.rs"]
+mod pty_sim;
 #[path = "../integration/serial_peer.rs"]
 mod serial_peer;
 #[path = "../integration/util.rs"]
