@@ -532,10 +532,10 @@ if [ "$suite" = sja1000 ]; then
     if want_check serial_stalled_peer || want_check commission_serial_stalled; then
         robot_sock=$work/robot$sfx.sock
         rm -f "$robot_sock"
-        # commission_serial_stalled: a session of its own (the scenario starts it), stalling 30 moving frames into
-        # the step "back" of `commission --max-linear 0.6` for 1.5 s (the stop frames get 2 s to leave)
+        # commission_serial_stalled: sessions of their own (the scenario starts them), stalling 30 moving frames
+        # into each moving step of `commission --max-linear 0.6` for 1.5 s (the stop frames get 2 s to leave)
         python3 "$here/serial-robot.py" serve --socket "$robot_sock" --log "$robot_log" --stall-after 50 --stall-for "${TRACERCTL_VM_SERIAL_STALL:-3}" \
-            --session "commission_serial_stalled:114:${TRACERCTL_VM_COMMISSION_STALL:-1.5}" \
+            --commission-stall-for "${TRACERCTL_VM_COMMISSION_STALL:-1.5}" \
             >"$work/robot$sfx.out" 2>&1 &
         robot_pid=$!
         for _ in $(seq 100); do [ -S "$robot_sock" ] && break; sleep 0.05; done
@@ -637,8 +637,8 @@ if [ -n "$robot_pid" ]; then
     fi
     if grep -q '^HOST-CHECK commission_serial_stalled:' "$console"; then
         python3 "$here/serial-robot.py" judge --check commission_serial_stalled --log "$robot_log" --vm-dir "$arts/scn" \
-            --stall-after 114 >>"$host_checks" 2>&1 || true
-        log "commission_serial_stalled judged on the host from $robot_log and $arts/scn/com.*"
+            >>"$host_checks" 2>&1 || true
+        log "commission_serial_stalled judged on the host from $robot_log and $arts/scn/com_*"
     fi
 fi
 if [ -n "$helper_pid" ]; then

@@ -743,38 +743,50 @@ ck_serial_stalled_peer() {
     host "drive exit status $rc; $(tr '\n' ' ' <$W/ser.vm)report: $(grep -hE '^stopped after|motion frames sent' $W/ser.out $W/ser.err | tail -n 1 | head -c 300)"
 }
 
-# ttyS3 again, for commission (issue 32 §3, "serial peer stalled"): the line "@session commission_serial_stalled"
-# tells the robot to start a session of its own, in which it follows the commands (a motion-state frame after each
-# status frame) and stalls after 114 moving frames for 1.5 s: with --max-linear 0.6 the forward step has 84, so
-# it stops reading 30 frames into the step "back" and the guest's transmitter stands still about 21 frames later
-# (what QEMU's socket still took), ~0.65 s before the step ends. commission must end by itself (exit 1,
-# peer_stalled): no signal is sent. Its recording (--record) gives the host's judge the time of every frame it
-# wrote; ser_tx shows when the transmitter stood still. The verdict is given on the host by
-# `serial-robot.py judge --check commission_serial_stalled`.
+# ttyS3 again, for commission (issue 32 §3, "serial peer stalled", in every moving step): for each stall, the line
+# "@session commission_stall_<step>" tells the robot to start a session of its own, in which it follows the
+# commands (a motion-state frame after each status frame) and stalls 30 moving frames into that step for 1.5 s
+# (serial-robot.py's COMMISSION_STALLS: with --max-linear 0.6 commission writes 85, 84, 151 and 151 moving frames
+# in forward, back, spin left and spin right); the guest's transmitter stands still about 21 frames later (what
+# QEMU's socket still took). commission must end by itself (exit 1, peer_stalled): no signal is sent. Its
+# recording (--record) gives the host's judge the time of every frame it wrote; ser_tx shows when the
+# transmitter stood still. Files $W/com_<step>.*; the verdict is given on the host by
+# `serial-robot.py judge --check commission_serial_stalled`, one line for the four.
 ck_commission_serial_stalled() {
-    rm -f $W/com.*
-    grep '^3: ' /proc/tty/driver/serial >$W/com.port
-    if ! grep -q 'uart:16550A' $W/com.port; then
-        echo "ttyS3 is not a 16550A: $(cat $W/com.port)" >$W/com.vm
-        host "ttyS3 missing: $(cat $W/com.port)"
+    : >$W/com.all
+    for tag in forward back spin_left spin_right; do
+        com_stall $tag
+    done
+    host "$(tr '\n' ' ' <$W/com.all)"
+}
+
+# com_stall TAG: one commission whose robot stalls in the step TAG (files $W/com_TAG.*)
+com_stall() {
+    tag=$1
+    c=$W/com_$tag
+    rm -f $c.*
+    grep '^3: ' /proc/tty/driver/serial >$c.port
+    if ! grep -q 'uart:16550A' $c.port; then
+        echo "ttyS3 is not a 16550A: $(cat $c.port)" >$c.vm
+        echo "$tag: $(cat $c.vm)" >>$W/com.all
         return
     fi
-    stty -F $SER 115200 raw -echo clocal -crtscts -ixon -ixoff 2>$W/com.stty
-    printf '\n@session commission_serial_stalled\n' >$SER
+    stty -F $SER 115200 raw -echo clocal -crtscts -ixon -ixoff 2>$c.stty
+    printf '\n@session commission_stall_%s\n' $tag >$SER
     # the robot follows: a motion-state frame (5A A5 0A AA 02) within 10 s (after what it had buffered before)
     i=0
-    : >$W/com.probe
-    while [ $i -lt 10 ] && ! grep -q '5a a5 0a aa 02' $W/com.probe; do
-        timeout 1 head -c 1300 $SER 2>/dev/null | od -An -tx1 -v | tr -d '\n' >>$W/com.probe
+    : >$c.probe
+    while [ $i -lt 10 ] && ! grep -q '5a a5 0a aa 02' $c.probe; do
+        timeout 1 head -c 1300 $SER 2>/dev/null | od -An -tx1 -v | tr -d '\n' >>$c.probe
         i=$((i + 1))
     done
-    if ! grep -q '5a a5 0a aa 02' $W/com.probe; then
-        echo "the robot on ttyS3 sent no motion state within 10 s (read: '$(tail -c 200 $W/com.probe)')" >$W/com.vm
-        host "$(cat $W/com.vm)"
+    if ! grep -q '5a a5 0a aa 02' $c.probe; then
+        echo "the robot on ttyS3 sent no motion state within 10 s (read: '$(tail -c 200 $c.probe)')" >$c.vm
+        echo "$tag: $(cat $c.vm)" >>$W/com.all
         return
     fi
     (
-        pid=$(wait_pidfile $W/com.pid)
+        pid=$(wait_pidfile $c.pid)
         t0=$(uptime_s)
         tx0=$(ser_tx)
         last=$tx0
@@ -798,18 +810,18 @@ ck_commission_serial_stalled() {
         [ -n "$since" ] && [ -z "$still" ] &&
             still="ttyS3's transmitter stood still at tx $last from $(awk -v a="$t0" -v b="$since" 'BEGIN {printf "%.1f", b - a}') s after commission started until its exit;"
         if alive "$pid" && [ "$(pstate "$pid")" != Z ]; then
-            echo "commission still running 40 s after its start: killed;" >>$W/com.vm
+            echo "commission still running 40 s after its start: killed;" >>$c.vm
             kill -KILL $pid
         fi
-        echo "${still:-the transmitter was never seen standing still for 0.4 s;} commission ran $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}') s, tx $tx0 -> $(ser_tx)" >>$W/com.vm
+        echo "${still:-the transmitter was never seen standing still for 0.4 s;} commission ran $(awk -v a="$t0" -v b="$(uptime_s)" 'BEGIN {printf "%.1f", b - a}') s, tx $tx0 -> $(ser_tx)" >>$c.vm
     ) &
     helper=$!
-    fg_run $W/com.pid $W/com.out $W/com.err $T --serial $SER commission --yes --max-linear 0.6 --format json \
-        --record $W/com.rec </dev/null
+    fg_run $c.pid $c.out $c.err $T --serial $SER commission --yes --max-linear 0.6 --format json \
+        --record $c.rec </dev/null
     rc=$?
     wait $helper
-    echo $rc >$W/com.rc
-    host "commission exit status $rc; $(tr '\n' ' ' <$W/com.vm)abort: $(sed -n 's/.*"abort":\({[^}]*}\).*/\1/p' $W/com.out | head -c 300)"
+    echo $rc >$c.rc
+    echo "$tag: commission exit status $rc; $(tr '\n' ' ' <$c.vm)abort: $(sed -n 's/.*"abort":\({[^}]*}\).*/\1/p' $c.out | head -c 200)" >>$W/com.all
 }
 
 # ------------------------------------------------------------------------------------------- phase B checks

@@ -13,7 +13,8 @@ serve: listens on a Unix socket that QEMU connects to as the chardev of the VM's
        count of motion frames and its own stall, and a chassis that follows the commands read (a motion-state
        frame after each status frame; speed toward the command at 1 m/s^2 and 2 rad/s^2, zero when no command
        was read for 500 ms, the robot's command timeout), as commission needs to drive. The log names each
-       session; each judge reads its own.
+       session; each judge reads its own. --commission-stall-for FOR registers commission_stall_<step> for
+       each stall of COMMISSION_STALLS (30 moving frames into each moving step of commission's plan).
 judge: reads that log and the check's files from the VM and prints one line
        CHECK NAME: PASS|FAIL <evidence>   (--check serial_stalled_peer, the default, or commission_serial_stalled)
        followed, on failure, by evidence lines starting with "  | ". Exit status 0 (pass) or 1 (fail).
@@ -136,6 +137,9 @@ def serve(args):
     for spec in args.session:
         name, after, stall_for = spec.split(":")
         sessions[name] = (int(after), float(stall_for))
+    if args.commission_stall_for is not None:
+        for step, after in COMMISSION_STALLS:
+            sessions["commission_stall_" + commission_tag(step)] = (after, args.commission_stall_for)
     try:
         os.unlink(args.socket)
     except FileNotFoundError:
@@ -427,11 +431,28 @@ COMMISSION_STOP_AFTER_LAST_MOVING = 0.050
 # After the robot reads on, beyond the socket's backlog: what the 16550 held (17 bytes: one whole frame besides
 # the rest of the one in transmission) may arrive before the stop frames, stale.
 COMMISSION_MAX_STALE = 1
-# The figures a full run measures for the steps the check's stall leaves finished (a run on the simulator).
+# commission's plan at --max-linear 0.6 (`commission --dry-run`), and the figures a full run measures for each
+# step (a run on the simulator); a step finished before the stall must keep them.
+COMMISSION_PLAN = ["settle", "forward", "brake after forward", "back", "brake after back", "spin left",
+                   "brake after spin left", "spin right", "brake after spin right"]
+_MOVING = ("dead_time_ms", "rise_time_ms", "overshoot_percent")
 COMMISSION_FIGURES = {
-    "forward": ("dead_time_ms", "rise_time_ms", "overshoot_percent"),
+    "forward": _MOVING,
     "brake after forward": ("braking_time_ms", "braking_distance_m", "deceleration_mps2"),
+    "back": _MOVING,
+    "brake after back": ("braking_time_ms", "braking_distance_m", "deceleration_mps2"),
+    "spin left": _MOVING,
+    "brake after spin left": ("braking_time_ms", "braking_angle_rad", "angular_deceleration_radps2"),
+    "spin right": _MOVING,
 }
+# The check's stalls, one commission each: the moving step, and the moving frames read before the stall, 30
+# into that step (commission writes 85, 84, 151 and 151 moving frames in the four moving steps).
+COMMISSION_STALLS = [("forward", 30), ("back", 114), ("spin left", 199), ("spin right", 350)]
+
+
+def commission_tag(step):
+    """The session's and the VM's files' name for the stall in `step`: com_<tag>.* and commission_stall_<tag>."""
+    return step.replace(" ", "_")
 RECORD_LINE = re.compile(r"^([0-9A-Fa-f]{26}) # \((\d+\.\d+)\)")
 
 
@@ -448,9 +469,29 @@ def recorded_motion(text):
 
 
 def judge_commission(args):
+    """Every stall of COMMISSION_STALLS, one line for the check: PASS when each passed."""
     name = "commission_serial_stalled"
+    results = [judge_commission_stall(args, step, after) for step, after in COMMISSION_STALLS]
+    failed = [(step, fails) for step, fails, _, _ in results if fails]
+    summary = " || ".join("%s: %s" % (step, summary) for step, _, summary, _ in results)
+    if failed:
+        print("CHECK %s: FAIL %s [%s]" % (name, "; ".join("%s: %s" % (step, "; ".join(fails))
+                                                          for step, fails in failed), summary))
+        for step, fails, _, evidence in results:
+            if fails:
+                for line in evidence:
+                    print("  | %s: %s" % (step, line))
+        return 1
+    print("CHECK %s: PASS %d stalls, one in each moving step: %s" % (name, len(results), summary))
+    return 0
+
+
+def judge_commission_stall(args, stall_step, stall_after):
+    """One commission whose robot stalled `stall_after` moving frames in, in `stall_step`: (step, the failures,
+    the summary, the evidence lines)."""
+    tag = commission_tag(stall_step)
     fails = []
-    log = Session(args.log, name)
+    log = Session(args.log, "commission_stall_" + tag)
     if log.missing:
         fails.append(log.missing)
     fails += log.errors
@@ -462,13 +503,15 @@ def judge_commission(args):
         except OSError:
             return None
 
-    vm_note = " ".join((vm_file("com.vm") or "").split("\n")).strip()
-    rc = (vm_file("com.rc") or "").strip()
+    prefix = "com_%s." % tag
+    finished = COMMISSION_PLAN[:COMMISSION_PLAN.index(stall_step)]
+    vm_note = " ".join((vm_file(prefix + "vm") or "").split("\n")).strip()
+    rc = (vm_file(prefix + "rc") or "").strip()
     try:
-        report = json.loads(vm_file("com.out") or "")
+        report = json.loads(vm_file(prefix + "out") or "")
     except ValueError:
         report = None
-    sent = recorded_motion(vm_file("com.rec"))
+    sent = recorded_motion(vm_file(prefix + "rec"))
 
     found, _ = frames(bytes(log.stream))
     received = [(off, f) for off, f in found if is_motion(f)]
@@ -482,11 +525,11 @@ def judge_commission(args):
     figures = {}
     if log.stall is None:
         fails.append("the robot never stalled: it read fewer than its %d non-zero motion frames; VM: %s"
-                     % (args.stall_after, vm_note or "no com.vm"))
+                     % (stall_after, vm_note or "no %svm" % prefix))
     elif log.resume is None:
         fails.append("the robot stalled but never resumed")
     if not sent:
-        fails.append("no motion frame in commission's recording (artifacts-sja1000/scn/com.rec)")
+        fails.append("no motion frame in commission's recording (artifacts-sja1000/scn/%srec)" % prefix)
 
     # what reached the robot against what commission wrote: the first frames unaltered and in order, then
     # the 16550's stale frames, a gap (what the flush dropped), then the last frames written (the stop frames)
@@ -573,14 +616,13 @@ def judge_commission(args):
         if stalled and report.get("stop_confirmed") is not True:
             fails.append("stop_confirmed %r although the robot read on within the 2 s the stop frames get"
                          % report.get("stop_confirmed"))
-        flags = [s.get("run") is True for s in steps]
-        if flags != sorted(flags, reverse=True) or not ran or ran[-1] != "back" or \
-                [s.get("name") for s in steps[:3]] != ["settle", "forward", "brake after forward"]:
-            fails.append("steps run %s: want settle, forward, brake after forward, back (the stall's step)" % ran)
+        want = COMMISSION_PLAN[:COMMISSION_PLAN.index(stall_step) + 1]
+        if ran != want or [s.get("name") for s in steps] != COMMISSION_PLAN:
+            fails.append("steps run %s: want %s (the stall's step last)" % (ran, ", ".join(want)))
         for f in report.get("figures") or []:
             figures[(f.get("name"), f.get("step"))] = f.get("value")
-        for step, names in COMMISSION_FIGURES.items():
-            for figure in names:
+        for step in finished:
+            for figure in COMMISSION_FIGURES.get(step, ()):
                 if figures.get((figure, step)) is None:
                     fails.append("%s of %s (finished before the stall) has no value" % (figure, step))
         never = [s.get("name") for s in steps if s.get("run") is not True]
@@ -600,7 +642,7 @@ def judge_commission(args):
                      "the robot" % (discarded, flushed))
 
     kept = ", ".join("%s %s %.3g" % (step, figure, figures[(figure, step)])
-                     for step, names in COMMISSION_FIGURES.items() for figure in names[:1]
+                     for step in finished for figure in COMMISSION_FIGURES.get(step, ())[:1]
                      if figures.get((figure, step)) is not None)
     summary = ("robot read %d motion frames (%d moving), stopped reading for %.1f s; at the resume QEMU's socket "
                "held %d bytes; %sthen from the guest: %d stale non-zero frames before the first zero, %d zero "
@@ -610,20 +652,14 @@ def judge_commission(args):
                   (log.resume - log.stall) if stalled else 0, log.backlog, timing, stale, zeros, lat,
                   nz_after_zero, flushed, discarded, held_back, skipped, rc or "?", abort.get("reason"),
                   (abort.get("message") or "")[:160], ", ".join(ran), kept or "-", vm_note or "-"))
-    if fails:
-        print("CHECK %s: FAIL %s [%s]" % (name, "; ".join(fails), summary))
-        evidence = ["commission's stop: %s" % (stop or "(none)"), "robot: %s" % log.status_line]
-        err = (vm_file("com.err") or "").strip().splitlines()
-        evidence += ["commission's stderr: %s" % line for line in err[-4:]]
-        evidence.append("motion frames from the guest after the resume (first 8):")
-        evidence += ["  @%d %s" % (off, f.hex(" ")) for off, f in held[:8]]
-        evidence.append("the last 8 motion frames commission wrote (its recording):")
-        evidence += ["  %.6f %s" % (t, f.hex(" ")) for t, f in sent[-8:]]
-        for line in evidence:
-            print("  | " + line)
-        return 1
-    print("CHECK %s: PASS %s" % (name, summary))
-    return 0
+    evidence = ["commission's stop: %s" % (stop or "(none)"), "robot: %s" % log.status_line]
+    err = (vm_file(prefix + "err") or "").strip().splitlines()
+    evidence += ["commission's stderr: %s" % line for line in err[-4:]]
+    evidence.append("motion frames from the guest after the resume (first 8):")
+    evidence += ["  @%d %s" % (off, f.hex(" ")) for off, f in held[:8]]
+    evidence.append("the last 8 motion frames commission wrote (its recording):")
+    evidence += ["  %.6f %s" % (t, f.hex(" ")) for t, f in sent[-8:]]
+    return stall_step, fails, summary, evidence
 
 
 def main():
@@ -638,6 +674,8 @@ def main():
     s.add_argument("--session", action="append", default=[], metavar="NAME:AFTER:FOR",
                    help="a session started by '@session NAME' on the line: stall after AFTER moving frames for "
                         "FOR seconds; its chassis follows the commands")
+    s.add_argument("--commission-stall-for", type=float, metavar="FOR",
+                   help="the sessions commission_stall_<step> of COMMISSION_STALLS, each stalling FOR seconds")
     j = sub.add_parser("judge")
     j.add_argument("--log", required=True)
     j.add_argument("--vm-dir", required=True, help="the scenario's files (artifacts-sja1000/scn)")
