@@ -6,7 +6,9 @@
 //! samples within their noise threshold, as the joint fit must; otherwise the first figure does.
 //!
 //! Done on the merged findings, when the report is made: every step of the run is known then, whichever
-//! chunk of a log (`decode -jN`) held it.
+//! chunk of a log (`decode -jN`) held it. The analysis keeps it up to date as steps come ([`keep_up`]), so
+//! that a live view, which asks for a report every second, finds it done: a result is reused only while the
+//! shape it was fitted with is the report's, so the report is the same either way.
 
 use super::lagged_ramp::{fit_dead_time, LaggedRamp};
 use super::steps::{Onset, OnsetFit};
@@ -21,7 +23,14 @@ pub(super) const LARGE_STEP: f64 = 0.2;
 pub(super) struct StepFit {
     pub model: Option<LaggedRamp>,
     /// On the heap: 1.5 KB of samples, kept only for the few small steps.
-    pub small: Option<Box<OnsetFit>>,
+    pub small: Option<Box<SmallStep>>,
+}
+
+/// A small step's samples, and its dead time (s) as last fitted with the shape beside it.
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct SmallStep {
+    pub fit: OnsetFit,
+    pub fitted: Option<(LaggedRamp, Option<f64>)>,
 }
 
 impl StepFit {
@@ -30,7 +39,31 @@ impl StepFit {
         if size.abs() >= LARGE_STEP {
             Self { model: fit.and_then(|fit| fit.model), small: None }
         } else {
-            Self { model: None, small: fit.map(Box::new) }
+            Self { model: None, small: fit.map(|fit| Box::new(SmallStep { fit, fitted: None })) }
+        }
+    }
+}
+
+impl SmallStep {
+    /// The dead time with `shape`: the one fitted before when it was fitted with this shape.
+    fn dead_time(&self, shape: LaggedRamp) -> Option<f64> {
+        match self.fitted {
+            Some((used, dead_s)) if used == shape => dead_s,
+            _ => dead_time(&self.fit, shape),
+        }
+    }
+}
+
+/// After a step was listed last in `steps` (and its fit in `fits`): fits the small steps of its axis with the
+/// shape as it now is, so the report finds them done. A large step may change the shape: every small step of
+/// the axis whose fit used another is fitted again; a small step: itself.
+pub(super) fn keep_up(steps: &[StepResponse], fits: &mut [StepFit]) {
+    let Some(axis) = steps.last().map(|step| step.axis) else { return };
+    let Some(shape) = shape(steps, fits, axis) else { return };
+    for (step, fit) in steps.iter().zip(fits.iter_mut()) {
+        let Some(small) = fit.small.as_deref_mut().filter(|_| step.axis == axis) else { continue };
+        if small.fitted.is_none_or(|(used, _)| used != shape) {
+            small.fitted = Some((shape, dead_time(&small.fit, shape)));
         }
     }
 }
@@ -95,7 +128,7 @@ pub(super) fn refit(
     let mut refitted = steps.to_vec();
     for (step, fit) in refitted.iter_mut().zip(fits) {
         let (Some(small), Some(shape)) = (&fit.small, shape_of(step.axis)) else { continue };
-        if let Some(dead_s) = dead_time(small, shape) {
+        if let Some(dead_s) = small.dead_time(shape) {
             step.dead_time_ms = Some(dead_s * 1000.0);
         }
     }
@@ -147,6 +180,39 @@ mod tests {
 
     const TRUTH: LaggedRamp = LaggedRamp { dead_s: 0.05, lag_s: 0.12, accel: 3.0 };
 
+    /// A small (0.1) step at `t0` from [`TRUTH`], not yet fitted again.
+    fn small_step(t0: i64) -> StepFit {
+        StepFit {
+            model: None,
+            small: Some(Box::new(SmallStep { fit: small_fit(t0, TRUTH, 0.1), fitted: None })),
+        }
+    }
+
+    #[test]
+    fn the_analysis_keeps_the_small_steps_fitted_and_the_report_reuses_it_while_the_shape_holds() {
+        let mut steps = vec![step(Axis::Linear, 1_000_000, 0.1, 81.0)];
+        let mut fits = vec![small_step(1_000_000)];
+        // No large step yet: nothing to fit with.
+        keep_up(&steps, &mut fits);
+        assert_eq!(fits[0].small.as_ref().unwrap().fitted, None);
+        steps.push(step(Axis::Linear, 3_000_000, 0.3, 50.0));
+        fits.push(StepFit { model: Some(TRUTH), small: None });
+        keep_up(&steps, &mut fits);
+        let (used, dead_s) = fits[0].small.as_ref().unwrap().fitted.unwrap();
+        assert_eq!(used, LaggedRamp { dead_s: 0.0, ..TRUTH });
+        assert!((dead_s.unwrap() - 0.05).abs() < 0.001, "{dead_s:?}");
+        // The report takes what was fitted with its shape (shown by planting another value) ...
+        fits[0].small.as_mut().unwrap().fitted = Some((used, Some(0.123)));
+        assert_eq!(refit(&steps, &fits, None).0[0].dead_time_ms, Some(123.0));
+        // ... and fits again when the shape has changed since (another large step moved the medians).
+        steps.push(step(Axis::Linear, 5_000_000, -0.3, 50.0));
+        fits.push(StepFit { model: Some(LaggedRamp { lag_s: 0.14, ..TRUTH }), small: None });
+        let dead = refit(&steps, &fits, None).0[0].dead_time_ms.unwrap();
+        assert!((dead - 123.0).abs() > 1.0 && (dead - 50.0).abs() < 10.0, "{dead}");
+        keep_up(&steps, &mut fits);
+        assert_eq!(refit(&steps, &fits, None).0[0].dead_time_ms, Some(dead));
+    }
+
     #[test]
     fn a_small_step_takes_the_lag_and_acceleration_of_the_large_ones_of_its_axis() {
         let steps = [
@@ -158,7 +224,7 @@ mod tests {
             StepFit { model: Some(TRUTH), small: None },
             // The angular axis's shape is another: it must not be used for a linear step.
             StepFit { model: Some(LaggedRamp { dead_s: 0.04, lag_s: 0.0, accel: 20.0 }), small: None },
-            StepFit { model: None, small: Some(Box::new(small_fit(5_000_000, TRUTH, 0.1))) },
+            small_step(5_000_000),
         ];
         let (refitted, _) = refit(&steps, &fits, None);
         let dead = refitted[2].dead_time_ms.unwrap();
@@ -169,7 +235,7 @@ mod tests {
     #[test]
     fn without_a_large_step_or_a_fit_that_explains_the_samples_the_first_figure_stands() {
         let small = step(Axis::Linear, 5_000_000, 0.1, 81.0);
-        let fit = StepFit { model: None, small: Some(Box::new(small_fit(5_000_000, TRUTH, 0.1))) };
+        let fit = small_step(5_000_000);
         let (alone, _) = refit(std::slice::from_ref(&small), std::slice::from_ref(&fit), None);
         assert_eq!(alone[0].dead_time_ms, Some(81.0));
         // A shape far from the samples' (no lag, a slow ramp): the residual is beyond the threshold.
@@ -182,10 +248,7 @@ mod tests {
     #[test]
     fn the_timeout_takes_its_stop_and_its_step_fitted_again() {
         let steps = [step(Axis::Linear, 1_000_000, 0.3, 50.0), step(Axis::Linear, 5_000_000, 0.1, 81.0)];
-        let fits = [
-            StepFit { model: Some(TRUTH), small: None },
-            StepFit { model: None, small: Some(Box::new(small_fit(5_000_000, TRUTH, 0.1))) },
-        ];
+        let fits = [StepFit { model: Some(TRUTH), small: None }, small_step(5_000_000)];
         // Commands ceased at 6.5 s; the robot's own stop began 550 ms later (500 ms timeout + 50 ms dead).
         let stop = small_fit(6_500_000, LaggedRamp { dead_s: 0.55, ..TRUTH }, 0.1);
         let found = TimeoutFound {
@@ -210,7 +273,7 @@ mod tests {
         let onset = Onset { at: 50_000.0, fit: Some(OnsetFit { model: Some(TRUTH), ..fit }) };
         assert_eq!(StepFit::of(Some(&onset), -0.3), StepFit { model: Some(TRUTH), small: None });
         let kept = StepFit::of(Some(&onset), 0.1);
-        assert_eq!((kept.model, kept.small.map(|fit| fit.t0)), (None, Some(0)));
+        assert_eq!((kept.model, kept.small.map(|small| small.fit.t0)), (None, Some(0)));
         assert_eq!(StepFit::of(None, 0.1), StepFit::default());
     }
 }

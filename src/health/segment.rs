@@ -5,7 +5,7 @@ use super::battery::{load_step, LoadStep};
 use super::braking::brake;
 use super::fit::median;
 use super::holds::HoldSums;
-use super::refit::{StepFit, TimeoutFound};
+use super::refit::{keep_up, StepFit, TimeoutFound};
 use super::sample::Command;
 use super::series::View;
 use super::steps::respond;
@@ -165,6 +165,7 @@ fn change(
         let (response, onset) = respond(view.motion, axis, (t0, last), (from, to));
         found.steps.push(response);
         found.step_fits.push(StepFit::of(onset.as_ref(), to - from));
+        keep_up(&found.steps.items, &mut found.step_fits.items);
         dead = onset.map(|onset| onset.at);
     }
     match (value.linear != 0, value.angular != 0) {
