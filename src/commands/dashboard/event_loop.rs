@@ -2,24 +2,21 @@
 //! input, commands the sender from the keys held, folds the robot's status into the view and redraws it.
 
 use std::sync::mpsc::{Receiver, RecvTimeoutError};
-use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use anyhow::Result;
-use parking_lot::Mutex;
 use ratatui::crossterm::event::{Event, KeyEvent};
 
 use super::actions::{handle, release_view};
 use super::driving::{Driving, RELEASE_QUIET};
+use super::health_feed::LatestHealth;
 use crate::control::{MotionSender, GAP_LIMIT};
 use crate::dashboard::app::{App, Snapshot, TeleopView};
-use crate::dashboard::health::HealthView;
 use crate::dashboard::keys::{self, Context, Effect};
 use crate::dashboard::render::render;
 use crate::dashboard::teleop::{Key, KeyAction, Teleop};
 use crate::dashboard::terminal::{Input, Screen};
 use crate::link::LinkKind;
-use crate::session::health::LiveHealth;
 use crate::signals::{Caught, SignalFlag};
 
 /// The loop's period: targets are refreshed this often (the sender's watchdog is ten times longer).
@@ -27,8 +24,6 @@ const LOOP: Duration = Duration::from_millis(20);
 /// At most 20 redraws a second (slow SSH links).
 const MIN_REDRAW: Duration = Duration::from_millis(50);
 const UPDATE_EVERY: Duration = Duration::from_millis(50);
-/// The live analysis' figures are taken this often (a copy of its bounded state: cheap, but not free).
-const HEALTH_EVERY: Duration = Duration::from_secs(1);
 /// After a gap in the sender's clock, no drive key counts as a fresh press for this long: the keys the
 /// terminal queued while the process was stopped arrive in this time, and are stale.
 const GAP_SETTLE: Duration = Duration::from_millis(300);
@@ -65,21 +60,14 @@ pub(super) struct Loop<'a> {
     swallowed: Option<(Key, Instant)>,
     /// What the key that asked "Arm driving?" was for (a fault clear, the lights): done once armed.
     after_arm: Option<Effect>,
-    /// The live analysis the session's tap feeds, and when the view last took its figures.
-    health: Arc<Mutex<LiveHealth>>,
-    health_taken: Option<Instant>,
+    /// The live analysis' latest view, made on the session's analysis thread (`health_feed.rs`).
+    health: LatestHealth,
 }
 
 impl<'a> Loop<'a> {
-    pub(super) fn new(
-        app: App,
-        driving: Driving<'a>,
-        teleop: Teleop,
-        health: Arc<Mutex<LiveHealth>>,
-    ) -> Self {
+    pub(super) fn new(app: App, driving: Driving<'a>, teleop: Teleop, health: LatestHealth) -> Self {
         Loop {
             health,
-            health_taken: None,
             app,
             driving,
             teleop,
@@ -318,11 +306,8 @@ impl<'a> Loop<'a> {
         let stats = self.driving.sender.as_ref().map(MotionSender::stats).unwrap_or_default();
         self.app.update(&Snapshot { status: &status, sender: stats, link_name: &session.name, now });
         self.app.set_recording_loss(session.recording_losses());
-        if self.health_taken.is_none_or(|at| now.saturating_duration_since(at) >= HEALTH_EVERY) {
-            // A copy under the lock, the report outside it: the analysis thread waits on it meanwhile.
-            let analyzer = self.health.lock().analyzer.clone();
-            self.app.set_health(HealthView::of(&analyzer.report()));
-            self.health_taken = Some(now);
+        if let Some(view) = self.health.lock().take() {
+            self.app.set_health(view);
         }
         self.app.set_arming(self.driving.arming());
         let held = self.teleop.held(self.epoch.elapsed());

@@ -9,6 +9,7 @@
 mod actions;
 mod driving;
 mod event_loop;
+mod health_feed;
 
 use std::io::{IsTerminal, Write};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -20,6 +21,7 @@ use parking_lot::Mutex;
 
 use self::driving::{Driving, Stopped, SUSPEND_WAIT};
 use self::event_loop::{End, Loop};
+use self::health_feed::{health_tap, LatestHealth};
 use super::Global;
 use crate::control::{Limits, Stopper};
 use crate::dashboard::app::App;
@@ -28,8 +30,7 @@ use crate::dashboard::terminal::{spawn_input, Screen};
 use crate::exit::{Failure, DATA_ERROR, FAILURE, SUCCESS, USAGE};
 use crate::link::LinkKind;
 use crate::protocol::message::COMMAND_TIMEOUT;
-use crate::session::health::LiveHealth;
-use crate::session::{FrameTap, Journaling, Session};
+use crate::session::{Journaling, Session};
 use crate::signals::{self, SignalFlag};
 
 /// `tracerctl dashboard`'s settings.
@@ -58,13 +59,7 @@ pub fn run(global: &Global, args: &Options) -> Result<u8> {
         .into());
     }
     // The live analysis sees exactly the frames `--record` writes (the session's tap).
-    let health = Arc::new(Mutex::new(LiveHealth::new(global.protocol)));
-    let tap: FrameTap = {
-        let health = Arc::clone(&health);
-        Arc::new(move |received, direction| {
-            health.lock().observe(received, direction);
-        })
-    };
+    let (tap, health) = health_tap(global.protocol)?;
     let journal =
         Journaling { record: args.record.as_deref().map(|path| (path, "dashboard")), tap: Some(tap) };
     let session = Session::open_journaled(&global.link, global.protocol, global.sim_config(), journal)?;
@@ -124,7 +119,7 @@ fn drive_loop(
     session: &Session,
     args: &Options,
     color: bool,
-    health: Arc<Mutex<LiveHealth>>,
+    health: LatestHealth,
 ) -> Result<(End, Stopped)> {
     let limits = args.limits;
     let watch_only = match (session.kind == LinkKind::Replay, args.watch) {
