@@ -165,18 +165,25 @@ pub(super) fn fit_dead_time(
             best = (dead_s, candidate);
         }
     }
+    // Golden-section search: each step keeps one inner point and its error, so one evaluation a step.
     let (mut low, mut high) = ((best.0 - stride).max(earliest), (best.0 + stride).min(latest));
     let ratio = (5f64.sqrt() - 1.0) / 2.0;
+    let (mut a, mut b) = (high - ratio * (high - low), low + ratio * (high - low));
+    let (mut error_a, mut error_b) = (error(a), error(b));
     for _ in 0..30 {
-        let (a, b) = (high - ratio * (high - low), low + ratio * (high - low));
-        if error(a) <= error(b) {
-            high = b;
+        if error_a <= error_b {
+            (high, b, error_b) = (b, a, error_a);
+            a = high - ratio * (high - low);
+            error_a = error(a);
         } else {
-            low = a;
+            (low, a, error_a) = (a, b, error_b);
+            b = low + ratio * (high - low);
+            error_b = error(b);
         }
     }
     let middle = (low + high) / 2.0;
-    let (dead_s, squared) = if error(middle) < best.1 { (middle, error(middle)) } else { best };
+    let error_middle = error(middle);
+    let (dead_s, squared) = if error_middle < best.1 { (middle, error_middle) } else { best };
     Some((dead_s, (squared / points.len() as f64).sqrt()))
 }
 
