@@ -186,7 +186,13 @@ fn a_full_run_on_the_simulator_reports_every_section_records_plots_saves_and_com
     assert!(summary.status.success(), "{}", stderr(&summary));
     let rise =
         text.lines().find(|line| line.starts_with("forward") && line.contains("rise")).unwrap_or_default();
-    assert!(rise.contains("240 ms  WARN  warn > 100 ms"), "{rise:?} in\n{text}");
+    // The threshold from the file judges the step. The figure is timed from the feedback's host stamps, which a
+    // busy machine can delay by a few ms (seen once: the exact "240 ms" failed), so it is held to the issue's
+    // tolerance of one 20 ms period around the model's 240 ms, not to the printed digit.
+    let (figure, judged) = rise.split_once(" ms  ").unwrap_or_default();
+    let rise_ms: f64 = figure.split_whitespace().last().and_then(|ms| ms.parse().ok()).unwrap_or(f64::NAN);
+    assert!((rise_ms - 240.0).abs() <= 20.0, "{rise:?} in\n{text}");
+    assert!(judged.starts_with("WARN  warn > 100 ms"), "{rise:?} in\n{text}");
     // 0.970 before, 1.000 now: beyond half the 0.02 warning margin.
     let compared = text.lines().find(|line| line.contains("left_right_gain_ratio")).unwrap_or_default();
     assert!(compared.ends_with("DRIFTED"), "{compared}");
