@@ -4,9 +4,11 @@
 # Kvaser PCI boards, SJA1000 controllers driven by the kernel's real sja1000/kvaser_pci drivers) and arm64
 # (scenario-arm64.sh: the aarch64 build on an emulated ARM computer, qemu-system-aarch64 with Debian's arm64
 # kernel: vcan, RS232 over an emulated 16550 UART to the host's simulator, the dashboard on a virtio console),
-# powercut (scenario-powercut.sh: the recorder on an ext4 disk, the VM ended mid-recording by QEMU's `quit`).
+# powercut (scenario-powercut.sh: the recorder on an ext4 disk, the VM ended mid-recording by QEMU's `quit`),
+# commission (scenario.sh's commission abort matrix alone, on vcan with two CPUs).
 #
-# Run as root on Debian 12 (CI, or a developer machine):   bash tests/vm/run.sh [--suite sja1000|arm64|powercut] [options]
+# Run as root on Debian 12 (CI, or a developer machine):
+#     bash tests/vm/run.sh [--suite sja1000|arm64|powercut|commission] [options]
 # See tests/vm/README.md for what it does and what each check proves.
 set -euo pipefail
 
@@ -15,11 +17,12 @@ usage() {
 Usage: tests/vm/run.sh [options]
 
   --suite NAME      vcan (default: scenario.sh on vcan0, vcan1), sja1000 (scenario-sja1000.sh on can0-can2,
-                    emulated SJA1000 controllers with the kernel's sja1000/kvaser_pci drivers; two CPUs) or
+                    emulated SJA1000 controllers with the kernel's sja1000/kvaser_pci drivers; two CPUs),
                     arm64 (scenario-arm64.sh: the aarch64 musl build in qemu-system-aarch64, Debian's arm64
-                    kernel; vcan, RS232 on an emulated 16550 to the host's simulator, the dashboard on a tty)
-                    or powercut (scenario-powercut.sh: the recorder on an ext4 virtio disk, the VM ended by
+                    kernel; vcan, RS232 on an emulated 16550 to the host's simulator, the dashboard on a tty),
+                    powercut (scenario-powercut.sh: the recorder on an ext4 virtio disk, the VM ended by
                     the QEMU monitor's quit mid-recording; the disk judged on the host by powercut-judge.sh)
+                    or commission (scenario.sh's commission abort matrix alone, on vcan; two CPUs)
                     (also: TRACERCTL_VM_SUITE)
   --bin PATH        use this tracerctl binary instead of building one (also: TRACERCTL_BIN); arm64: a static
                     aarch64 build (default: cargo build --release --locked --target aarch64-unknown-linux-musl)
@@ -29,7 +32,7 @@ Usage: tests/vm/run.sh [options]
                     also: TRACERCTL_VM_WORK)
   --checks LIST     run only these checks (comma-separated names, see tests/vm/README.md)
   --timeout SECS    kill the VM after this many seconds (default 600)
-  --smp N           virtual CPUs (default 1 for vcan, 2 for sja1000; also: TRACERCTL_VM_SMP)
+  --smp N           virtual CPUs (default 2 for sja1000 and commission, 1 for the others; also: TRACERCTL_VM_SMP)
   --refresh-kernel  resolve and download the kernel package again (default: reuse the cached one); arm64: the
                     guest's busybox, can-utils and libc packages too
   --self-test[=BUGS] (vcan suite) run the scenario against tests/vm/selftest/fake-tracerctl (can-utils posing as
@@ -57,7 +60,7 @@ fake_bugs=""
 
 while [ $# -gt 0 ]; do
     case $1 in
-        --suite) suite=${2:?--suite needs a name: vcan or sja1000}; shift 2 ;;
+        --suite) suite=${2:?--suite needs a name: vcan, sja1000, arm64, powercut or commission}; shift 2 ;;
         --suite=*) suite=${1#--suite=}; shift ;;
         --bin) bin=${2:?--bin needs a path}; shift 2 ;;
         --host-bin) host_bin=${2:?--host-bin needs a path}; shift 2 ;;
@@ -99,6 +102,18 @@ case $suite in
         # two CPUs: a flooding sender on one outruns the receiver on the other (RX FIFO overruns)
         : "${smp:=2}"
         ;;
+    commission)
+        # The vcan suite's scenario for commission's abort matrix (default: CI's 13 runs; --checks
+        # commission_abort_matrix_full: all 117). Two CPUs: the keys' way in (nc, telnetd, the pty) then
+        # does not wait behind the simulator, candump and commission for the one CPU (scenario.sh, CM_CAUSES).
+        scenario=scenario.sh
+        modules="can can-raw can-dev vcan"
+        qemu_devices=()
+        qemu_serial_extra=()
+        sfx=-commission
+        : "${smp:=2}"
+        : "${checks:=commission_abort_matrix}"
+        ;;
     powercut)
         scenario="scenario-powercut.sh"
         # vcan, and a virtio disk with ext4 (the modules in the order insmod needs them)
@@ -121,7 +136,7 @@ case $suite in
         sfx=-arm64
         : "${smp:=1}"
         ;;
-    *) echo "run.sh: --suite takes vcan, sja1000, arm64 or powercut, not '$suite'" >&2; exit 2 ;;
+    *) echo "run.sh: --suite takes vcan, sja1000, arm64, powercut or commission, not '$suite'" >&2; exit 2 ;;
 esac
 if [ -z "$work" ]; then
     if [ $arch = arm64 ]; then work=$repo/target/vm-arm64; else work=$repo/target/vm; fi
@@ -448,7 +463,7 @@ cp "$here/$scenario" "$root/scenario.sh"
 printf 'CHECKS=%s\nFAKE_BUGS=%s\n' "$checks" "$fake_bugs" >"$root/etc/scenario.env"
 echo "$modules" >"$root/etc/modules"
 # the interfaces the scenario starts with
-if [ "$suite" = vcan ] || [ "$suite" = powercut ]; then
+if [ "$suite" = vcan ] || [ "$suite" = commission ] || [ "$suite" = powercut ]; then
     cat >"$root/etc/net-setup" <<'EOF'
 for i in vcan0 vcan1; do
     { ip link add dev $i type vcan && ip link set up $i; } || { echo "VM SETUP FAIL: cannot create $i"; halt_vm; }
