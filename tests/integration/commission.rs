@@ -187,7 +187,7 @@ fn a_full_run_on_the_simulator_reports_every_section_records_plots_saves_and_com
     let rise =
         text.lines().find(|line| line.starts_with("forward") && line.contains("rise")).unwrap_or_default();
     // The threshold from the file judges the step. The figure is timed from the feedback's host stamps, which a
-    // busy machine can delay by a few ms (seen once: the exact "240 ms" failed), so it is held to the issue's
+    // busy machine can delay by a few ms (the exact "240 ms" failed here once), so it is held to the issue's
     // tolerance of one 20 ms period around the model's 240 ms, not to the printed digit.
     let (figure, judged) = rise.split_once(" ms  ").unwrap_or_default();
     let rise_ms: f64 = figure.split_whitespace().last().and_then(|ms| ms.parse().ok()).unwrap_or(f64::NAN);
