@@ -24,7 +24,12 @@ if ! config=$(cargo afl config --build 2>&1) && ! grep -q "already built" <<<"$c
 fi
 
 echo "cargo-afl ready: $SECONDS s"
-if ! cargo afl build --release --locked; then
+# --target (the host's own triple): cargo-afl's RUSTFLAGS then reach only the code afl runs, not the build
+# scripts and proc macros, which are built once, plainly. codegen-units=16 (ours come last, so they win over
+# cargo-afl's 1) splits the tracerctl crate across both cores. Measured here: 298 s -> 160 s, the same
+# executions per second and paths found.
+host=$(rustc -vV | sed -n 's/^host: //p')
+if ! RUSTFLAGS="${RUSTFLAGS:-} -C codegen-units=16" cargo afl build --release --locked --target "$host"; then
     # fuzz/ has its own lock file: a dependency added to the main crate must be added to it too.
     echo "If cargo says the lock file needs to be updated: cargo update --manifest-path fuzz/Cargo.toml" \
         "--workspace, and commit fuzz/Cargo.lock" >&2
@@ -39,7 +44,7 @@ trap 'rm -rf "$out"' EXIT
 failed=()
 start=$SECONDS
 for target in $targets; do
-    binary=target/release/$target
+    binary=target/$host/release/$target
     # -t: 1 s per input is far above any target's need; only a real hang reaches it.
     cargo afl fuzz -i "seeds/$target" -o "$out/$target" -E "$execs" -V "$seconds" -t 1000 -- "$binary" \
         >"$out/$target.log" 2>&1 || { tail -n 40 "$out/$target.log"; failed+=("$target (afl-fuzz failed)"); continue; }
@@ -55,7 +60,7 @@ for target in $targets; do
         for input in "${inputs[@]:0:3}"; do
             echo "--- $target: $kind input $(basename "$input"), as hex:"
             od -An -tx1 -v "$input"
-            echo "--- what it does (fuzz/target/release/$target < input):"
+            echo "--- what it does (fuzz/$binary < input):"
             timeout 5 "$binary" <"$input" 2>&1 | head -n 12 || true
         done
     done
