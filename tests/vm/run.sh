@@ -33,6 +33,9 @@ Usage: tests/vm/run.sh [options]
   --checks LIST     run only these checks (comma-separated names, see tests/vm/README.md)
   --timeout SECS    kill the VM after this many seconds (default 600)
   --smp N           virtual CPUs (default 2 for sja1000 and commission, 1 for the others; also: TRACERCTL_VM_SMP)
+  --prepare         only install the host packages and download the kernel (arm64: and the guest's
+                    userland) the suite needs, then exit: nothing is built or booted (CI prepares every suite
+                    in the background while it lints)
   --refresh-kernel  resolve and download the kernel package again (default: reuse the cached one); arm64: the
                     guest's busybox, can-utils and libc packages too
   --self-test[=BUGS] (vcan suite) run the scenario against tests/vm/selftest/fake-tracerctl (can-utils posing as
@@ -55,6 +58,7 @@ vm_timeout=600
 smp=${TRACERCTL_VM_SMP:-}
 suite=${TRACERCTL_VM_SUITE:-vcan}
 refresh_kernel=0
+prepare=0
 self_test=0
 fake_bugs=""
 
@@ -69,6 +73,7 @@ while [ $# -gt 0 ]; do
         --timeout) vm_timeout=${2:?--timeout needs seconds}; shift 2 ;;
         --smp) smp=${2:?--smp needs a number}; shift 2 ;;
         --refresh-kernel) refresh_kernel=1; shift ;;
+        --prepare) prepare=1; shift ;;
         --self-test) self_test=1; shift ;;
         --self-test=*) self_test=1; fake_bugs=${1#--self-test=}; shift ;;
         -h | --help) usage; exit 0 ;;
@@ -340,6 +345,10 @@ if [ $arch = arm64 ]; then
         mv "$work/debs/userland-versions" "$uld/versions"
     fi
     log "arm64 userland: $(tr '\n' ' ' <"$uld/versions")"
+fi
+if [ $prepare = 1 ]; then
+    log "prepared: the $suite suite's packages, kernel$([ $arch = arm64 ] && echo ' and userland')"
+    exit 0
 fi
 
 # ---------------------------------------------------------------- tracerctl

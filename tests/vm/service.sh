@@ -5,21 +5,24 @@
 # `systemctl enable --now tracerctl-record@vcan0` and friends, checking what systemd made of the unit.
 #
 # Run as root on Debian 12, after tests/vm/run.sh (CI does):
-#   bash tests/vm/service.sh [--bin target/release/tracerctl | --stand-in] [--unit FILE]
+#   bash tests/vm/service.sh [--bin target/release/tracerctl | --stand-in] [--unit FILE] [--prepare]
 # --stand-in: tests/vm/service/stand-in-recorder plays `tracerctl record` (candump on the link, a report of
 # what the sandbox allows): the unit is checked before the recorder exists. Without it, the binary must have
-# `record`. Exit status 0 every check passed, 1 a check failed, 3 the environment could not be set up.
+# `record`. --prepare: install the packages it needs, and exit. Exit status 0 every check passed, 1 a check
+# failed, 3 the environment could not be set up.
 set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 repo=$(cd "$here/../.." && pwd)
 work=${TRACERCTL_VM_WORK:-$repo/target/vm}
 bin=$repo/target/release/tracerctl
 stand_in=0
+prepare=0
 unit=$repo/debian/tracerctl-record@.service
 while [ $# -gt 0 ]; do
     case $1 in
         --bin) bin=${2:?--bin needs a path}; shift 2 ;;
         --stand-in) stand_in=1; shift ;;
+        --prepare) prepare=1; shift ;;
         # another unit file in place of debian/tracerctl-record@.service (to see a check fail)
         --unit) unit=${2:?--unit needs a file}; shift 2 ;;
         *) echo "service.sh: unknown argument: $1" >&2; exit 2 ;;
@@ -43,6 +46,7 @@ if [ ${#missing[@]} -gt 0 ]; then
         DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}"; } >&2 ||
         die "apt-get install ${missing[*]} failed"
 fi
+[ $prepare = 0 ] || exit 0
 if [ $stand_in = 0 ]; then
     [ -x "$bin" ] || die "no tracerctl at $bin (cargo build --release --locked, or --bin)"
     "$bin" record --help >/dev/null 2>&1 || die "$bin has no 'record' command: use --stand-in"
