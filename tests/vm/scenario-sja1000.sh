@@ -743,18 +743,19 @@ ck_serial_stalled_peer() {
     host "drive exit status $rc; $(tr '\n' ' ' <$W/ser.vm)report: $(grep -hE '^stopped after|motion frames sent' $W/ser.out $W/ser.err | tail -n 1 | head -c 300)"
 }
 
-# ttyS3 again, for commission (issue 32 §3, "serial peer stalled", in every moving step): for each stall, the line
-# "@session commission_stall_<step>" tells the robot to start a session of its own, in which it follows the
-# commands (a motion-state frame after each status frame) and stalls 30 moving frames into that step for 1.5 s
-# (serial-robot.py's COMMISSION_STALLS: with --max-linear 0.6 commission writes 85, 84, 151 and 151 moving frames
-# in forward, back, spin left and spin right); the guest's transmitter stands still about 21 frames later (what
-# QEMU's socket still took). commission must end by itself (exit 1, peer_stalled): no signal is sent. Its
-# recording (--record) gives the host's judge the time of every frame it wrote; ser_tx shows when the
-# transmitter stood still. Files $W/com_<step>.*; the verdict is given on the host by
-# `serial-robot.py judge --check commission_serial_stalled`, one line for the four.
+# ttyS3 again, for commission (issue 32 §3, "serial peer stalled", in every step of the plan): for each stall,
+# the line "@session commission_stall_<step>" tells the robot to start a session of its own, in which it follows
+# the commands (a motion-state frame after each status frame) and stalls for 1.5 s 30 moving frames into a
+# moving step, 5 or 30 zero frames into a standing one (serial-robot.py's COMMISSION_STALLS: with --max-linear
+# 0.6 commission writes 85, 84, 151 and 151 moving frames in forward, back, spin left and spin right); the
+# guest's transmitter stands still about 21 frames later (what QEMU's socket still took). commission must end by
+# itself (exit 1, peer_stalled): no signal is sent. Its recording (--record) gives the host's judge the time of
+# every frame it wrote; ser_tx shows when the transmitter stood still. Files $W/com_<step>.*; the verdict is
+# given on the host by `serial-robot.py judge --check commission_serial_stalled`, one line for the nine.
 ck_commission_serial_stalled() {
     : >$W/com.all
-    for tag in forward back spin_left spin_right; do
+    for tag in settle forward brake_after_forward back brake_after_back spin_left brake_after_spin_left \
+        spin_right brake_after_spin_right; do
         com_stall $tag
     done
     host "$(tr '\n' ' ' <$W/com.all)"

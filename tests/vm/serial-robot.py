@@ -14,7 +14,8 @@ serve: listens on a Unix socket that QEMU connects to as the chardev of the VM's
        frame after each status frame; speed toward the command at 1 m/s^2 and 2 rad/s^2, zero when no command
        was read for 500 ms, the robot's command timeout), as commission needs to drive. The log names each
        session; each judge reads its own. --commission-stall-for FOR registers commission_stall_<step> for
-       each stall of COMMISSION_STALLS (30 moving frames into each moving step of commission's plan).
+       each stall of COMMISSION_STALLS (one in each step of commission's plan: 30 moving frames into a moving
+       step, a few zero frames into a standing one).
 judge: reads that log and the check's files from the VM and prints one line
        CHECK NAME: PASS|FAIL <evidence>   (--check serial_stalled_peer, the default, or commission_serial_stalled)
        followed, on failure, by evidence lines starting with "  | ". Exit status 0 (pass) or 1 (fail).
@@ -29,9 +30,11 @@ import fcntl
 import json
 import os
 import re
+import shutil
 import socket
 import struct
 import sys
+import tempfile
 import termios
 import threading
 import time
@@ -133,13 +136,14 @@ def serve(args):
         with lock:
             log.write("%.6f %s\n" % (time.monotonic() - t0, text))
 
+    # session -> (moving frames read, then zero frames read, before the stall; seconds stalled)
     sessions = {}
     for spec in args.session:
         name, after, stall_for = spec.split(":")
-        sessions[name] = (int(after), float(stall_for))
+        sessions[name] = (int(after), 0, float(stall_for))
     if args.commission_stall_for is not None:
-        for step, after in COMMISSION_STALLS:
-            sessions["commission_stall_" + commission_tag(step)] = (after, args.commission_stall_for)
+        for step, after, zeros in COMMISSION_STALLS:
+            sessions["commission_stall_" + commission_tag(step)] = (after, zeros, args.commission_stall_for)
     try:
         os.unlink(args.socket)
     except FileNotFoundError:
@@ -201,8 +205,9 @@ def serve(args):
     buf = b""
     tail = b""
     seen_moving = 0
+    seen_zeros = 0
     stalled = False
-    stall_after, stall_for = args.stall_after, args.stall_for
+    stall_after, zeros_after, stall_for = args.stall_after, 0, args.stall_for
     rx = 0
     while True:
         try:
@@ -224,24 +229,30 @@ def serve(args):
             if name not in sessions:
                 event("error: unknown session %s" % name)
                 continue
-            stall_after, stall_for = sessions[name]
-            buf, seen_moving, stalled = b"", 0, False
+            stall_after, zeros_after, stall_for = sessions[name]
+            buf, seen_moving, seen_zeros, stalled = b"", 0, 0, False
             chassis.__init__()
             following.set()
-            event("session %s stall_after=%d stall_for=%.1f" % (name, stall_after, stall_for))
+            event("session %s stall_after=%d zeros_after=%d stall_for=%.1f"
+                  % (name, stall_after, zeros_after, stall_for))
             continue
-        # the chassis follows every motion frame read; the non-zero ones are counted until the stall
+        # the chassis follows every motion frame read; until the stall the non-zero ones are counted, and once
+        # there were stall_after of them, the zero ones
         buf += data
         found, _ = frames(buf)
         for _, f in found:
             if is_motion(f):
                 chassis.command(f, now)
-        if not stalled:
-            seen_moving += sum(1 for _, f in found if is_motion(f) and moving(f))
+                if stalled:
+                    continue
+                if moving(f):
+                    seen_moving += 1
+                elif seen_moving >= stall_after:
+                    seen_zeros += 1
         buf = buf[found[-1][0] + FRAME:] if found else buf[-(FRAME - 1):]
-        if not stalled and seen_moving >= stall_after:
+        if not stalled and seen_moving >= stall_after and seen_zeros >= zeros_after:
             stalled = True
-            event("stall moving=%d rx_bytes=%d for=%.1fs" % (seen_moving, rx, stall_for))
+            event("stall moving=%d zeros=%d rx_bytes=%d for=%.1fs" % (seen_moving, seen_zeros, rx, stall_for))
             time.sleep(stall_for)
             queued = struct.unpack("i", fcntl.ioctl(conn.fileno(), termios.FIONREAD, b"\0\0\0\0"))[0]
             event("resume socket_backlog=%d rx_bytes=%d" % (queued, rx))
@@ -428,6 +439,9 @@ def judge(args):
 # 2 periods of the last one (+10 ms for TCG).
 COMMISSION_MAX_MOVING_AFTER_STALL = 3
 COMMISSION_STOP_AFTER_LAST_MOVING = 0.050
+# In a standing step the frames before the first held back are zeros too: everything commission writes after
+# the frame in transmission (at most 3 frames, then the stop frames) within the same two bounds.
+COMMISSION_STANDING_END = COMMISSION_MAX_MOVING_AFTER_STALL * 0.020 + COMMISSION_STOP_AFTER_LAST_MOVING
 # After the robot reads on, beyond the socket's backlog: what the 16550 held (17 bytes: one whole frame besides
 # the rest of the one in transmission) may arrive before the stop frames, stale.
 COMMISSION_MAX_STALE = 1
@@ -445,9 +459,17 @@ COMMISSION_FIGURES = {
     "brake after spin left": ("braking_time_ms", "braking_angle_rad", "angular_deceleration_radps2"),
     "spin right": _MOVING,
 }
-# The check's stalls, one commission each: the moving step, and the moving frames read before the stall, 30
-# into that step (commission writes 85, 84, 151 and 151 moving frames in the four moving steps).
-COMMISSION_STALLS = [("forward", 30), ("back", 114), ("spin left", 199), ("spin right", 350)]
+# The check's stalls, one commission each: the step, the moving frames read, then the zero frames read before
+# the stall. Commission writes 85, 84, 151 and 151 moving frames in the four moving steps: a stall 30 moving
+# frames into each, and in the standing steps (settle 1 s, each brake 2 s, 50 zero frames a second) a few
+# moving frames before the end of the step before (its count may differ by one) and 5 (settle) or 30 zero
+# frames in (QEMU's socket takes ~21 more frames before the transmitter stands still).
+COMMISSION_STALLS = [
+    ("settle", 0, 5), ("forward", 30, 0), ("brake after forward", 80, 30), ("back", 114, 0),
+    ("brake after back", 164, 30), ("spin left", 199, 0), ("brake after spin left", 315, 30),
+    ("spin right", 350, 0), ("brake after spin right", 466, 30),
+]
+COMMISSION_MOVING_STEPS = ("forward", "back", "spin left", "spin right")
 
 
 def commission_tag(step):
@@ -471,7 +493,7 @@ def recorded_motion(text):
 def judge_commission(args):
     """Every stall of COMMISSION_STALLS, one line for the check: PASS when each passed."""
     name = "commission_serial_stalled"
-    results = [judge_commission_stall(args, step, after) for step, after in COMMISSION_STALLS]
+    results = [judge_commission_stall(args, step, after, zeros) for step, after, zeros in COMMISSION_STALLS]
     failed = [(step, fails) for step, fails, _, _ in results if fails]
     summary = " || ".join("%s: %s" % (step, summary) for step, _, summary, _ in results)
     if failed:
@@ -482,14 +504,70 @@ def judge_commission(args):
                 for line in evidence:
                     print("  | %s: %s" % (step, line))
         return 1
-    print("CHECK %s: PASS %d stalls, one in each moving step: %s" % (name, len(results), summary))
+    missed = commission_judge_attacks(args)
+    if missed:
+        print("CHECK %s: FAIL the judge passed a run it must fail: %s [%s]" % (name, "; ".join(missed), summary))
+        return 1
+    print("CHECK %s: PASS %d stalls, one in each step (and the judge fails this run's files altered: %d ways): %s"
+          % (name, len(results), len(COMMISSION_ATTACKS), summary))
     return 0
 
 
-def judge_commission_stall(args, stall_step, stall_after):
-    """One commission whose robot stalled `stall_after` moving frames in, in `stall_step`: (step, the failures,
-    the summary, the evidence lines)."""
+# The judge's own proof, on altered copies of this run's files of one stall (step, how, the failure it must
+# report): a standing step's last frame written 200 ms late, a moving frame written in a standing step.
+COMMISSION_ATTACKS = [
+    ("settle", "late", "commission wrote its last frame"),
+    ("brake after forward", "moving", "moving frames written in a standing step"),
+]
+
+
+def commission_judge_attacks(args):
+    """Runs the judge on each of COMMISSION_ATTACKS; what it did not fail as it must (empty: every one)."""
+    missed = []
+    for step, how, words in COMMISSION_ATTACKS:
+        _, after, zeros = next(stall for stall in COMMISSION_STALLS if stall[0] == step)
+        prefix = "com_%s." % commission_tag(step)
+        with tempfile.TemporaryDirectory() as copy:
+            for file in os.listdir(args.vm_dir):
+                if file.startswith(prefix):
+                    shutil.copy(os.path.join(args.vm_dir, file), copy)
+            record = os.path.join(copy, prefix + "rec")
+            with open(record) as f:
+                lines = f.read().splitlines()
+            motion = []
+            for i, line in enumerate(lines):
+                m = RECORD_LINE.match(line)
+                if m and is_motion(bytes.fromhex(m.group(1))):
+                    motion.append((i, m, bytes.fromhex(m.group(1))))
+            if len(motion) < 4:
+                missed.append("%s: too few motion frames in %s to alter" % (step, prefix + "rec"))
+                continue
+            if how == "late":
+                i, m, _ = motion[-1]
+                lines[i] = "%s # (%.9f)%s" % (m.group(1), float(m.group(2)) + 0.2, line_tail(lines[i]))
+            else:
+                # the fourth last (before the three stop frames: among those written after the stall) moves
+                i, _, _ = motion[-4]
+                lines[i] = next(f for _, _, f in motion if moving(f)).hex().upper() + lines[i][26:]
+            with open(record, "w") as f:
+                f.write("\n".join(lines) + "\n")
+            altered = argparse.Namespace(**dict(vars(args), vm_dir=copy))
+            _, fails, _, _ = judge_commission_stall(altered, step, after, zeros)
+            if not any(words in fail for fail in fails):
+                missed.append("%s, %s: %s" % (step, how, "; ".join(fails) or "passed"))
+    return missed
+
+
+def line_tail(line):
+    """What follows the time in a --record line (the port's name)."""
+    return line[line.index(")") + 1:]
+
+
+def judge_commission_stall(args, stall_step, stall_after, zeros_after):
+    """One commission whose robot stalled in `stall_step`, after `stall_after` moving frames and then
+    `zeros_after` zero ones: (step, the failures, the summary, the evidence lines)."""
     tag = commission_tag(stall_step)
+    moving_step = stall_step in COMMISSION_MOVING_STEPS
     fails = []
     log = Session(args.log, "commission_stall_" + tag)
     if log.missing:
@@ -524,8 +602,8 @@ def judge_commission_stall(args, stall_step, stall_after):
     skipped = frames(bytes(log.stream[wire_end:]))[1] if stalled else 0
     figures = {}
     if log.stall is None:
-        fails.append("the robot never stalled: it read fewer than its %d non-zero motion frames; VM: %s"
-                     % (stall_after, vm_note or "no %svm" % prefix))
+        fails.append("the robot never stalled: it read fewer than its %d non-zero motion frames and %d zero ones "
+                     "after them; VM: %s" % (stall_after, zeros_after, vm_note or "no %svm" % prefix))
     elif log.resume is None:
         fails.append("the robot stalled but never resumed")
     if not sent:
@@ -557,23 +635,38 @@ def judge_commission_stall(args, stall_step, stall_after):
         moving_after = [(t, f) for t, f in after if moving(f)]
         first_zero = next(((t, f) for t, f in after if not moving(f)), None)
         t_last = moving_after[-1][0] if moving_after else t_stall
-        if not moving(stall_frame):
-            fails.append("the transmitter stood still while commission sent zero (not in a moving step): %s"
-                         % stall_frame.hex(" "))
-        if len(moving_after) > COMMISSION_MAX_MOVING_AFTER_STALL:
-            fails.append("%d moving frames written after the UART's transmitter stood still (limit %d: its "
-                         "FIFO, then 2 frames queued)" % (len(moving_after), COMMISSION_MAX_MOVING_AFTER_STALL))
-        if first_zero is None:
-            fails.append("commission wrote no zero frame after the stall")
-        elif first_zero[0] - t_last > COMMISSION_STOP_AFTER_LAST_MOVING:
-            fails.append("the first stop frame was written %.0f ms after the last moving one (limit %.0f ms)"
-                         % ((first_zero[0] - t_last) * 1000, COMMISSION_STOP_AFTER_LAST_MOVING * 1000))
-        if first_zero is not None and any(moving(f) for t, f in after if t >= first_zero[0]):
-            fails.append("commission wrote moving frames after its first stop frame")
-        timing = ("after the frame in transmission when the UART stood still (written at +0 ms) commission wrote "
-                  "%d moving frames, the last at +%.0f ms, its first stop frame at %s; "
-                  % (len(moving_after), (t_last - t_stall) * 1000,
-                     "+%.0f ms" % ((first_zero[0] - t_stall) * 1000) if first_zero else "never"))
+        if moving(stall_frame) != moving_step:
+            fails.append("the transmitter stood still while commission sent %s (the stall is in %s): %s"
+                         % ("a moving frame" if moving(stall_frame) else "zero", stall_step, stall_frame.hex(" ")))
+        if moving_step:
+            if len(moving_after) > COMMISSION_MAX_MOVING_AFTER_STALL:
+                fails.append("%d moving frames written after the UART's transmitter stood still (limit %d: its "
+                             "FIFO, then 2 frames queued)" % (len(moving_after), COMMISSION_MAX_MOVING_AFTER_STALL))
+            if first_zero is None:
+                fails.append("commission wrote no zero frame after the stall")
+            elif first_zero[0] - t_last > COMMISSION_STOP_AFTER_LAST_MOVING:
+                fails.append("the first stop frame was written %.0f ms after the last moving one (limit %.0f ms)"
+                             % ((first_zero[0] - t_last) * 1000, COMMISSION_STOP_AFTER_LAST_MOVING * 1000))
+            if first_zero is not None and any(moving(f) for t, f in after if t >= first_zero[0]):
+                fails.append("commission wrote moving frames after its first stop frame")
+            timing = ("after the frame in transmission when the UART stood still (written at +0 ms) commission "
+                      "wrote %d moving frames, the last at +%.0f ms, its first stop frame at %s; "
+                      % (len(moving_after), (t_last - t_stall) * 1000,
+                         "+%.0f ms" % ((first_zero[0] - t_stall) * 1000) if first_zero else "never"))
+        else:
+            # standing: nothing but zeros, and everything (the frames before the first one held back, then the
+            # stop frames) written within both bounds after the frame in transmission
+            if moving_after:
+                fails.append("%d moving frames written in a standing step" % len(moving_after))
+            if not after:
+                fails.append("commission wrote no frame after the stall (no stop frames)")
+            elif after[-1][0] - t_stall > COMMISSION_STANDING_END:
+                fails.append("commission wrote its last frame %.0f ms after the frame in transmission when the "
+                             "UART stood still (limit %.0f ms)" % ((after[-1][0] - t_stall) * 1000,
+                                                                   COMMISSION_STANDING_END * 1000))
+            timing = ("after the frame in transmission when the UART stood still (written at +0 ms) commission "
+                      "wrote %d zero frames, the last at %s; "
+                      % (len(after), "+%.0f ms" % ((after[-1][0] - t_stall) * 1000) if after else "-"))
 
     # after the resume, beyond the socket's backlog: the stale frames, then zeros only
     from_vm = [f for _, f in held]
