@@ -13,6 +13,10 @@ pub(super) const QUANTUM: f64 = 0.001;
 pub(super) const BEFORE_US: i64 = 300_000;
 /// The level a step settles at is measured over this long before the command changes again, µs.
 pub(super) const SETTLED_US: i64 = 300_000;
+/// A trend within this many of its standard errors is noise. The error is estimated from the same 15
+/// samples, so the ratio follows Student's t with 13 degrees of freedom: beyond 4 once in 700 (a settled
+/// 0.1 m/s probe at noise 1.8 quanta was judged still moving: no rise time), beyond 6 once in 20 000.
+const SETTLED_ERRORS: f64 = 6.0;
 /// An onset is found from at most this many samples ...
 const ONSET_POINTS: usize = 3;
 /// ... all within this fraction of the change (the early, nearly straight part of any response).
@@ -209,13 +213,14 @@ pub(super) fn respond(
 }
 
 /// Whether the response had settled by `end`: over the last [`SETTLED_US`], the trend of the samples (a
-/// least-squares line) changes the value by at most 5 % of the `change`, or by no more than four standard
-/// errors of that trend (noise alone tilts the line of a small step's few samples that much).
+/// least-squares line) changes the value by at most 5 % of the `change`, or by no more than
+/// [`SETTLED_ERRORS`] standard errors of that trend (noise alone tilts the line of a small step's few
+/// samples that much).
 fn settled_within(motion: &[Motion], axis: Axis, end: i64, change: f64) -> bool {
     let window = points(motion, axis, end - SETTLED_US, end);
     Line::fit(window.clone()).is_none_or(|line| {
         let trend = (line.slope * SETTLED_US as f64).abs();
-        let noise = 4.0 * line.slope_error(window) * SETTLED_US as f64;
+        let noise = SETTLED_ERRORS * line.slope_error(window) * SETTLED_US as f64;
         trend <= (0.05 * change.abs()).max(noise)
     })
 }
