@@ -190,10 +190,10 @@ pub(super) fn estimate(steps: &[LoadStep], current_frames: u64, voltage_frames: 
     let freedom = (pairs - steps.len() as i64 - 1).max(1) as f64;
     let residual = all.residual(resistance) / freedom;
     let standard_error = (residual * all.zz).sqrt() / all.zi;
-    if standard_error > MAX_RELATIVE_ERROR * resistance {
+    if standard_error.is_nan() || standard_error > MAX_RELATIVE_ERROR * resistance {
         return not(format!(
             "{resistance:.3} Ω ± {standard_error:.3} Ω at {} load steps: the voltage noise is too large for \
-             the load's sag (a standard error above {:.0} %)",
+             the load's sag (a standard error above {:.1} %)",
             steps.len(),
             MAX_RELATIVE_ERROR * 100.0
         ));
