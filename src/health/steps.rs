@@ -14,8 +14,8 @@ pub(super) const BEFORE_US: i64 = 300_000;
 /// The level a step settles at is measured over this long before the command changes again, µs.
 pub(super) const SETTLED_US: i64 = 300_000;
 /// A trend within this many of its standard errors is noise. The error is estimated from the same 15
-/// samples, so the ratio follows Student's t with 13 degrees of freedom: beyond 4 once in 700 (a settled
-/// 0.1 m/s probe at noise 1.8 quanta was judged still moving: no rise time), beyond 6 once in 20 000.
+/// samples, so the ratio follows Student's t with 13 degrees of freedom: beyond 4 once in 660 (a settled
+/// 0.1 m/s probe at noise 1.8 quanta was judged still moving: no rise time), beyond 6 once in 22 500.
 const SETTLED_ERRORS: f64 = 6.0;
 /// An onset is found from at most this many samples ...
 const ONSET_POINTS: usize = 3;
