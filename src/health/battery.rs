@@ -3,9 +3,10 @@
 //!
 //! Not by least squares of voltage on current: the currents are noisy too, and noise in the regressor
 //! flattens the slope by var(noise) / var(current) (errors in variables: 3.5 % on average at noise 1.5-2
-//! quanta, more at small load steps; one set of the random test measured 17 % low). The slope is an instrumental-variable estimate instead: each pair's instrument is
-//! the sum of the currents read just before and just after the paired ones, which follows the load as
-//! closely but carries none of the paired readings' noise.
+//! quanta, more at small load steps; one set of the random test measured 17 % low). The slope is an
+//! instrumental-variable estimate instead: each pair's instrument is the sum of the currents read just
+//! before and just after the paired ones, which follows the load as closely but carries none of the
+//! paired readings' noise.
 
 use super::fit::mean_and_sigma;
 use super::sample::Reading;
@@ -76,6 +77,12 @@ impl std::ops::Add for Centred {
             iv: self.iv + other.iv,
             vv: self.vv + other.vv,
         }
+    }
+}
+
+impl std::iter::Sum for Centred {
+    fn sum<I: Iterator<Item = Self>>(steps: I) -> Self {
+        steps.fold(Self::default(), |sum, step| sum + step)
     }
 }
 
@@ -178,7 +185,7 @@ pub(super) fn estimate(steps: &[LoadStep], current_frames: u64, voltage_frames: 
             f64::from(MIN_VOLTAGE_RANGE_DV) / 10.0
         ));
     }
-    let all = steps.iter().map(LoadStep::centred).fold(Centred::default(), |sum, step| sum + step);
+    let all = steps.iter().map(LoadStep::centred).sum::<Centred>();
     // V = OCV - R·I: 0.1 V per 0.1 A is ohms.
     let resistance = all.resistance();
     if resistance.is_nan() || resistance <= 0.0 || all.zi <= 0.0 {
@@ -288,7 +295,7 @@ mod tests {
         };
         let steps: Vec<LoadStep> =
             (0..8).map(|_| load_step(&view([&read(), &read()], &voltage), 300_000).unwrap()).collect();
-        let all = steps.iter().map(LoadStep::centred).fold(Centred::default(), |sum, step| sum + step);
+        let all = steps.iter().map(LoadStep::centred).sum::<Centred>();
         let (least_squares, instrumented) = (-all.iv / all.ii, all.resistance());
         assert!((instrumented / 0.5 - 1.0).abs() < 0.03, "instrumented {instrumented}");
         assert!(least_squares / 0.5 - 1.0 < -0.05, "least squares {least_squares}");

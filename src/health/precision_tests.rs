@@ -420,6 +420,28 @@ fn noisy_currents_at_a_small_load_do_not_flatten_the_resistance() {
     assert!(failed.is_empty(), "{failed:#?}");
 }
 
+/// A set a 12 000-set scan found: on RS232 the settled 0.1 m/s timeout probe (noise 1.84 quanta, lag 147 ms)
+/// had a last-300 ms trend of 4.2 standard errors, so it was judged still moving and got no rise time.
+#[test]
+fn a_settled_noisy_probe_keeps_its_rise_time() {
+    let draws = [
+        0.015974235788112235,
+        0.9770476784116321,
+        0.4503161764304174,
+        0.44619763024031905,
+        0.23934992582484882,
+        0.8214685756391397,
+        0.3271507663613981,
+        0.5495767842507038,
+        0.7182660746979077,
+        0.42464083152532456,
+        0.9224552486878973,
+        0.9518246602580855,
+    ];
+    let failed = failures(&draws);
+    assert!(failed.is_empty(), "{failed:#?}");
+}
+
 /// A fixed, reproducible stream of unit draws (splitmix64).
 fn unit_draws(seed: &mut u64, count: usize) -> Vec<f64> {
     (0..count)
