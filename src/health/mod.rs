@@ -9,8 +9,8 @@
 //! The folder: [`plan`] (the commissioning drive, pure data); `stream.rs` (the [`Analyzer`]: bounded queues,
 //! stretches between rests, the exact merge of a log's chunks); `segment.rs` (a stretch cut into runs of
 //! one command value, each judged); one file per measurement (`steps.rs`, `braking.rs`, `holds.rs`,
-//! `timeout.rs`, `battery.rs`); `refit.rs` (small steps fitted again with the large steps' lag and
-//! acceleration, once all are known); `sample.rs`, `series.rs` and `fit.rs` (what is kept and the arithmetic).
+//! `timeout.rs`, `battery.rs`); `refit.rs` (every step fitted again with the lag and acceleration of
+//! its axis's large steps, once all are known); `sample.rs`, `series.rs` and `fit.rs` (what is kept and the arithmetic).
 
 #[cfg(test)]
 mod any_input_tests;

@@ -14,9 +14,10 @@ pub(super) const BEFORE_US: i64 = 300_000;
 /// The level a step settles at is measured over this long before the command changes again, µs.
 pub(super) const SETTLED_US: i64 = 300_000;
 /// A trend within this many of its standard errors is noise. The error is estimated from the same 15
-/// samples, so the ratio follows Student's t with 13 degrees of freedom: beyond 4 once in 660 (a settled
-/// 0.1 m/s probe at noise 1.8 quanta was judged still moving: no rise time), beyond 6 once in 22 500.
-const SETTLED_ERRORS: f64 = 6.0;
+/// samples, so the ratio follows Student's t with 13 degrees of freedom: beyond 4 once in 660, 6 once in
+/// 22 500, 8 once in 450 000 (settled 0.1 m/s probes at noise 1.8-1.9 quanta were judged still moving, so
+/// no rise time: 4.2 errors in 12 000 sets, 6.07 in 20 000).
+const SETTLED_ERRORS: f64 = 8.0;
 /// An onset is found from at most this many samples ...
 const ONSET_POINTS: usize = 3;
 /// ... all within this fraction of the change (the early, nearly straight part of any response).
@@ -60,8 +61,7 @@ pub(super) fn threshold(sigma: f64) -> f64 {
 }
 
 /// The samples a response's onset was fitted to and what the joint fit made of them: kept so that the report
-/// can fit a small step's dead time again with the lag and acceleration of the larger steps of its axis
-/// (`refit.rs`).
+/// can fit its dead time again with the lag and acceleration of the larger steps of its axis (`refit.rs`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(super) struct OnsetFit {
     /// µs of the log's clock the points' seconds count from (the command frame).
@@ -122,7 +122,8 @@ pub(super) fn onset(
 /// before `t0` until the response has nearly arrived; its model stands when it explains them within the
 /// noise threshold (the residual of a fit that fits is the noise, σ, and the threshold is 3 σ measured on a
 /// few samples), else (a shape it does not describe) the apparent onset does. `None`: too few samples, or
-/// the response never arrived. `after`: the samples after `t0`; `apparent`: the line's onset, µs.
+/// the response never half-way; no model when it never arrived. `after`: the samples after `t0`;
+/// `apparent`: the line's onset, µs.
 fn fitted_onset(
     motion: &[Motion],
     axis: Axis,
@@ -156,11 +157,18 @@ fn fitted_onset(
             arrived_at = Some(index);
         }
     }
-    arrived_at?;
-    let starts = lagged_ramp::starts((apparent - t0 as f64) / 1e6, steepest.max(change));
     let dead_range = (0.0, half_way?);
-    let (model, rms) = lagged_ramp::fit(points.as_slice(), change, &starts, dead_range)?;
-    Some(OnsetFit { t0, points, change, dead_range, threshold, model: (rms <= threshold).then_some(model) })
+    if points.as_slice().len() < 4 {
+        return None;
+    }
+    // Only a response that arrived is fitted jointly (its end tells the lag and the acceleration apart); one
+    // cut short (a robot's own stop at the end of the silence) keeps its samples for `refit.rs`.
+    let model = arrived_at.and_then(|_| {
+        let starts = lagged_ramp::starts((apparent - t0 as f64) / 1e6, steepest.max(change));
+        let (model, rms) = lagged_ramp::fit(points.as_slice(), change, &starts, dead_range)?;
+        (rms <= threshold).then_some(model)
+    });
+    Some(OnsetFit { t0, points, change, dead_range, threshold, model })
 }
 
 /// The response to a step of `axis` from `from` to `to` (commanded) at `t0`, held until `end`; its onset too
