@@ -37,16 +37,28 @@ fn decode_segment(segment: &Path) -> (u64, u64, u64, Option<i32>) {
     )
 }
 
+/// A recorder, killed when dropped: a round that fails leaves none running.
+struct Recorder(std::process::Child);
+
+impl Drop for Recorder {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
 /// One round: record the simulator, `kill -9` the recorder `after` the first frame is on disk; the loss, µs.
 fn kill_round(round: u64, after: Duration) -> u64 {
     let dir = tempfile::tempdir().unwrap();
-    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
-        .args(["--sim", "record", "--segment", "1s", "--dir"])
-        .arg(dir.path())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
+    let mut recorder = Recorder(
+        std::process::Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
+            .args(["--sim", "record", "--segment", "1s", "--dir"])
+            .arg(dir.path())
+            .stdout(Stdio::null())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap(),
+    );
     let deadline = Instant::now() + Duration::from_secs(30);
     // Recording has written something: the loss is measured from a recorded frame.
     while !segments(dir.path()).iter().any(|segment| segment.metadata().is_ok_and(|m| m.len() > 0)) {
@@ -55,8 +67,8 @@ fn kill_round(round: u64, after: Duration) -> u64 {
     }
     std::thread::sleep(after);
     let killed_at = now_us();
-    child.kill().unwrap();
-    child.wait().unwrap();
+    recorder.0.kill().unwrap();
+    recorder.0.wait().unwrap();
     let all = segments(dir.path());
     let (last, closed) = all.split_last().unwrap();
     for segment in closed {
