@@ -50,6 +50,7 @@ fn every_termination_signal_stops_the_robot_within_50_ms() {
             std::thread::sleep(Duration::from_millis(10));
         }
         let sent = Instant::now();
+        // SAFETY: kill(2) on our own child, not yet waited for (its pid is still ours).
         unsafe { libc::kill(child.id() as i32, signal) };
         let exit = child.wait().unwrap();
         std::thread::sleep(Duration::from_millis(30));

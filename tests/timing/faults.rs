@@ -111,6 +111,7 @@ impl Drive {
         // SAFETY: pipe2 fills the two descriptors, owned from here on (close-on-exec: no other child
         // spawned meanwhile keeps the write end open).
         assert_eq!(unsafe { libc::pipe2(fds.as_mut_ptr(), libc::O_CLOEXEC) }, 0, "pipe2");
+        // SAFETY: the two descriptors pipe2 just returned, owned by nothing else.
         let (read, write) = unsafe { (OwnedFd::from_raw_fd(fds[0]), OwnedFd::from_raw_fd(fds[1])) };
         let spawned = Instant::now();
         let child = Command::new(assert_cmd::cargo::cargo_bin("tracerctl"))
